@@ -1,0 +1,1 @@
+// Constraint stage: see constraints.hpp (issue 4).

@@ -1,0 +1,26 @@
+#include "core/error.hpp"
+
+#include <utility>
+
+namespace tincdt {
+namespace {
+
+std::string compose(const std::string& file, const std::string& where, const std::string& detail) {
+  std::string s;
+  for (const std::string* part : {&file, &where, &detail}) {
+    if (part->empty()) continue;
+    if (!s.empty()) s += ": ";
+    s += *part;
+  }
+  return s;
+}
+
+}  // namespace
+
+Error::Error(std::string file, std::string where, std::string detail)
+    : std::runtime_error(compose(file, where, detail)),
+      file_(std::move(file)),
+      where_(std::move(where)),
+      detail_(std::move(detail)) {}
+
+}  // namespace tincdt

@@ -1,0 +1,46 @@
+// Progress reporting for long stages: a callback that may also cancel.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string_view>
+
+#include "core/error.hpp"
+
+namespace tincdt {
+
+// Called with the stage name ("read", "delaunay", ...) and the fraction done in [0, 1].
+// Returning false asks the library to stop; it then throws Cancelled.
+using ProgressFn = std::function<bool(std::string_view stage, double fraction)>;
+
+// Rate-limited wrapper used inside hot loops: tick(i) costs one compare unless a report is due.
+class Progress {
+ public:
+  Progress() = default;
+  Progress(const ProgressFn* fn, std::string_view stage, std::uint64_t total)
+      : fn_(fn && *fn ? fn : nullptr), stage_(stage), total_(total ? total : 1) {
+    step_ = total_ / 200 + 1;
+    next_ = fn_ ? 0 : UINT64_MAX;
+  }
+
+  void tick(std::uint64_t done) {
+    if (done >= next_) report(done);
+  }
+  void finish() {
+    if (fn_) report(total_);
+  }
+
+ private:
+  void report(std::uint64_t done) {
+    next_ = done + step_;
+    if (!(*fn_)(stage_, static_cast<double>(done) / static_cast<double>(total_))) throw Cancelled();
+  }
+
+  const ProgressFn* fn_ = nullptr;
+  std::string_view stage_;
+  std::uint64_t total_ = 1;
+  std::uint64_t step_ = UINT64_MAX;
+  std::uint64_t next_ = UINT64_MAX;
+};
+
+}  // namespace tincdt

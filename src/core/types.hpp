@@ -1,0 +1,45 @@
+// Ids and small geometric value types shared by every module.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+
+namespace tincdt {
+
+using VertexId = std::uint32_t;
+using TriangleId = std::uint32_t;
+// A half-edge is corner i of triangle t, stored at index 3 * t + i; it runs from
+// corner i to corner (i + 1) % 3.
+using EdgeId = std::uint32_t;
+
+inline constexpr std::uint32_t kNoId = std::numeric_limits<std::uint32_t>::max();
+
+struct Point2 {
+  double x;
+  double y;
+  friend bool operator==(const Point2&, const Point2&) = default;
+};
+
+struct Point3 {
+  double x;
+  double y;
+  double z;
+  friend bool operator==(const Point3&, const Point3&) = default;
+};
+
+struct BBox {
+  double min_x = std::numeric_limits<double>::infinity();
+  double min_y = std::numeric_limits<double>::infinity();
+  double max_x = -std::numeric_limits<double>::infinity();
+  double max_y = -std::numeric_limits<double>::infinity();
+
+  void add(double x, double y) {
+    if (x < min_x) min_x = x;
+    if (x > max_x) max_x = x;
+    if (y < min_y) min_y = y;
+    if (y > max_y) max_y = y;
+  }
+  bool empty() const { return !(min_x <= max_x); }
+};
+
+}  // namespace tincdt

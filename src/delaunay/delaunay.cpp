@@ -1,0 +1,106 @@
+#include "delaunay/delaunay.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "core/error.hpp"
+#include "delaunay/spatial_order.hpp"
+#include "mesh/point_insertion.hpp"
+#include "predicates/predicates.hpp"
+
+namespace tincdt::delaunay {
+namespace {
+
+using mesh::Triangulation;
+
+void merge_z(double& z, double other, std::uint32_t count, DuplicatePolicy policy) {
+  switch (policy) {
+    case DuplicatePolicy::first:
+      break;
+    case DuplicatePolicy::min:
+      z = std::min(z, other);
+      break;
+    case DuplicatePolicy::max:
+      z = std::max(z, other);
+      break;
+    case DuplicatePolicy::mean:
+      z += (other - z) / count;
+      break;  // running mean, no overflow
+  }
+}
+
+}  // namespace
+
+DelaunayResult triangulate(std::vector<Point3>&& points, const DelaunayOptions& options,
+                           const ProgressFn* progress) {
+  std::vector<Point3> input = std::move(points);
+  const std::size_t n = input.size();
+  if (n >= mesh::kInfinite) throw GeometryError("too many points for 32-bit vertex ids");
+
+  BBox box;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Point3& p = input[i];
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+      throw GeometryError("point " + std::to_string(i) + " has a non-finite coordinate");
+    box.add(p.x, p.y);
+  }
+
+  DelaunayResult result;
+  Triangulation& tin = result.tin;
+  {
+    // Vertices in insertion order, equal x, y merged.
+    const std::vector<std::uint32_t> order = insertion_order(input, box);
+    if (options.keep_point_map) result.vertex_of_point.assign(n, kNoId);
+    tin.reserve_vertices(n);
+    std::uint32_t run = 0;
+    for (std::uint32_t i : order) {
+      const Point3& p = input[i];
+      const std::size_t nv = tin.vertex_count();
+      if (nv > 0 && tin.point(static_cast<VertexId>(nv - 1)) == Point2{p.x, p.y}) {
+        double z = tin.z(static_cast<VertexId>(nv - 1));
+        merge_z(z, p.z, ++run, options.on_duplicate);
+        tin.set_z(static_cast<VertexId>(nv - 1), z);
+        ++result.duplicates_merged;
+      } else {
+        tin.add_vertex({p.x, p.y}, p.z);
+        run = 1;
+      }
+      if (options.keep_point_map)
+        result.vertex_of_point[i] = static_cast<VertexId>(tin.vertex_count() - 1);
+    }
+  }
+  input = {};  // release the input before the triangles take their space
+
+  const auto nv = static_cast<VertexId>(tin.vertex_count());
+  if (nv < 3)
+    throw GeometryError("fewer than 3 distinct points (" + std::to_string(nv) +
+                        "): nothing to triangulate");
+  // The first triangle: vertices 0, 1 and the first one not collinear with them.
+  VertexId third = 2;
+  int turn = 0;
+  for (; third < nv; ++third) {
+    turn = predicates::orient2d(tin.point(0), tin.point(1), tin.point(third));
+    if (turn != 0) break;
+  }
+  if (third == nv) throw GeometryError("all points are collinear: no triangle can be formed");
+
+  tin.reserve_triangles(2 * static_cast<std::size_t>(nv));
+  mesh::PointInserter inserter(tin);
+  if (turn > 0) {
+    inserter.start(0, 1, third);
+  } else {
+    inserter.start(1, 0, third);
+  }
+  Progress report(progress, "delaunay", nv);
+  for (VertexId v = 2; v < nv; ++v) {
+    if (v == third) continue;
+    inserter.insert(v);
+    report.tick(v);
+  }
+  report.finish();
+  tin.recount();
+  return result;
+}
+
+}  // namespace tincdt::delaunay

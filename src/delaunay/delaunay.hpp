@@ -1,0 +1,33 @@
+// The Delaunay stage: every point in, an exact Delaunay triangulation out.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/progress.hpp"
+#include "core/types.hpp"
+#include "mesh/triangulation.hpp"
+
+namespace tincdt::delaunay {
+
+// What z a vertex gets when several points share its exact x, y.
+enum class DuplicatePolicy { first, min, max, mean };
+
+struct DelaunayOptions {
+  DuplicatePolicy on_duplicate = DuplicatePolicy::mean;
+  bool keep_point_map = false;  // fill DelaunayResult::vertex_of_point
+};
+
+struct DelaunayResult {
+  mesh::Triangulation tin;
+  std::vector<VertexId> vertex_of_point;  // input point i became vertex vertex_of_point[i]
+  std::uint64_t duplicates_merged = 0;    // points folded into an earlier one with equal x, y
+};
+
+// Triangulates `points` (consumed, to keep the peak memory low). Vertices are renumbered in
+// spatial (Hilbert) order. Throws GeometryError for fewer than 3 distinct points, all points
+// collinear, or a non-finite coordinate.
+DelaunayResult triangulate(std::vector<Point3>&& points, const DelaunayOptions& options = {},
+                           const ProgressFn* progress = nullptr);
+
+}  // namespace tincdt::delaunay

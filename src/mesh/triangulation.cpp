@@ -1,0 +1,223 @@
+#include "mesh/triangulation.hpp"
+
+#include <cmath>
+#include <numbers>
+#include <sstream>
+
+#include "mesh/geometry.hpp"
+#include "predicates/predicates.hpp"
+
+namespace tincdt::mesh {
+
+VertexId Triangulation::add_vertex(Point2 p, double z) {
+  xy_.push_back(p);
+  z_.push_back(z);
+  if (!vertex_edge_.empty()) vertex_edge_.push_back(kNoId);
+  return static_cast<VertexId>(xy_.size() - 1);
+}
+
+void Triangulation::reserve_vertices(std::size_t n) {
+  xy_.reserve(n);
+  z_.reserve(n);
+}
+
+TriangleId Triangulation::add_triangle(VertexId a, VertexId b, VertexId c) {
+  const auto t = static_cast<TriangleId>(triangle_slots());
+  corner_.insert(corner_.end(), {a, b, c});
+  twin_.insert(twin_.end(), {kNoId, kNoId, kNoId});
+  if (!constrained_.empty()) constrained_.insert(constrained_.end(), {0, 0, 0});
+  if (a < kInfinite && b < kInfinite && c < kInfinite) ++real_triangles_;
+  return t;
+}
+
+void Triangulation::set_corners(TriangleId t, VertexId a, VertexId b, VertexId c) {
+  corner_[3 * t] = a;
+  corner_[3 * t + 1] = b;
+  corner_[3 * t + 2] = c;
+}
+
+void Triangulation::reserve_triangles(std::size_t n) {
+  corner_.reserve(3 * n);
+  twin_.reserve(3 * n);
+}
+
+void Triangulation::set_constrained(EdgeId e, bool on) {
+  if (constrained_.empty()) {
+    if (!on) return;
+    constrained_.assign(corner_.size(), 0);
+  }
+  constrained_[e] = on;
+  constrained_[twin_[e]] = on;
+}
+
+void Triangulation::flip(EdgeId e) {
+  const EdgeId f = twin_[e];
+  const EdgeId e1 = next_edge(e), e2 = prev_edge(e);  // b -> c, c -> a
+  const EdgeId f1 = next_edge(f), f2 = prev_edge(f);  // a -> d, d -> b
+  const VertexId a = corner_[e], b = corner_[e1], c = corner_[e2], d = corner_[f2];
+  const EdgeId t_bc = twin_[e1], t_ca = twin_[e2], t_ad = twin_[f1], t_db = twin_[f2];
+
+  // e's slot becomes (d, c, a), f's slot (c, d, b).
+  corner_[e] = d;
+  corner_[e1] = c;
+  corner_[e2] = a;
+  corner_[f] = c;
+  corner_[f1] = d;
+  corner_[f2] = b;
+  link(e1, t_ca);  // c -> a
+  link(e2, t_ad);  // a -> d
+  link(f1, t_db);  // d -> b
+  link(f2, t_bc);  // b -> c
+  if (!constrained_.empty()) {
+    const std::uint8_t k_bc = constrained_[e1], k_ca = constrained_[e2];
+    const std::uint8_t k_ad = constrained_[f1], k_db = constrained_[f2];
+    constrained_[e] = constrained_[f] = 0;
+    constrained_[e1] = k_ca;
+    constrained_[e2] = k_ad;
+    constrained_[f1] = k_db;
+    constrained_[f2] = k_bc;
+  }
+  if (!vertex_edge_.empty()) {
+    vertex_edge_[a] = e2;
+    vertex_edge_[b] = f2;
+    vertex_edge_[c] = e1;
+    vertex_edge_[d] = f1;
+  }
+}
+
+void Triangulation::build_vertex_index() {
+  vertex_edge_.assign(vertex_count(), kNoId);
+  for (std::size_t e = 0; e < corner_.size(); ++e) {
+    const VertexId v = corner_[e];
+    if (v < kInfinite) vertex_edge_[v] = static_cast<EdgeId>(e);
+  }
+}
+
+EdgeId Triangulation::find_edge(VertexId u, VertexId v) const {
+  const EdgeId first = vertex_edge_[u];
+  EdgeId e = first;
+  do {
+    if (dest(e) == v) return e;
+    e = twin_[prev_edge(e)];  // the next half-edge leaving u, counter-clockwise
+  } while (e != first);
+  return kNoId;
+}
+
+void Triangulation::recount() {
+  real_triangles_ = 0;
+  for_each_triangle([&](TriangleId, const std::array<VertexId, 3>&) { ++real_triangles_; });
+}
+
+std::size_t Triangulation::memory_bytes() const {
+  return xy_.capacity() * sizeof(Point2) + z_.capacity() * sizeof(double) +
+         corner_.capacity() * sizeof(VertexId) + twin_.capacity() * sizeof(EdgeId) +
+         constrained_.capacity() + vertex_edge_.capacity() * sizeof(EdgeId);
+}
+
+namespace {
+
+std::string describe_edge(const Triangulation& tin, EdgeId e) {
+  std::ostringstream s;
+  auto name = [](VertexId v) { return v == kInfinite ? std::string("inf") : std::to_string(v); };
+  s << "edge " << e << " (" << name(tin.origin(e)) << " -> " << name(tin.dest(e)) << ", triangle "
+    << triangle_of(e) << ")";
+  return s.str();
+}
+
+}  // namespace
+
+std::string Triangulation::validate(ValidateOptions options) const {
+  const std::size_t slots = triangle_slots();
+  const std::size_t nv = vertex_count();
+  if (corner_.size() != twin_.size() || corner_.size() != 3 * slots)
+    return "corner and twin arrays differ in size";
+  if (!constrained_.empty() && constrained_.size() != corner_.size())
+    return "constraint flags differ in size from the corners";
+
+  // Twins, corners, orientation.
+  std::vector<std::uint32_t> degree(nv, 0);
+  std::size_t ghosts = 0;
+  for (std::size_t t = 0; t < slots; ++t) {
+    const auto tri = triangle(static_cast<TriangleId>(t));
+    int infinite = 0;
+    for (int i = 0; i < 3; ++i) {
+      if (tri[i] == kInfinite) {
+        ++infinite;
+      } else if (tri[i] >= nv) {
+        return "triangle " + std::to_string(t) + " names vertex " + std::to_string(tri[i]) +
+               " of " + std::to_string(nv);
+      } else {
+        ++degree[tri[i]];
+      }
+    }
+    if (tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2])
+      return "triangle " + std::to_string(t) + " repeats a corner";
+    if (infinite > 1) return "triangle " + std::to_string(t) + " has two infinite corners";
+    ghosts += infinite;
+    if (!infinite && predicates::orient2d(xy_[tri[0]], xy_[tri[1]], xy_[tri[2]]) <= 0)
+      return "triangle " + std::to_string(t) + " is not counter-clockwise";
+  }
+  for (std::size_t i = 0; i < corner_.size(); ++i) {
+    const auto e = static_cast<EdgeId>(i);
+    const EdgeId f = twin_[e];
+    if (f >= corner_.size()) return describe_edge(*this, e) + " has no twin";
+    if (twin_[f] != e) return describe_edge(*this, e) + " is not its twin's twin";
+    if (triangle_of(f) == triangle_of(e))
+      return describe_edge(*this, e) + " twins its own triangle";
+    if (origin(f) != dest(e) || dest(f) != origin(e))
+      return describe_edge(*this, e) + " and its twin do not join the same vertices";
+    if (!constrained_.empty() && constrained_[e] != constrained_[f])
+      return describe_edge(*this, e) + " is constrained on one side only";
+  }
+
+  // Every vertex used, exactly one fan around it (a manifold), Euler's formula.
+  for (std::size_t v = 0; v < nv; ++v)
+    if (!degree[v]) return "vertex " + std::to_string(v) + " is in no triangle";
+  std::vector<EdgeId> out_edge(nv, kNoId);
+  for (std::size_t i = 0; i < corner_.size(); ++i)
+    if (corner_[i] < kInfinite) out_edge[corner_[i]] = static_cast<EdgeId>(i);
+  for (std::size_t v = 0; v < nv; ++v) {
+    std::uint32_t around = 0;
+    EdgeId e = out_edge[v];
+    do {
+      e = twin_[prev_edge(e)];  // the next half-edge leaving v, counter-clockwise
+      if (++around > degree[v]) break;
+    } while (e != out_edge[v]);
+    if (around != degree[v])
+      return "vertex " + std::to_string(v) + " has more than one fan of triangles";
+  }
+  if (slots + 2 != 2 * nv) return "Euler's formula fails: wrong number of triangles";
+
+  // The hull: ghosts chain into one convex polygon that winds once.
+  double turning = 0;
+  for (std::size_t i = 0; i < corner_.size(); ++i) {
+    const auto e = static_cast<EdgeId>(i);
+    if (apex(e) != kInfinite) continue;
+    // Ghost (u, v, inf); the next ghost along the hull is (v, w, inf), across v -> inf.
+    const VertexId u = origin(e), v = dest(e);
+    const EdgeId g = next_edge(twin_[next_edge(e)]);
+    if (origin(g) != v || apex(g) != kInfinite)
+      return describe_edge(*this, e) + ": hull ghosts are not chained";
+    const Point2 pu = xy_[u], pv = xy_[v], pw = xy_[dest(g)];
+    double d = std::atan2(pw.y - pv.y, pw.x - pv.x) - std::atan2(pv.y - pu.y, pv.x - pu.x);
+    while (d > std::numbers::pi) d -= 2 * std::numbers::pi;
+    while (d < -std::numbers::pi) d += 2 * std::numbers::pi;
+    turning += d;
+  }
+  if (ghosts > 0 && std::fabs(std::fabs(turning) - 2 * std::numbers::pi) > 1e-6)
+    return "the hull does not wind once around the triangulation";
+
+  // Local Delaunay (or hull convexity, for the edges between two ghosts).
+  for (std::size_t i = 0; i < corner_.size(); ++i) {
+    const auto e = static_cast<EdgeId>(i);
+    if (is_constrained(e)) continue;
+    if (!options.delaunay && origin(e) != kInfinite && dest(e) != kInfinite) continue;
+    if (!is_locally_delaunay(*this, e))
+      return describe_edge(*this, e) + (origin(e) == kInfinite || dest(e) == kInfinite
+                                            ? " leaves the hull non-convex"
+                                            : " is not locally Delaunay");
+  }
+  return {};
+}
+
+}  // namespace tincdt::mesh

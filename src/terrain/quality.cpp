@@ -1,0 +1,1 @@
+// Terrain post-processing and quality statistics (issue 5).
