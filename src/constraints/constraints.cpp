@@ -1,1 +1,349 @@
-// Constraint stage: see constraints.hpp (issue 4).
+#include "constraints/constraints.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <tuple>
+
+#include "mesh/geometry.hpp"
+#include "mesh/point_insertion.hpp"
+#include "predicates/predicates.hpp"
+
+namespace tincdt::constraints {
+
+CrossingError::CrossingError(std::uint32_t a, std::uint32_t b, Point2 p)
+    : GeometryError("constraints from features " + std::to_string(a) + " and " + std::to_string(b) +
+                    " cross (use --on-crossing split to join them)"),
+      source_a(a),
+      source_b(b),
+      at(p) {}
+
+namespace {
+
+using mesh::kInfinite;
+using mesh::next_edge;
+using mesh::prev_edge;
+using mesh::triangle_of;
+using mesh::Triangulation;
+using predicates::orient2d;
+
+struct VertexPair {
+  VertexId u;
+  VertexId v;
+};
+
+std::uint64_t edge_key(VertexId u, VertexId v) {
+  return u < v ? (std::uint64_t{u} << 32 | v) : (std::uint64_t{v} << 32 | u);
+}
+
+// Constrained edge -> its first piece (open addressing). Only crossings look pieces up.
+class PieceIndex {
+ public:
+  void insert(std::uint64_t key, std::uint32_t piece) {
+    if (2 * (count_ + 1) > slots_.size()) grow();
+    std::size_t i = slot_of(key);
+    while (slots_[i].piece != kNoId && slots_[i].key != key) i = (i + 1) & (slots_.size() - 1);
+    if (slots_[i].piece == kNoId) ++count_;
+    slots_[i] = {key, piece};
+  }
+  std::uint32_t find(std::uint64_t key) const {
+    if (slots_.empty()) return kNoId;
+    for (std::size_t i = slot_of(key);; i = (i + 1) & (slots_.size() - 1)) {
+      if (slots_[i].piece == kNoId) return kNoId;
+      if (slots_[i].key == key) return slots_[i].piece;
+    }
+  }
+
+ private:
+  struct Slot {
+    std::uint64_t key = 0;
+    std::uint32_t piece = kNoId;
+  };
+  std::size_t slot_of(std::uint64_t key) const {
+    return static_cast<std::size_t>((key * 0x9e3779b97f4a7c15ULL) >> 20) & (slots_.size() - 1);
+  }
+  void grow() {
+    std::vector<Slot> old = std::move(slots_);
+    slots_.assign(std::max<std::size_t>(1024, old.size() * 2), Slot{});
+    count_ = 0;
+    for (const Slot& s : old)
+      if (s.piece != kNoId) insert(s.key, s.piece);
+  }
+  std::vector<Slot> slots_;
+  std::size_t count_ = 0;
+};
+
+// Circumradius over inradius, the paper's triangle quality R(T): abc * s / (4 A^2).
+double aspect_ratio(Point2 p, Point2 q, Point2 r) {
+  const double a = std::hypot(q.x - r.x, q.y - r.y);
+  const double b = std::hypot(p.x - r.x, p.y - r.y);
+  const double c = std::hypot(p.x - q.x, p.y - q.y);
+  const double area2 = std::fabs((q.x - p.x) * (r.y - p.y) - (q.y - p.y) * (r.x - p.x));
+  if (area2 == 0) return HUGE_VAL;
+  return a * b * c * (a + b + c) / (2 * area2 * area2);
+}
+
+class ConstraintInserter {
+ public:
+  ConstraintInserter(Triangulation& tin, const ConstraintOptions& options)
+      : tin_(tin), options_(options), points_(tin) {
+    if (!tin_.has_vertex_index()) tin_.build_vertex_index();
+  }
+
+  void insert(const Segment& segment) {
+    work_.push_back(segment);
+    while (!work_.empty()) {
+      const Segment s = work_.back();
+      work_.pop_back();
+      if (s.a != s.b) insert_piece(s);
+    }
+  }
+
+  ConstraintResult take_result() {
+    result_.flips_restoration += points_.flips();
+    return std::move(result_);
+  }
+  ConstraintResult& result() { return result_; }
+
+ private:
+  Point2 pt(VertexId v) const { return tin_.point(v); }
+
+  void mark(EdgeId e, VertexId a, VertexId b, std::uint32_t source) {
+    tin_.set_constrained(e, true);
+    const auto piece = static_cast<std::uint32_t>(result_.pieces.size());
+    result_.pieces.push_back({a, b, source});
+    next_piece_.push_back(index_.find(edge_key(a, b)));  // chain the sources of one edge
+    index_.insert(edge_key(a, b), piece);
+  }
+
+  // Makes segment a -> b (or its first part, up to a vertex on it) an edge; queues the rest.
+  void insert_piece(const Segment& s) {
+    const VertexId a = s.a, b = s.b;
+    const Point2 pa = pt(a), pb = pt(b);
+
+    // The triangle at a that the segment leaves through: (a, r, l) with r right of a -> b and
+    // l left of it, or an edge a -> u along the segment.
+    EdgeId cur = kNoId;
+    VertexId r = kNoId, l = kNoId;
+    const EdgeId first = tin_.edge_from(a);
+    EdgeId e = first;
+    do {
+      const VertexId u = tin_.dest(e), w = tin_.apex(e);
+      if (u == b) {
+        mark(e, a, b, s.source);
+        return;
+      }
+      if (u != kInfinite) {
+        const int side_u = orient2d(pa, pb, pt(u));
+        if (side_u == 0 &&
+            (pt(u).x - pa.x) * (pb.x - pa.x) + (pt(u).y - pa.y) * (pb.y - pa.y) > 0) {
+          ++result_.split_at_vertices;  // the segment runs through u: a -> u now, u -> b later
+          mark(e, a, u, s.source);
+          work_.push_back({u, b, s.source});
+          return;
+        }
+        if (side_u < 0 && w != kInfinite && orient2d(pa, pb, pt(w)) > 0) {
+          cur = next_edge(e);  // u -> w
+          r = u;
+          l = w;
+          break;
+        }
+      }
+      e = tin_.twin(prev_edge(e));
+    } while (e != first);
+    if (cur == kNoId)
+      throw GeometryError("internal: segment " + std::to_string(a) + "-" + std::to_string(b) +
+                          " leaves its first vertex through no triangle");
+
+    // Walk along the segment collecting the crossed edges (paper step C.1).
+    crossed_.clear();
+    VertexId end = b;
+    for (;;) {
+      if (tin_.is_constrained(cur)) {
+        split_crossing(s, r, l);
+        return;
+      }
+      crossed_.push_back({r, l});
+      const EdgeId t = tin_.twin(cur);  // l -> r in triangle (l, r, x)
+      const VertexId x = tin_.apex(t);
+      if (x == b) break;
+      const int side = orient2d(pa, pb, pt(x));
+      if (side == 0) {  // x lies on the segment: insert a -> x now, x -> b later
+        ++result_.split_at_vertices;
+        end = x;
+        work_.push_back({x, b, s.source});
+        break;
+      }
+      if (side > 0) {
+        cur = next_edge(t);  // r -> x
+        l = x;
+      } else {
+        cur = prev_edge(t);  // x -> l
+        r = x;
+      }
+    }
+    swap_in(pa, pt(end));
+    const EdgeId ab = tin_.find_edge(a, end);
+    mark(ab, a, end, s.source);
+    restore();
+  }
+
+  // Paper step C.2 in Sloan's order: swap each crossed edge whose quadrilateral is strictly
+  // convex; one that still crosses goes back in the queue, as does one that is not convex yet.
+  void swap_in(Point2 pa, Point2 pb) {
+    created_.clear();
+    for (std::size_t head = 0; head < crossed_.size(); ++head) {
+      const VertexPair q = crossed_[head];
+      const EdgeId e = tin_.find_edge(q.u, q.v);
+      const VertexId c = tin_.apex(e), d = tin_.apex(tin_.twin(e));
+      const Point2 pc = pt(c), pd = pt(d);
+      if (orient2d(pc, pd, pt(q.u)) * orient2d(pc, pd, pt(q.v)) >= 0) {
+        crossed_.push_back(q);  // not strictly convex: wait for a neighbour's swap
+        continue;
+      }
+      tin_.flip(e);
+      ++result_.flips_insertion;
+      if (orient2d(pa, pb, pc) * orient2d(pa, pb, pd) < 0) {
+        crossed_.push_back({c, d});
+      } else {
+        created_.push_back({c, d});
+      }
+      // Keep the queue from growing without bound: drop the consumed prefix now and then.
+      if (head > 4096 && head * 2 > crossed_.size()) {
+        crossed_.erase(crossed_.begin(), crossed_.begin() + static_cast<std::ptrdiff_t>(head) + 1);
+        head = static_cast<std::size_t>(-1);
+      }
+    }
+  }
+
+  // Paper step C.3 / D: improve the triangles around the new edges, never flipping a constraint.
+  void restore() {
+    if (options_.restore == Restore::none) return;
+    std::vector<VertexPair>& stack = created_;
+    while (!stack.empty()) {
+      const VertexPair q = stack.back();
+      stack.pop_back();
+      const EdgeId e = tin_.find_edge(q.u, q.v);
+      if (e == kNoId || tin_.is_constrained(e)) continue;
+      if (!should_flip(e)) continue;
+      const EdgeId f = tin_.twin(e);
+      const VertexId a = tin_.origin(e), b = tin_.dest(e), c = tin_.apex(e), d = tin_.apex(f);
+      tin_.flip(e);
+      ++result_.flips_restoration;
+      stack.push_back({a, d});
+      stack.push_back({d, b});
+      stack.push_back({b, c});
+      stack.push_back({c, a});
+    }
+  }
+
+  bool should_flip(EdgeId e) const {
+    if (options_.restore == Restore::delaunay) return !mesh::is_locally_delaunay(tin_, e);
+    const EdgeId f = tin_.twin(e);
+    const VertexId a = tin_.origin(e), b = tin_.dest(e), c = tin_.apex(e), d = tin_.apex(f);
+    if (a == kInfinite || b == kInfinite || c == kInfinite || d == kInfinite) return false;
+    const Point2 pa = pt(a), pb = pt(b), pc = pt(c), pd = pt(d);
+    if (orient2d(pc, pd, pa) * orient2d(pc, pd, pb) >= 0) return false;  // not swappable
+    const double before = std::max(aspect_ratio(pa, pb, pc), aspect_ratio(pb, pa, pd));
+    const double after = std::max(aspect_ratio(pc, pa, pd), aspect_ratio(pd, pb, pc));
+    return after * (1 + 1e-12) < before;  // a strict decrease, so the loop ends
+  }
+
+  // Segment s crosses the constrained edge r-l: join them at a new vertex (or at a vertex that
+  // already sits exactly there) and queue the four halves.
+  void split_crossing(const Segment& s, VertexId r, VertexId l) {
+    const std::uint32_t first_piece = index_.find(edge_key(r, l));
+    std::uint32_t other = kNoId;
+    for (std::uint32_t p = first_piece; p != kNoId && other == kNoId; p = next_piece_[p])
+      other = result_.pieces[p].source;
+    const Point2 pa = pt(s.a), pb = pt(s.b), pr = pt(r), pl = pt(l);
+    // The crossing point, from the signed areas (each a difference of nearby coordinates).
+    const double area_a = (pl.x - pr.x) * (pa.y - pr.y) - (pl.y - pr.y) * (pa.x - pr.x);
+    const double area_b = (pl.x - pr.x) * (pb.y - pr.y) - (pl.y - pr.y) * (pb.x - pr.x);
+    const double t = area_a / (area_a - area_b);
+    const Point2 at{pa.x + t * (pb.x - pa.x), pa.y + t * (pb.y - pa.y)};
+    if (options_.on_crossing == OnCrossing::error) throw CrossingError(s.source, other, at);
+
+    const double len2 = (pl.x - pr.x) * (pl.x - pr.x) + (pl.y - pr.y) * (pl.y - pr.y);
+    const double u = ((at.x - pr.x) * (pl.x - pr.x) + (at.y - pr.y) * (pl.y - pr.y)) / len2;
+    const double z_a = tin_.z(s.a) + t * (tin_.z(s.b) - tin_.z(s.a));
+    const double z_b = tin_.z(r) + u * (tin_.z(l) - tin_.z(r));
+
+    VertexId w;
+    const mesh::Location loc = points_.locate(at, triangle_of(tin_.find_edge(r, l)));
+    if (loc.kind == mesh::Location::on_vertex) {
+      w = tin_.origin(loc.edge);  // rounding put the crossing on an existing vertex
+    } else {
+      w = tin_.add_vertex(at, 0.5 * (z_a + z_b));
+      points_.insert(w, loc);
+      result_.crossings.push_back({w, s.source, other, z_a, z_b});
+      result_.max_z_disagreement = std::max(result_.max_z_disagreement, std::fabs(z_a - z_b));
+    }
+    // The crossed constraint: unmark r-l if it survived (the new vertex may have split it) and
+    // queue its halves for every source it carried.
+    const EdgeId rl = tin_.find_edge(r, l);
+    if (rl != kNoId) {  // freed, it may need flipping like any other edge
+      tin_.set_constrained(rl, false);
+      created_.assign(1, {r, l});
+      restore();
+    }
+    for (std::uint32_t p = first_piece; p != kNoId; p = next_piece_[p]) {
+      Piece& piece = result_.pieces[p];
+      if (piece.source == kNoId) continue;
+      if (w != r) work_.push_back({r, w, piece.source});
+      if (w != l) work_.push_back({w, l, piece.source});
+      piece.source = kNoId;  // retired; removed at the end
+    }
+    work_.push_back({w, s.b, s.source});
+    work_.push_back({s.a, w, s.source});
+  }
+
+  Triangulation& tin_;
+  ConstraintOptions options_;
+  mesh::PointInserter points_;
+  ConstraintResult result_;
+  PieceIndex index_;                       // edge -> its latest piece
+  std::vector<std::uint32_t> next_piece_;  // piece -> the previous piece on the same edge
+  std::vector<Segment> work_;
+  std::vector<VertexPair> crossed_;
+  std::vector<VertexPair> created_;
+};
+
+}  // namespace
+
+ConstraintResult insert_constraints(Triangulation& tin, const std::vector<Segment>& segments,
+                                    const ConstraintOptions& options, const ProgressFn* progress) {
+  ConstraintInserter inserter(tin, options);
+  Progress report(progress, "constraints", segments.size());
+  std::uint64_t done = 0;
+  for (const Segment& s : segments) {
+    if (s.a >= tin.vertex_count() || s.b >= tin.vertex_count())
+      throw GeometryError("segment names a vertex that does not exist");
+    if (s.a == s.b) {
+      ++inserter.result().segments_skipped;
+    } else {
+      inserter.insert(s);
+      ++inserter.result().segments;
+    }
+    report.tick(++done);
+  }
+  report.finish();
+  ConstraintResult result = inserter.take_result();
+  // Drop retired pieces, and repeats of one edge for one source: two crossing points that round
+  // to within an ulp of each other can make a chain step back over an edge it already holds.
+  std::erase_if(result.pieces, [](const Piece& p) { return p.source == kNoId; });
+  for (Piece& p : result.pieces)
+    if (p.a > p.b) std::swap(p.a, p.b);
+  std::sort(result.pieces.begin(), result.pieces.end(), [](const Piece& x, const Piece& y) {
+    return std::tie(x.source, x.a, x.b) < std::tie(y.source, y.a, y.b);
+  });
+  result.pieces.erase(std::unique(result.pieces.begin(), result.pieces.end(),
+                                  [](const Piece& x, const Piece& y) {
+                                    return x.source == y.source && x.a == y.a && x.b == y.b;
+                                  }),
+                      result.pieces.end());
+  tin.recount();
+  return result;
+}
+
+}  // namespace tincdt::constraints

@@ -99,6 +99,7 @@ DelaunayResult triangulate(std::vector<Point3>&& points, const DelaunayOptions& 
     report.tick(v);
   }
   report.finish();
+  result.flips = inserter.flips();
   tin.recount();
   return result;
 }

@@ -22,6 +22,7 @@ struct DelaunayResult {
   mesh::Triangulation tin;
   std::vector<VertexId> vertex_of_point;  // input point i became vertex vertex_of_point[i]
   std::uint64_t duplicates_merged = 0;    // points folded into an earlier one with equal x, y
+  std::uint64_t flips = 0;                // Lawson flips while inserting
 };
 
 // Triangulates `points` (consumed, to keep the peak memory low). Vertices are renumbered in

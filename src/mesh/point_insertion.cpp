@@ -64,8 +64,9 @@ Location PointInserter::locate(Point2 p, TriangleId hint) {
       const int k = o[0] == 0 ? 0 : (o[1] == 0 ? 1 : 2);
       return {Location::on_edge, 3 * t + static_cast<EdgeId>(k)};
     }
-    // Two edges through p: p is their shared corner.
-    const int k = o[0] != 0 ? 1 : (o[1] != 0 ? 2 : 0);
+    // Two edges through p: p is their shared corner, which the nonzero edge does not touch:
+    // it is the origin of the edge before the nonzero one.
+    const int k = o[0] != 0 ? 2 : (o[1] != 0 ? 0 : 1);
     return {Location::on_vertex, 3 * t + static_cast<EdgeId>(k)};
   }
 }

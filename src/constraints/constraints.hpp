@@ -1,0 +1,80 @@
+// The constraint stage (paper steps B-D): every segment becomes an edge of the TIN by edge
+// swapping only, then the constrained Delaunay property is restored around it.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/error.hpp"
+#include "core/progress.hpp"
+#include "core/types.hpp"
+#include "mesh/triangulation.hpp"
+
+namespace tincdt::constraints {
+
+// How the triangles around a new constraint are improved after it is in.
+enum class Restore {
+  delaunay,  // Lawson flips with the exact in-circle test: the result is the CDT
+  aspect,    // the paper's criterion (eq. 1): flip when it lowers max(circumradius / inradius)
+  none,      // keep the triangles the swapping left
+};
+
+enum class OnCrossing { split, error };
+
+// A segment between two vertices; `source` is the caller's id of the feature it came from.
+struct Segment {
+  VertexId a;
+  VertexId b;
+  std::uint32_t source;
+};
+
+struct ConstraintOptions {
+  Restore restore = Restore::delaunay;
+  OnCrossing on_crossing = OnCrossing::split;
+};
+
+// A Steiner vertex made where two constraints cross.
+struct Crossing {
+  VertexId vertex;
+  std::uint32_t source_a;  // the segment being inserted
+  std::uint32_t source_b;  // the constraint it crossed
+  double z_a;              // z interpolated along each of them; the vertex gets their mean
+  double z_b;
+};
+
+// One constrained edge of the result and the input segment it is part of. Overlapping
+// constraints give one piece per source on the same edge.
+struct Piece {
+  VertexId a;
+  VertexId b;
+  std::uint32_t source;
+};
+
+struct ConstraintResult {
+  std::uint64_t segments = 0;           // segments inserted
+  std::uint64_t segments_skipped = 0;   // zero length (both ends merged into one vertex)
+  std::uint64_t split_at_vertices = 0;  // times a segment ran through an existing vertex
+  std::uint64_t flips_insertion = 0;
+  std::uint64_t flips_restoration = 0;
+  std::vector<Crossing> crossings;
+  double max_z_disagreement = 0;
+  std::vector<Piece> pieces;
+};
+
+// Thrown with OnCrossing::error.
+class CrossingError : public GeometryError {
+ public:
+  CrossingError(std::uint32_t source_a, std::uint32_t source_b, Point2 at);
+  std::uint32_t source_a;
+  std::uint32_t source_b;
+  Point2 at;
+};
+
+// Inserts every segment into `tin`, which must be a Delaunay (or constrained Delaunay)
+// triangulation holding their vertices. Termination does not rest on an iteration cap: each
+// segment's crossed edges are swapped in Sloan's order, which always finds a convex quadrilateral.
+ConstraintResult insert_constraints(mesh::Triangulation& tin, const std::vector<Segment>& segments,
+                                    const ConstraintOptions& options = {},
+                                    const ProgressFn* progress = nullptr);
+
+}  // namespace tincdt::constraints
