@@ -26,6 +26,7 @@ TriangleId Triangulation::add_triangle(VertexId a, VertexId b, VertexId c) {
   corner_.insert(corner_.end(), {a, b, c});
   twin_.insert(twin_.end(), {kNoId, kNoId, kNoId});
   if (!constrained_.empty()) constrained_.insert(constrained_.end(), {0, 0, 0});
+  if (!removed_.empty()) removed_.push_back(0);
   if (a < kInfinite && b < kInfinite && c < kInfinite) ++real_triangles_;
   return t;
 }
@@ -39,6 +40,16 @@ void Triangulation::set_corners(TriangleId t, VertexId a, VertexId b, VertexId c
 void Triangulation::reserve_triangles(std::size_t n) {
   corner_.reserve(3 * n);
   twin_.reserve(3 * n);
+}
+
+void Triangulation::set_removed(TriangleId t, bool on) {
+  if (removed_.empty()) {
+    if (!on) return;
+    removed_.assign(triangle_slots(), 0);
+  }
+  if (removed_[t] == static_cast<std::uint8_t>(on)) return;
+  removed_[t] = on;
+  if (!is_ghost(t)) real_triangles_ += on ? -1 : 1;
 }
 
 void Triangulation::set_constrained(EdgeId e, bool on) {
@@ -111,7 +122,7 @@ void Triangulation::recount() {
 std::size_t Triangulation::memory_bytes() const {
   return xy_.capacity() * sizeof(Point2) + z_.capacity() * sizeof(double) +
          corner_.capacity() * sizeof(VertexId) + twin_.capacity() * sizeof(EdgeId) +
-         constrained_.capacity() + vertex_edge_.capacity() * sizeof(EdgeId);
+         constrained_.capacity() + vertex_edge_.capacity() * sizeof(EdgeId) + removed_.capacity();
 }
 
 namespace {

@@ -63,16 +63,26 @@ class Triangulation {
   // Real (finite, not removed) triangles.
   std::size_t triangle_count() const { return real_triangles_; }
 
-  // Calls f(TriangleId, std::array<VertexId, 3>) for every real triangle, CCW corners.
+  // Calls f(TriangleId, std::array<VertexId, 3>) for every real triangle that is not removed,
+  // corners counter-clockwise.
   template <class F>
   void for_each_triangle(F&& f) const {
     const std::size_t n = triangle_slots();
     for (std::size_t t = 0; t < n; ++t) {
       const auto tri = triangle(static_cast<TriangleId>(t));
       if (tri[0] >= kInfinite || tri[1] >= kInfinite || tri[2] >= kInfinite) continue;
+      if (!removed_.empty() && removed_[t]) continue;
       f(static_cast<TriangleId>(t), tri);
     }
   }
+
+  // ---- removal (clip, erase, long-edge trimming) ----------------------------------------
+  // A removed triangle keeps its place in the topology (so walks, flips and validate() work as
+  // before) but is no part of the TIN: for_each_triangle() and the writers skip it.
+  bool is_removed(TriangleId t) const { return !removed_.empty() && removed_[t] != 0; }
+  void set_removed(TriangleId t, bool on);
+  // True for a real triangle that is not removed.
+  bool is_kept(TriangleId t) const { return !is_ghost(t) && !is_removed(t); }
 
   // ---- constraints ----------------------------------------------------------------------
   bool has_constraints() const { return !constrained_.empty(); }
@@ -133,6 +143,7 @@ class Triangulation {
   std::vector<EdgeId> twin_;               // 3 per triangle slot
   std::vector<std::uint8_t> constrained_;  // 3 per triangle slot, empty until constraints exist
   std::vector<EdgeId> vertex_edge_;        // empty until build_vertex_index()
+  std::vector<std::uint8_t> removed_;      // 1 per triangle slot, empty until a removal
   std::size_t real_triangles_ = 0;
 };
 

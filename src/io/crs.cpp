@@ -1,0 +1,395 @@
+#include "io/crs.hpp"
+
+#include <cpl_error.h>
+#include <cpl_string.h>
+#include <cpl_vsi.h>
+#include <gdal.h>
+#include <ogr_srs_api.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "core/error.hpp"
+#include "io/crs_detail.hpp"
+
+namespace tincdt::io {
+namespace {
+
+// Silences GDAL's own error printing for the scope and remembers the last message, so that it can
+// be put in an exception or a warning instead.
+class QuietGdal {
+ public:
+  QuietGdal() {
+    CPLPushErrorHandler(CPLQuietErrorHandler);
+    CPLErrorReset();
+  }
+  QuietGdal(const QuietGdal&) = delete;
+  QuietGdal& operator=(const QuietGdal&) = delete;
+  ~QuietGdal() { CPLPopErrorHandler(); }
+
+  // GDAL's last message, or FALLBACK when it said nothing.
+  static std::string message(const char* fallback) {
+    const char* msg = CPLGetLastErrorMsg();
+    return (msg != nullptr && *msg != '\0') ? std::string(msg) : std::string(fallback);
+  }
+};
+
+// An OGRSpatialReferenceH owned for the scope, in traditional GIS (x = easting / longitude) order.
+class Srs {
+ public:
+  Srs() : h_(OSRNewSpatialReference(nullptr)) {
+    if (h_ != nullptr) OSRSetAxisMappingStrategy(h_, OAMS_TRADITIONAL_GIS_ORDER);
+  }
+  explicit Srs(OGRSpatialReferenceH owned) : h_(owned) {
+    if (h_ != nullptr) OSRSetAxisMappingStrategy(h_, OAMS_TRADITIONAL_GIS_ORDER);
+  }
+  Srs(const Srs&) = delete;
+  Srs& operator=(const Srs&) = delete;
+  ~Srs() {
+    if (h_ != nullptr) OSRRelease(h_);
+  }
+  OGRSpatialReferenceH get() const { return h_; }
+
+  // Reads WKT (1 or 2); false when OSR refuses it.
+  bool import_wkt(const std::string& wkt) {
+    if (h_ == nullptr) return false;
+    char* text = const_cast<char*>(wkt.c_str());  // OSRImportFromWkt only advances the pointer
+    return OSRImportFromWkt(h_, &text) == OGRERR_NONE;
+  }
+
+ private:
+  OGRSpatialReferenceH h_;
+};
+
+// CPL-allocated string to std::string.
+std::string take_cpl_string(char* s) {
+  std::string out = s != nullptr ? s : "";
+  CPLFree(s);
+  return out;
+}
+
+std::string export_wkt(OGRSpatialReferenceH h, const char* format) {
+  const char* const options[] = {format, nullptr};
+  char* text = nullptr;
+  if (OSRExportToWktEx(h, &text, options) != OGRERR_NONE) {
+    CPLFree(text);
+    return {};
+  }
+  return take_cpl_string(text);
+}
+
+std::string shorten(const std::string& s, std::size_t max_len = 80) {
+  if (s.size() <= max_len) return s;
+  return s.substr(0, max_len) + "...";
+}
+
+// "EPSG:NNNN" when the CRS object itself carries an authority code, else "".
+std::string authority_label(OGRSpatialReferenceH h) {
+  const char* name = OSRGetAuthorityName(h, nullptr);
+  const char* code = OSRGetAuthorityCode(h, nullptr);
+  if (name == nullptr || code == nullptr) return {};
+  return std::string(name) + ":" + code;
+}
+
+// ---- GeoTIFF keys -> WKT, by handing GDAL a minimal one-pixel TIFF that carries the keys ----
+
+class TiffBuilder {
+ public:
+  void add_short(std::uint16_t tag, std::uint16_t value) { entries_.push_back({tag, 3, 1, value}); }
+  void add_long(std::uint16_t tag, std::uint32_t value) { entries_.push_back({tag, 4, 1, value}); }
+  // An array stored out of line; TYPE is the TIFF field type, UNIT its size in bytes.
+  void add_array(std::uint16_t tag, std::uint16_t type, const void* data, std::size_t count,
+                 std::size_t unit) {
+    Entry e{tag, type, static_cast<std::uint32_t>(count), 0};
+    e.blob.assign(static_cast<const std::uint8_t*>(data),
+                  static_cast<const std::uint8_t*>(data) + count * unit);
+    entries_.push_back(std::move(e));
+  }
+
+  // Little-endian TIFF: header, one IFD (entries sorted by tag), out-of-line arrays, the pixel.
+  std::vector<std::uint8_t> build() {
+    std::sort(entries_.begin(), entries_.end(),
+              [](const Entry& a, const Entry& b) { return a.tag < b.tag; });
+    const std::size_t ifd_size = 2 + 12 * entries_.size() + 4;
+    std::size_t data_pos = 8 + ifd_size;
+    for (Entry& e : entries_) {
+      if (e.blob.size() > 4) {
+        data_pos += data_pos & 1;  // word alignment
+        e.value = static_cast<std::uint32_t>(data_pos);
+        data_pos += e.blob.size();
+      } else if (!e.blob.empty()) {
+        std::uint32_t v = 0;
+        std::memcpy(&v, e.blob.data(), e.blob.size());
+        e.value = v;
+      }
+    }
+    const std::size_t pixel_pos = data_pos;
+    for (Entry& e : entries_) {
+      if (e.tag == 273) e.value = static_cast<std::uint32_t>(pixel_pos);  // StripOffsets
+    }
+    std::vector<std::uint8_t> out(pixel_pos + 1, 0);  // the last byte is the single pixel
+    std::size_t pos = 0;
+    put(out, pos, std::uint16_t{0x4949});  // "II"
+    put(out, pos, std::uint16_t{42});
+    put(out, pos, std::uint32_t{8});
+    put(out, pos, static_cast<std::uint16_t>(entries_.size()));
+    for (const Entry& e : entries_) {
+      put(out, pos, e.tag);
+      put(out, pos, e.type);
+      put(out, pos, e.count);
+      if (e.blob.empty() && e.type == 3) {  // a SHORT is left-justified in the value field
+        put(out, pos, static_cast<std::uint16_t>(e.value));
+        put(out, pos, std::uint16_t{0});
+      } else {
+        put(out, pos, e.value);
+      }
+    }
+    put(out, pos, std::uint32_t{0});  // no next IFD
+    for (const Entry& e : entries_) {
+      if (e.blob.size() > 4) std::memcpy(out.data() + e.value, e.blob.data(), e.blob.size());
+    }
+    return out;
+  }
+
+ private:
+  struct Entry {
+    std::uint16_t tag;
+    std::uint16_t type;
+    std::uint32_t count;
+    std::uint32_t value;
+    std::vector<std::uint8_t> blob = {};
+  };
+  template <typename T>
+  static void put(std::vector<std::uint8_t>& out, std::size_t& pos, T v) {
+    std::memcpy(out.data() + pos, &v, sizeof(T));  // the project targets little-endian hosts
+    pos += sizeof(T);
+  }
+  std::vector<Entry> entries_;
+};
+
+void ensure_gtiff_driver() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    if (GDALGetDriverByName("GTiff") == nullptr) GDALAllRegister();
+  });
+}
+
+// The value of KEY in a GeoTIFF key directory when stored inline, 0 when absent.
+std::uint16_t key_value(const std::vector<std::uint16_t>& dir, std::uint16_t key) {
+  const std::size_t n = dir.size() >= 4 ? dir[3] : 0;
+  for (std::size_t i = 0; i < n && 4 + 4 * i + 3 < dir.size(); ++i) {
+    const std::uint16_t* k = &dir[4 + 4 * i];
+    if (k[0] == key) return k[1] == 0 ? k[3] : std::uint16_t{1};
+  }
+  return 0;
+}
+
+// Keys that define a horizontal CRS: geographic type, geodetic datum, projected type,
+// projection, coordinate transformation.
+bool has_horizontal_keys(const std::vector<std::uint16_t>& dir) {
+  for (const std::uint16_t key : {std::uint16_t{2048}, std::uint16_t{2050}, std::uint16_t{3072},
+                                  std::uint16_t{3074}, std::uint16_t{3075}}) {
+    if (key_value(dir, key) != 0) return true;
+  }
+  return false;
+}
+
+std::string linear_unit_name(OGRSpatialReferenceH h) {
+  char* name = nullptr;  // owned by the SRS
+  OSRGetLinearUnits(h, &name);
+  return name != nullptr ? std::string(name) : std::string("?");
+}
+
+// GDAL keeps the EPSG id of a projected CSType key even when other keys override part of that
+// definition (mvk-thin.las: EPSG:26995, in metres, with ProjLinearUnits = US survey foot). Such
+// a CRS is not EPSG:NNNN any more: drop the id so that nobody takes it for the registry entry,
+// and say what happened.
+void drop_misleading_id(OGRSpatialReferenceH h, detail::CrsResult& result) {
+  const char* authority = OSRGetAuthorityName(h, nullptr);
+  const char* code = OSRGetAuthorityCode(h, nullptr);
+  if (authority == nullptr || code == nullptr || std::strcmp(authority, "EPSG") != 0) return;
+  Srs registry;
+  if (OSRImportFromEPSG(registry.get(), std::atoi(code)) != OGRERR_NONE) return;
+  const char* const options[] = {"IGNORE_DATA_AXIS_TO_SRS_AXIS_MAPPING=YES", nullptr};
+  if (OSRIsSameEx(h, registry.get(), options) != 0) return;
+  const std::string id = std::string(",ID[\"EPSG\",") + code + "]]";
+  std::string& wkt = result.wkt;
+  if (wkt.size() > id.size() && wkt.compare(wkt.size() - id.size(), id.size(), id) == 0) {
+    wkt.resize(wkt.size() - id.size());
+    wkt += "]";
+  }
+  const std::string unit = linear_unit_name(h);
+  const std::string registry_unit = linear_unit_name(registry.get());
+  result.problem =
+      "the GeoTIFF keys name EPSG:" + std::string(code) + " but override part of its definition" +
+      (unit != registry_unit ? " (linear unit " + unit + " instead of " + registry_unit + ")"
+                             : std::string()) +
+      "; the overridden CRS is used";
+}
+
+}  // namespace
+
+namespace detail {
+
+CrsResult crs_check_wkt(const std::string& wkt) {
+  QuietGdal quiet;
+  Srs srs;
+  if (!srs.import_wkt(wkt)) return {{}, QuietGdal::message("not a valid WKT CRS")};
+  return {wkt, {}};
+}
+
+CrsResult crs_from_geotiff(const GeoTiffKeys& keys) {
+  const std::vector<std::uint16_t>& dir = keys.directory;
+  if (dir.size() < 4 || dir[0] != 1 || 4 + 4 * std::size_t{dir[3]} > dir.size()) {
+    return {{}, "malformed GeoTIFF key directory"};
+  }
+  if (!has_horizontal_keys(dir)) {
+    const std::uint16_t vert = key_value(dir, 4096);
+    return {{},
+            vert != 0 ? "the GeoTIFF keys give only a vertical CRS (EPSG:" + std::to_string(vert) +
+                            "), no horizontal one"
+                      : "the GeoTIFF keys describe no horizontal CRS"};
+  }
+  TiffBuilder tiff;
+  tiff.add_short(256, 1);  // ImageWidth
+  tiff.add_short(257, 1);  // ImageLength
+  tiff.add_short(258, 8);  // BitsPerSample
+  tiff.add_short(259, 1);  // Compression: none
+  tiff.add_short(262, 1);  // Photometric: min-is-black
+  tiff.add_long(273, 0);   // StripOffsets, set by build()
+  tiff.add_short(277, 1);  // SamplesPerPixel
+  tiff.add_short(278, 1);  // RowsPerStrip
+  tiff.add_long(279, 1);   // StripByteCounts
+  tiff.add_array(34735, 3, dir.data(), dir.size(), 2);
+  if (!keys.doubles.empty()) tiff.add_array(34736, 12, keys.doubles.data(), keys.doubles.size(), 8);
+  if (!keys.ascii.empty()) {
+    std::string ascii = keys.ascii;
+    if (ascii.back() != '\0') ascii.push_back('\0');
+    tiff.add_array(34737, 2, ascii.data(), ascii.size(), 1);
+  }
+  std::vector<std::uint8_t> bytes = tiff.build();
+
+  ensure_gtiff_driver();
+  QuietGdal quiet;
+  static std::atomic<unsigned> counter{0};
+  const std::string name = "/vsimem/tincdt_geokeys_" + std::to_string(counter++) + ".tif";
+  VSILFILE* f = VSIFileFromMemBuffer(name.c_str(), bytes.data(), bytes.size(), FALSE);
+  if (f == nullptr) return {{}, QuietGdal::message("cannot decode the GeoTIFF keys")};
+  VSIFCloseL(f);
+  const char* const drivers[] = {"GTiff", nullptr};
+  GDALDatasetH ds =
+      GDALOpenEx(name.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY, drivers, nullptr, nullptr);
+  CrsResult result;
+  if (ds == nullptr) {
+    result.problem = QuietGdal::message("cannot decode the GeoTIFF keys");
+  } else {
+    OGRSpatialReferenceH h = GDALGetSpatialRef(ds);
+    if (h != nullptr && (OSRIsProjected(h) || OSRIsGeographic(h))) {
+      result.wkt = export_wkt(h, "FORMAT=WKT2_2019");
+      if (result.wkt.empty()) {
+        result.problem = QuietGdal::message("cannot export the CRS");
+      } else {
+        drop_misleading_id(h, result);
+      }
+    } else {
+      result.problem = "GDAL finds no horizontal CRS in the GeoTIFF keys";
+    }
+    GDALClose(ds);
+  }
+  VSIUnlink(name.c_str());
+  return result;
+}
+
+}  // namespace detail
+
+bool same_crs(const std::string& wkt_a, const std::string& wkt_b) {
+  if (wkt_a.empty() || wkt_b.empty()) return wkt_a.empty() && wkt_b.empty();
+  if (wkt_a == wkt_b) return true;
+  QuietGdal quiet;
+  Srs a;
+  Srs b;
+  if (!a.import_wkt(wkt_a) || !b.import_wkt(wkt_b)) return false;
+  const char* const options[] = {"IGNORE_DATA_AXIS_TO_SRS_AXIS_MAPPING=YES", nullptr};
+  return OSRIsSameEx(a.get(), b.get(), options) != 0;
+}
+
+std::string crs_label(const std::string& wkt) {
+  if (wkt.empty()) return {};
+  QuietGdal quiet;
+  Srs srs;
+  if (!srs.import_wkt(wkt)) return {};
+  std::string label = authority_label(srs.get());
+  if (!label.empty()) return label;
+  // An EPSG entry that PROJ finds equivalent (confidence 70 = same datum and coordinate
+  // system, 90 = also a similar name, 100 = identical). Only an unambiguous best EPSG match
+  // counts; entries of other registries (IGNF, ESRI) are ignored.
+  int count = 0;
+  int* confidence = nullptr;
+  OGRSpatialReferenceH* matches = OSRFindMatches(srs.get(), nullptr, &count, &confidence);
+  int best = -1;
+  bool tie = false;
+  for (int i = 0; i < count; ++i) {
+    const char* authority = OSRGetAuthorityName(matches[i], nullptr);
+    if (authority == nullptr || std::strcmp(authority, "EPSG") != 0 || confidence[i] < 70) continue;
+    if (best < 0 || confidence[i] > confidence[best]) {
+      best = i;
+      tie = false;
+    } else if (confidence[i] == confidence[best]) {
+      tie = true;
+    }
+  }
+  if (best >= 0 && !tie) label = authority_label(matches[best]);
+  if (matches != nullptr) OSRFreeSRSArray(matches);
+  CPLFree(confidence);
+  if (!label.empty()) return label;
+  const char* name = OSRGetName(srs.get());
+  return name != nullptr ? std::string(name) : std::string();
+}
+
+std::string crs_from_user(const std::string& text) {
+  QuietGdal quiet;
+  Srs srs;
+  if (srs.get() == nullptr || OSRSetFromUserInput(srs.get(), text.c_str()) != OGRERR_NONE) {
+    throw InputError(
+        "", "",
+        "cannot interpret '" + shorten(text) + "' as a CRS: " + QuietGdal::message("unknown CRS"));
+  }
+  std::string wkt = export_wkt(srs.get(), "FORMAT=WKT2_2019");
+  if (wkt.empty()) {
+    throw InputError("", "",
+                     "cannot express the CRS '" + shorten(text) +
+                         "' as WKT: " + QuietGdal::message("export failed"));
+  }
+  return wkt;
+}
+
+std::string crs_to_prj(const std::string& wkt) {
+  if (wkt.empty()) return {};
+  QuietGdal quiet;
+  Srs srs;
+  if (!srs.import_wkt(wkt)) {
+    throw InputError(
+        "", "",
+        "cannot read the CRS WKT '" + shorten(wkt) + "': " + QuietGdal::message("invalid WKT"));
+  }
+  std::string prj = export_wkt(srs.get(), "FORMAT=WKT1_ESRI");
+  if (prj.empty() && OSRIsCompound(srs.get())) {
+    // ESRI WKT1 has no compound CRS in some PROJ versions: keep the horizontal part.
+    CPLErrorReset();
+    if (OSRStripVertical(srs.get()) == OGRERR_NONE) prj = export_wkt(srs.get(), "FORMAT=WKT1_ESRI");
+  }
+  if (prj.empty()) {
+    throw InputError(
+        "", "",
+        "cannot express the CRS as ESRI WKT for a .prj: " + QuietGdal::message("export failed"));
+  }
+  return prj;
+}
+
+}  // namespace tincdt::io

@@ -1,0 +1,195 @@
+// GeoJSON: a FeatureCollection of one 3D Polygon per triangle (closed ring, counter-clockwise,
+// as RFC 7946 asks), written directly with to_chars (building it through OGR is far too slow for
+// millions of triangles). The CRS is written the way GDAL's GeoJSON driver writes it:
+//   "crs": { "type": "name", "properties": { "name": "urn:ogc:def:crs:EPSG::2949" } }
+// and left out for WGS 84 (EPSG:4326 / CRS84), RFC 7946's only CRS. A CRS without an EPSG code,
+// which GDAL would drop, is written as one-line WKT in the same member; GDAL reads it back.
+#include <cpl_conv.h>
+#include <cpl_error.h>
+#include <ogr_spatialref.h>
+
+#include <algorithm>
+#include <vector>
+
+#include "io/crs.hpp"
+#include "io/writer_detail.hpp"
+
+namespace tincdt::io::detail {
+namespace {
+
+std::string json_string(std::string_view s) {
+  std::string j = "\"";
+  for (const char c : s) {
+    if (c == '"' || c == '\\') {
+      j += '\\';
+      j += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      static constexpr char kHex[] = "0123456789abcdef";
+      j += "\\u00";
+      j += kHex[(c >> 4) & 0xf];
+      j += kHex[c & 0xf];
+    } else {
+      j += c;
+    }
+  }
+  return j + "\"";
+}
+
+std::string gdal_message(const char* fallback) {
+  const char* msg = CPLGetLastErrorMsg();
+  return msg != nullptr && *msg != '\0' ? std::string(msg) : std::string(fallback);
+}
+
+OGRSpatialReference parse_crs(const std::string& path, const std::string& wkt, const char* what) {
+  OGRSpatialReference srs;
+  if (srs.SetFromUserInput(wkt.c_str()) != OGRERR_NONE)
+    throw OutputError(
+        path, "",
+        std::string("cannot read ") + what + ": " + gdal_message("not a CRS OSR understands"));
+  srs.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+  return srs;
+}
+
+bool is_wgs84(const OGRSpatialReference& srs) {
+  OGRSpatialReference wgs84;
+  wgs84.SetWellKnownGeogCS("WGS84");
+  const char* const options[] = {"IGNORE_DATA_AXIS_TO_SRS_AXIS_MAPPING=YES",
+                                 "CRITERION=EQUIVALENT_EXCEPT_AXIS_ORDER_GEOGCRS", nullptr};
+  return srs.IsSame(&wgs84, options) != 0;
+}
+
+// The top-level "crs" member (with its trailing ",\n"), or "" for WGS 84 and an unknown CRS.
+std::string crs_member(const std::string& path, const std::string& wkt) {
+  if (wkt.empty()) return {};
+  CPLErrorHandlerPusher quiet(CPLQuietErrorHandler, nullptr);
+  if (is_wgs84(parse_crs(path, wkt, "the output CRS"))) return {};
+  const std::string code = crs_code(wkt);
+  const std::string name =
+      code.rfind("EPSG:", 0) == 0 ? "urn:ogc:def:crs:EPSG::" + code.substr(5) : one_line(wkt);
+  return "\"crs\": { \"type\": \"name\", \"properties\": { \"name\": " + json_string(name) +
+         " } },\n";
+}
+
+struct CtDeleter {
+  void operator()(OGRCoordinateTransformation* ct) const {
+    OGRCoordinateTransformation::DestroyCT(ct);
+  }
+};
+
+// Every vertex in the target CRS (traditional GIS order: lon, lat for geographic CRSs), in
+// separate x, y, z arrays as OSR wants them. Empty when both CRSs are the same.
+struct Reprojected {
+  std::vector<double> x, y, z;
+};
+
+Reprojected reproject(const std::string& path, const mesh::Triangulation& tin,
+                      const std::string& source_wkt, const std::string& target_wkt) {
+  std::string target_name = crs_label(target_wkt);
+  if (target_name.empty()) target_name = "the target CRS";
+  if (source_wkt.empty())
+    throw OutputError(path, "",
+                      "cannot reproject to " + target_name + ": the CRS of the TIN is unknown");
+  CPLErrorHandlerPusher quiet(CPLQuietErrorHandler, nullptr);
+  const OGRSpatialReference source = parse_crs(path, source_wkt, "the CRS of the TIN");
+  const OGRSpatialReference target = parse_crs(path, target_wkt, "the target CRS");
+  Reprojected r;
+  if (source.IsSame(&target)) return r;
+  CPLErrorReset();
+  std::unique_ptr<OGRCoordinateTransformation, CtDeleter> ct(
+      OGRCreateCoordinateTransformation(&source, &target));
+  if (!ct)
+    throw OutputError(
+        path, "", "no transformation to " + target_name + ": " + gdal_message("unknown reason"));
+
+  const std::size_t n = tin.vertex_count();
+  r.x.resize(n);
+  r.y.resize(n);
+  r.z.resize(n);
+  for (std::size_t v = 0; v < n; ++v) {
+    const Point2 p = tin.point(static_cast<VertexId>(v));
+    r.x[v] = p.x;
+    r.y[v] = p.y;
+    r.z[v] = tin.z(static_cast<VertexId>(v));
+  }
+  constexpr std::size_t kChunk = 1 << 16;
+  std::vector<int> ok(kChunk);
+  for (std::size_t first = 0; first < n; first += kChunk) {
+    const std::size_t count = std::min(kChunk, n - first);
+    std::fill(ok.begin(), ok.end(), 0);
+    ct->Transform(static_cast<int>(count), r.x.data() + first, r.y.data() + first,
+                  r.z.data() + first, nullptr, ok.data());
+    for (std::size_t i = 0; i < count; ++i)
+      if (!ok[i])
+        throw OutputError(path, "vertex " + std::to_string(first + i),
+                          "cannot be reprojected to " + target_name);
+  }
+  return r;
+}
+
+void put_position(BlockWriter& w, const Point3& p) {
+  w.put('[');
+  w.put_double(p.x);
+  w.put(',');
+  w.put_double(p.y);
+  w.put(',');
+  w.put_double(p.z);
+  w.put(']');
+}
+
+}  // namespace
+
+TinWriteStats write_geojson(OutputFile& out, const mesh::Triangulation& tin,
+                            const TinWriteOptions& options) {
+  const std::string& path = out.path();
+  const bool reprojecting = !options.target_crs_wkt.empty();
+  const Reprojected r =
+      reprojecting ? reproject(path, tin, options.crs_wkt, options.target_crs_wkt) : Reprojected{};
+  const std::string& out_crs = reprojecting ? options.target_crs_wkt : options.crs_wkt;
+  const std::uint64_t nt = count_triangles(tin);
+
+  const std::string crs = crs_member(path, out_crs);
+
+  // Position of vertex v as written: reprojected, or shifted by the offset (write_tin() refuses
+  // the two together).
+  const auto position = [&](VertexId v) {
+    if (r.x.empty()) return shifted_vertex(path, tin, v, options.offset);
+    const Point3 q{r.x[v], r.y[v], r.z[v]};
+    if (!std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z))
+      throw OutputError(path, "vertex " + std::to_string(v), "coordinate is not a finite number");
+    return q;
+  };
+
+  BlockWriter w(out);
+  w.put(std::string_view("{\n\"type\": \"FeatureCollection\",\n"));
+  w.put(crs);
+  // A foreign member (RFC 7946 section 6.1): the offset subtracted from every position. GDAL
+  // ignores it.
+  if (!is_zero(options.offset)) {
+    w.put(std::string_view("\"tincdt_offset\": "));
+    put_position(w, options.offset);
+    w.put(std::string_view(",\n"));
+  }
+  w.put(std::string_view("\"features\": [\n"));
+  std::uint64_t id = 0;
+  tin.for_each_triangle([&](TriangleId, const std::array<VertexId, 3>& c) {
+    if (id > 0) w.put(std::string_view(",\n"));
+    w.put(std::string_view("{\"type\":\"Feature\",\"properties\":{\"id\":"));
+    w.put_uint(id);
+    w.put(std::string_view("},\"geometry\":{\"type\":\"Polygon\",\"coordinates\":[["));
+    const Point3 a = position(c[0]);
+    put_position(w, a);
+    w.put(',');
+    put_position(w, position(c[1]));
+    w.put(',');
+    put_position(w, position(c[2]));
+    w.put(',');
+    put_position(w, a);
+    w.put(std::string_view("]]}}"));
+    ++id;
+  });
+  w.put(std::string_view("\n]\n}\n"));
+  w.flush();
+  return {tin.vertex_count(), nt, 0};
+}
+
+}  // namespace tincdt::io::detail

@@ -1,0 +1,400 @@
+// LAS 1.0-1.4 reader, written from the ASPRS LAS specification (1.0 2003, 1.1 2005, 1.2 2008,
+// 1.3 R11, 1.4 R15). Only what a TIN needs is decoded: X/Y/Z, classification, return numbers,
+// and the CRS records.
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "core/error.hpp"
+#include "io/crs_detail.hpp"
+#include "io/mapped_file.hpp"
+#include "io/point_reader.hpp"
+
+namespace tincdt::io {
+namespace {
+
+static_assert(std::endian::native == std::endian::little,
+              "the LAS reader loads little-endian fields with memcpy");
+
+// Unaligned little-endian load.
+template <typename T>
+T load(const std::uint8_t* p) {
+  T v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+
+// ---- Public header block ----
+
+constexpr std::size_t kMinHeaderSize = 227;  // LAS 1.0-1.2
+constexpr std::size_t kHeaderSize14 = 375;   // 1.3 adds 8 bytes, 1.4 EVLRs and 64-bit counts
+constexpr std::size_t kVlrHeaderSize = 54;
+constexpr std::size_t kEvlrHeaderSize = 60;
+// Bytes each point data record format needs (formats 0-10).
+constexpr std::array<std::uint16_t, 11> kFormatSize = {20, 28, 26, 34, 57, 63, 30, 36, 38, 59, 67};
+
+const char* const kLazAdvice =
+    "compressed LAZ is not supported yet; decompress it first (e.g. with 'pdal translate' or "
+    "'las2las')";
+
+struct LasHeader {
+  unsigned version_major = 0;
+  unsigned version_minor = 0;
+  std::size_t header_size = 0;
+  std::uint64_t offset_to_points = 0;
+  std::uint32_t vlr_count = 0;
+  unsigned point_format = 0;
+  std::size_t record_length = 0;
+  std::uint64_t point_count = 0;
+  std::array<double, 3> scale{};
+  std::array<double, 3> offset{};
+  std::uint64_t evlr_start = 0;
+  std::uint32_t evlr_count = 0;
+};
+
+std::string byte_at(std::uint64_t offset) {
+  return "byte " + std::to_string(offset);
+}
+
+LasHeader parse_header(const std::string& path, const std::uint8_t* d, std::size_t size) {
+  if (size < 4 || std::memcmp(d, "LASF", 4) != 0) {
+    throw InputError(path, "", "not a LAS file (no 'LASF' signature)");
+  }
+  if (size < kMinHeaderSize) {
+    throw InputError(path, "header",
+                     "truncated: the file has " + std::to_string(size) +
+                         " bytes, a LAS header needs at least " + std::to_string(kMinHeaderSize));
+  }
+  LasHeader h;
+  h.version_major = d[24];
+  h.version_minor = d[25];
+  if (h.version_major != 1 || h.version_minor > 4) {
+    throw InputError(path, "header",
+                     "unsupported LAS version " + std::to_string(h.version_major) + "." +
+                         std::to_string(h.version_minor) + " (LAS 1.0 to 1.4 are supported)");
+  }
+  h.header_size = load<std::uint16_t>(d + 94);
+  h.offset_to_points = load<std::uint32_t>(d + 96);
+  h.vlr_count = load<std::uint32_t>(d + 100);
+  const std::uint8_t format_byte = d[104];
+  h.record_length = load<std::uint16_t>(d + 105);
+  h.point_count = load<std::uint32_t>(d + 107);
+  for (int i = 0; i < 3; ++i) {
+    h.scale[i] = load<double>(d + 131 + 8 * i);
+    h.offset[i] = load<double>(d + 155 + 8 * i);
+  }
+  if (h.header_size < kMinHeaderSize) {
+    throw InputError(path, "header",
+                     "header size " + std::to_string(h.header_size) + " is smaller than the " +
+                         std::to_string(kMinHeaderSize) + " bytes every LAS header has");
+  }
+  if (h.header_size > size) {
+    throw InputError(path, "header",
+                     "truncated: the header announces " + std::to_string(h.header_size) +
+                         " bytes but the file has only " + std::to_string(size));
+  }
+  // LAS 1.4 fields, read only when the header is long enough to hold them (some writers of 1.3
+  // and 1.4 files leave the header at the 1.2 size).
+  if (h.version_minor >= 4 && h.header_size >= kHeaderSize14) {
+    h.evlr_start = load<std::uint64_t>(d + 235);
+    h.evlr_count = load<std::uint32_t>(d + 243);
+    const auto count64 = load<std::uint64_t>(d + 247);
+    // The 64-bit count is the authority in 1.4; the legacy one is 0 when it does not fit or
+    // the format is 6-10, and some writers fill only the legacy one.
+    if (count64 != 0) h.point_count = count64;
+  }
+  // Bits 7 (LASzip) and 6 (older LAZ writers) of the format byte mark compressed records.
+  if ((format_byte & 0xC0) != 0) throw InputError(path, "", kLazAdvice);
+  h.point_format = format_byte;
+  if (h.point_format >= kFormatSize.size()) {
+    throw InputError(path, "header",
+                     "unsupported point data record format " + std::to_string(h.point_format) +
+                         " (formats 0 to 10 are supported)");
+  }
+  if (h.record_length < kFormatSize[h.point_format]) {
+    throw InputError(path, "header",
+                     "point record length " + std::to_string(h.record_length) +
+                         " is smaller than the " + std::to_string(kFormatSize[h.point_format]) +
+                         " bytes point format " + std::to_string(h.point_format) + " needs");
+  }
+  static const char* const kAxis[3] = {"X", "Y", "Z"};
+  for (int i = 0; i < 3; ++i) {
+    if (!std::isfinite(h.scale[i]) || h.scale[i] == 0.0 || !std::isfinite(h.offset[i])) {
+      throw InputError(path, "header",
+                       std::string("invalid ") + kAxis[i] + " scale factor / offset (" +
+                           std::to_string(h.scale[i]) + " / " + std::to_string(h.offset[i]) + ")");
+    }
+  }
+  if (h.offset_to_points < h.header_size) {
+    throw InputError(path, "header",
+                     "the point data offset " + std::to_string(h.offset_to_points) +
+                         " lies inside the " + std::to_string(h.header_size) + "-byte header");
+  }
+  if (h.offset_to_points > size) {
+    throw InputError(path, "header",
+                     "truncated: the point data should start at byte " +
+                         std::to_string(h.offset_to_points) + " but the file has only " +
+                         std::to_string(size) + " bytes");
+  }
+  return h;
+}
+
+// Every announced record must be in the file.
+void check_point_count(const std::string& path, const LasHeader& h, std::size_t size) {
+  const std::uint64_t available = size - h.offset_to_points;
+  const std::uint64_t whole = available / h.record_length;
+  if (whole < h.point_count) {
+    const std::string tail = "the file holds " + std::to_string(whole) +
+                             " records but the header announces " + std::to_string(h.point_count);
+    if (available % h.record_length != 0) {
+      throw InputError(path,
+                       "point record " + std::to_string(whole) + ", " +
+                           byte_at(h.offset_to_points + whole * h.record_length),
+                       "truncated: the file ends inside this record; " + tail);
+    }
+    throw InputError(path, "point data", tail);
+  }
+}
+
+// ---- Variable length records ----
+
+struct CrsRecords {
+  std::string wkt;
+  detail::GeoTiffKeys geotiff;
+};
+
+std::string user_id(const std::uint8_t* vlr) {
+  const char* s = reinterpret_cast<const char*>(vlr + 2);
+  return std::string(s, strnlen(s, 16));
+}
+
+// Records one (E)VLR's payload if it is a CRS record; refuses LASzip-compressed data.
+void take_record(const std::string& path, const std::string& uid, unsigned record_id,
+                 const std::uint8_t* payload, std::size_t length, CrsRecords& crs) {
+  if (uid == "laszip encoded" && record_id == 22204) throw InputError(path, "", kLazAdvice);
+  if (uid != "LASF_Projection") return;
+  switch (record_id) {
+    case 2112: {
+      const char* s = reinterpret_cast<const char*>(payload);
+      std::string wkt(s, strnlen(s, length));
+      const auto last = wkt.find_last_not_of(" \t\r\n");
+      wkt.erase(last == std::string::npos ? 0 : last + 1);
+      if (!wkt.empty()) crs.wkt = std::move(wkt);
+      break;
+    }
+    case 34735:
+      crs.geotiff.directory.resize(length / 2);
+      std::memcpy(crs.geotiff.directory.data(), payload, length / 2 * 2);
+      break;
+    case 34736:
+      crs.geotiff.doubles.resize(length / 8);
+      std::memcpy(crs.geotiff.doubles.data(), payload, length / 8 * 8);
+      break;
+    case 34737:
+      crs.geotiff.ascii.assign(reinterpret_cast<const char*>(payload), length);
+      break;
+    default:
+      break;
+  }
+}
+
+// VLRs sit between the header and the point data.
+void read_vlrs(const std::string& path, const LasHeader& h, const std::uint8_t* d, CrsRecords& crs,
+               std::vector<std::string>& warnings) {
+  std::size_t pos = h.header_size;
+  for (std::uint32_t i = 0; i < h.vlr_count; ++i) {
+    const std::size_t length =
+        pos + kVlrHeaderSize <= h.offset_to_points ? load<std::uint16_t>(d + pos + 20) : 0;
+    if (pos + kVlrHeaderSize + length > h.offset_to_points) {
+      warnings.push_back(path + ": the header announces " + std::to_string(h.vlr_count) +
+                         " variable length records but only " + std::to_string(i) +
+                         " fit before the point data at " + byte_at(h.offset_to_points) +
+                         "; the rest are ignored");
+      break;
+    }
+    take_record(path, user_id(d + pos), load<std::uint16_t>(d + pos + 18), d + pos + kVlrHeaderSize,
+                length, crs);
+    pos += kVlrHeaderSize + length;
+  }
+}
+
+// LAS 1.4 extended VLRs, after the point data.
+void read_evlrs(const std::string& path, const LasHeader& h, const std::uint8_t* d,
+                std::size_t size, CrsRecords& crs) {
+  if (h.evlr_count == 0 || h.evlr_start == 0) return;
+  std::uint64_t pos = h.evlr_start;
+  for (std::uint32_t i = 0; i < h.evlr_count; ++i) {
+    const std::string where = "extended VLR " + std::to_string(i) + ", " + byte_at(pos);
+    if (pos > size || size - pos < kEvlrHeaderSize) {
+      throw InputError(path, where,
+                       "truncated: the file ends at byte " + std::to_string(size) +
+                           " before this record's header");
+    }
+    const auto length = load<std::uint64_t>(d + pos + 20);
+    if (length > size - pos - kEvlrHeaderSize) {
+      throw InputError(path, where,
+                       "truncated: the record announces " + std::to_string(length) +
+                           " bytes but the file ends at byte " + std::to_string(size));
+    }
+    take_record(path, user_id(d + pos), load<std::uint16_t>(d + pos + 18),
+                d + pos + kEvlrHeaderSize, static_cast<std::size_t>(length), crs);
+    pos += kEvlrHeaderSize + length;
+  }
+}
+
+// Points are decoded in chunks of about this many bytes; the pages of each chunk are handed
+// back to the kernel once it is done, so a 50M-point file never sits whole in resident memory.
+constexpr std::size_t kChunkBytes = std::size_t{64} << 20;
+
+// What to keep, flattened for the inner loop.
+struct Selection {
+  std::array<bool, 256> class_kept{};
+  bool filter_classes = false;
+  bool first_only = false;
+  bool last_only = false;
+  bool any() const { return filter_classes || first_only || last_only; }
+};
+
+Selection make_selection(const PointFilter& filter) {
+  Selection s;
+  s.class_kept.fill(filter.keep_classes.empty());
+  for (std::uint8_t c : filter.keep_classes) s.class_kept[c] = true;
+  for (std::uint8_t c : filter.drop_classes) s.class_kept[c] = false;
+  s.filter_classes = !filter.keep_classes.empty() || !filter.drop_classes.empty();
+  s.first_only = filter.first_return_only;
+  s.last_only = filter.last_return_only;
+  return s;
+}
+
+struct Transform {
+  double sx, sy, sz, ox, oy, oz;
+};
+
+// Appends the kept points among COUNT records at P. kExtended: point formats 6-10 (4-bit return
+// fields and a full classification byte at offset 16); else formats 0-5 (3-bit return fields,
+// 5-bit classification at offset 15). Returns the number appended.
+template <bool kExtended, bool kFilter>
+std::size_t decode(const std::uint8_t* p, std::size_t count, std::size_t record_length,
+                   const Transform& t, const Selection& sel, std::vector<Point3>& out) {
+  const std::size_t before = out.size();
+  for (std::size_t i = 0; i < count; ++i, p += record_length) {
+    if constexpr (kFilter) {
+      const std::uint8_t returns = p[14];
+      unsigned cls;
+      unsigned ret;
+      unsigned nret;
+      if constexpr (kExtended) {
+        cls = p[16];
+        ret = returns & 0x0Fu;
+        nret = returns >> 4;
+      } else {
+        cls = p[15] & 0x1Fu;
+        ret = returns & 0x07u;
+        nret = (returns >> 3) & 0x07u;
+      }
+      if (!sel.class_kept[cls]) continue;
+      // A record with return number or number of returns 0 (a writer that never filled them)
+      // counts as a single return: both first and last.
+      const bool single = ret == 0 || nret == 0;
+      if (sel.first_only && !single && ret != 1) continue;
+      if (sel.last_only && !single && ret < nret) continue;
+    }
+    const auto xi = load<std::int32_t>(p);
+    const auto yi = load<std::int32_t>(p + 4);
+    const auto zi = load<std::int32_t>(p + 8);
+    out.push_back({xi * t.sx + t.ox, yi * t.sy + t.oy, zi * t.sz + t.oz});
+  }
+  return out.size() - before;
+}
+
+using DecodeFn = std::size_t (*)(const std::uint8_t*, std::size_t, std::size_t, const Transform&,
+                                 const Selection&, std::vector<Point3>&);
+
+DecodeFn pick_decoder(bool extended, bool filter) {
+  if (extended) return filter ? decode<true, true> : decode<true, false>;
+  return filter ? decode<false, true> : decode<false, false>;
+}
+
+std::string format_label(const LasHeader& h) {
+  return "las " + std::to_string(h.version_major) + "." + std::to_string(h.version_minor) +
+         " pdrf " + std::to_string(h.point_format);
+}
+
+// The CRS of the file. The OGC WKT record wins over GeoTIFF keys: LAS 1.4 makes it the authority
+// (formats 6-10 must carry it), and where a file has both, the WKT is the more precise of the
+// two (file_with_both_wkt_and_geotiff_vlrs.las: keys for EPSG:32104 with unit overrides, a WKT
+// for NAD83(2011) / Nebraska ftUS). The keys are decoded only when there is no usable WKT.
+void resolve_crs(const std::string& path, const CrsRecords& rec, PointReadStats& stats) {
+  const std::size_t warnings_before = stats.warnings.size();
+  if (!rec.wkt.empty()) {
+    const detail::CrsResult from_wkt = detail::crs_check_wkt(rec.wkt);
+    if (!from_wkt.wkt.empty()) {
+      stats.crs_wkt = from_wkt.wkt;
+      return;
+    }
+    const std::string what = rec.wkt.find('[') == std::string::npos
+                                 ? "holds no WKT (its text is \"" + rec.wkt.substr(0, 40) + "\")"
+                                 : "cannot be read (" + from_wkt.problem + ")";
+    stats.warnings.push_back(path + ": the OGC WKT CRS record " + what +
+                             (rec.geotiff.empty() ? "" : "; trying the GeoTIFF keys"));
+  }
+  if (!rec.geotiff.empty()) {
+    const detail::CrsResult from_keys = detail::crs_from_geotiff(rec.geotiff);
+    stats.crs_wkt = from_keys.wkt;
+    if (!from_keys.problem.empty()) stats.warnings.push_back(path + ": " + from_keys.problem);
+  }
+  if (stats.crs_wkt.empty() && stats.warnings.size() > warnings_before) {
+    stats.warnings.back() += "; the file has no CRS";
+  }
+}
+
+}  // namespace
+
+PointReadStats read_las(const std::string& path, const PointFilter& filter,
+                        std::vector<Point3>& out) {
+  const detail::MappedFile file(path);
+  if (file.size() == 0) throw InputError(path, "", "empty file");
+  const LasHeader h = parse_header(path, file.data(), file.size());
+  PointReadStats stats;
+  CrsRecords crs;
+  read_vlrs(path, h, file.data(), crs, stats.warnings);  // first: it finds LASzip data
+  check_point_count(path, h, file.size());
+  read_evlrs(path, h, file.data(), file.size(), crs);
+  stats.format = format_label(h);
+  stats.points_read = h.point_count;
+  resolve_crs(path, crs, stats);
+
+  const Selection sel = make_selection(filter);
+  const Transform t{h.scale[0], h.scale[1], h.scale[2], h.offset[0], h.offset[1], h.offset[2]};
+  const DecodeFn decode_fn = pick_decoder(h.point_format >= 6, sel.any());
+  const std::size_t record_length = h.record_length;
+  const std::size_t chunk_records = std::max<std::size_t>(1, kChunkBytes / record_length);
+  const std::size_t first_byte = h.offset_to_points;
+  const auto total = static_cast<std::size_t>(h.point_count);
+
+  // Room for every record, even with a filter: capacity never touched costs address space only,
+  // not memory.
+  out.reserve(out.size() + total);
+  detail::advise_huge_pages(out);
+  file.advise_sequential(first_byte, first_byte + total * record_length);
+  std::size_t done = 0;
+  std::size_t released = 0;
+  while (done < total) {
+    const std::size_t n = std::min(chunk_records, total - done);
+    const std::size_t begin = first_byte + done * record_length;
+    stats.points_kept += decode_fn(file.data() + begin, n, record_length, t, sel, out);
+    done += n;
+    file.release(released, begin + n * record_length);
+    released = begin + n * record_length;
+  }
+  return stats;
+}
+
+}  // namespace tincdt::io

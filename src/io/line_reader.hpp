@@ -1,0 +1,68 @@
+// Contour and breakline reader (any OGR vector source): polylines become vertices and segments.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/types.hpp"
+
+namespace tincdt::io {
+
+struct LineReadOptions {
+  std::string layer;      // wins over a ":LAYER" in the path; empty = the source's only layer
+  std::string z_field;    // take z from this attribute instead of the geometry
+  bool z_from_m = false;  // take z from the geometry's M values
+};
+
+// The feature a segment came from, for logs, stats and diagnostics.
+struct LineFeature {
+  std::uint32_t file;  // index of the path in the order read_lines was called
+  std::int64_t fid;    // OGR feature id
+  double z;            // the feature's level when z came from an attribute, else NaN
+};
+
+struct LineData {
+  std::vector<Point3> vertices;
+  struct Segment {
+    std::uint32_t a;  // indices into vertices
+    std::uint32_t b;
+    std::uint32_t feature;  // index into features
+  };
+  std::vector<Segment> segments;
+  std::vector<LineFeature> features;
+  std::vector<std::string> files;  // path (and ":layer" when one was named) per file index
+};
+
+struct LineReadStats {
+  std::uint64_t features = 0;              // features in the layer, used or not
+  std::uint64_t vertices = 0;              // vertices appended
+  std::uint64_t segments = 0;              // segments appended
+  std::uint64_t repeated_vertices = 0;     // consecutive repeats (same x, y) collapsed
+  std::uint64_t zero_length_segments = 0;  // skipped; each is one collapsed repeat, so equal
+                                           // to repeated_vertices
+  std::uint64_t degenerate_parts = 0;      // lines / rings with < 2 distinct vertices, skipped
+  std::uint64_t closed_parts = 0;          // rings and closed lines: last segment ends at first
+  std::uint64_t empty_features = 0;        // no geometry, no line geometry (points) or no
+                                           // usable segment
+  std::string crs_wkt;                     // WKT2 (WKT1 if OSR cannot); empty when none
+  std::string layer;                       // the layer read
+  // Things the caller should log (GDAL warnings, curves approximated by line strings); each
+  // names the file.
+  std::vector<std::string> warnings;
+};
+
+// Appends the LineStrings, MultiLineStrings and Polygon / MultiPolygon rings of PATH (spec may
+// be "FILE" or "FILE:LAYER"; options.layer wins when set), with their Z/M/ZM variants and
+// GeometryCollections of them; curved geometries are approximated by line strings (and said so
+// in `warnings`); points are skipped and counted in empty_features. PATH is split at its last ':'
+// only when the whole does not exist and the part before the ':' does. Without a layer name the
+// source must have exactly one layer. Z comes from options.z_field, else options.z_from_m, else
+// the geometry's Z. Consecutive vertices with the same x, y are collapsed (the first z is kept).
+// Closed rings stay closed: the last segment ends at the ring's first vertex index. Throws
+// InputError naming the file, layer and feature for a 2D geometry with no z source, a missing or
+// NULL z field, missing M values, a non-finite coordinate, an unreadable source; `out` is then
+// left as it was.
+LineReadStats read_lines(const std::string& path, const LineReadOptions& options, LineData& out);
+
+}  // namespace tincdt::io

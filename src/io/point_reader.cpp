@@ -1,0 +1,58 @@
+#include "io/point_reader.hpp"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cstddef>
+#include <cstring>
+#include <string>
+
+#include "core/error.hpp"
+#include "io/mapped_file.hpp"
+
+namespace tincdt::io {
+namespace {
+
+// Case-insensitive test of the end of PATH against EXT (".laz").
+bool has_extension(const std::string& path, const char* ext) {
+  const std::size_t n = std::strlen(ext);
+  if (path.size() < n) return false;
+  return std::equal(
+      path.end() - static_cast<std::ptrdiff_t>(n), path.end(), ext,
+      [](char a, char b) { return std::tolower(static_cast<unsigned char>(a)) == b; });
+}
+
+}  // namespace
+
+PointReadStats read_points(const std::string& path, const PointFilter& filter,
+                           std::vector<Point3>& out) {
+  if (path == "-") return read_xyz(path, out);
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) throw InputError(path, "", detail::open_error_text(errno));
+  if (S_ISDIR(st.st_mode)) throw InputError(path, "", "is a directory, not a file");
+  if (has_extension(path, ".laz")) {
+    throw InputError(path, "",
+                     "compressed LAZ is not supported yet; decompress it first (e.g. with 'pdal "
+                     "translate' or 'las2las')");
+  }
+  // Pipes and devices cannot be peeked at without consuming them: they can only be XYZ text.
+  if (!S_ISREG(st.st_mode)) return read_xyz(path, out);
+  if (st.st_size == 0) throw InputError(path, "", "empty file");
+
+  char signature[4] = {};
+  {
+    const detail::FileHandle file(path);
+    const ssize_t n = ::pread(file.fd(), signature, sizeof signature, 0);
+    if (n < 0) throw InputError(path, "", std::string("read failed: ") + std::strerror(errno));
+  }
+  if (std::memcmp(signature, "LASF", 4) == 0) return read_las(path, filter, out);
+  // A .las name without the signature is a damaged or mislabelled file, not text.
+  if (has_extension(path, ".las")) return read_las(path, filter, out);
+  return read_xyz(path, out);
+}
+
+}  // namespace tincdt::io

@@ -1,0 +1,41 @@
+// Point-cloud readers: XYZ text and LAS 1.0-1.4. Each call appends to a caller-owned vector so
+// several inputs merge without a second copy.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/types.hpp"
+
+namespace tincdt::io {
+
+// LAS point filters (ignored for XYZ input, which has no classes or returns).
+struct PointFilter {
+  std::vector<std::uint8_t> keep_classes;  // empty = keep every class
+  std::vector<std::uint8_t> drop_classes;
+  bool first_return_only = false;
+  bool last_return_only = false;
+};
+
+struct PointReadStats {
+  std::uint64_t points_read = 0;  // records in the file
+  std::uint64_t points_kept = 0;  // appended after filtering
+  std::string crs_wkt;            // empty when the file carries no CRS
+  std::string format;             // "xyz" or "las 1.4 pdrf 6", for the log
+  // Things the caller should log: the data was read, but something about it is odd (an
+  // unreadable CRS record, more VLRs announced than present). Each names the file.
+  std::vector<std::string> warnings;
+};
+
+// Reads PATH ("-" = XYZ from stdin), dispatching on content (LAS signature "LASF") and
+// extension; .laz and compressed LAS are refused with an InputError. Appends to `out`.
+// Throws InputError naming the file and the line / byte / record at fault.
+PointReadStats read_points(const std::string& path, const PointFilter& filter,
+                           std::vector<Point3>& out);
+
+PointReadStats read_xyz(const std::string& path, std::vector<Point3>& out);
+PointReadStats read_las(const std::string& path, const PointFilter& filter,
+                        std::vector<Point3>& out);
+
+}  // namespace tincdt::io

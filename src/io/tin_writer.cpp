@@ -1,0 +1,125 @@
+#include "io/tin_writer.hpp"
+
+#include <cctype>
+#include <charconv>
+#include <filesystem>
+#include <optional>
+
+#include "core/error.hpp"
+#include "io/crs.hpp"
+#include "io/output_file.hpp"
+#include "io/writer_detail.hpp"
+
+namespace tincdt::io {
+namespace detail {
+
+std::string format_point(const Point3& p) {
+  char buf[3 * BlockWriter::kMaxItem];
+  char* end = buf + sizeof buf;
+  char* q = format_double(buf, end, p.x);
+  *q++ = ' ';
+  q = format_double(q, end, p.y);
+  *q++ = ' ';
+  q = format_double(q, end, p.z);
+  return std::string(buf, q);
+}
+
+std::string one_line(std::string_view text) {
+  std::string s;
+  s.reserve(text.size());
+  for (const char c : text) {
+    const bool blank = c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f';
+    if (blank) {
+      if (!s.empty() && s.back() != ' ') s += ' ';
+    } else {
+      s += c;
+    }
+  }
+  if (!s.empty() && s.back() == ' ') s.pop_back();
+  return s;
+}
+
+std::string crs_code(const std::string& wkt) {
+  std::string label = crs_label(wkt);
+  const bool is_code = label.find(':') != std::string::npos && label.find(' ') == std::string::npos;
+  return is_code ? label : std::string();
+}
+
+}  // namespace detail
+
+namespace {
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+// "tin.obj" -> "tin.prj"; a path without extension gets ".prj" appended.
+std::string prj_path(const std::string& path) {
+  std::filesystem::path p(path);
+  p.replace_extension(".prj");
+  return p.string();
+}
+
+}  // namespace
+
+TinFormat format_from_path(const std::string& path) {
+  const std::string ext = lower(std::filesystem::path(path).extension().string());
+  if (ext == ".obj") return TinFormat::obj;
+  if (ext == ".ply") return TinFormat::ply;
+  if (ext == ".geojson" || ext == ".json") return TinFormat::geojson;
+  const std::string known = "known: .obj, .ply, .geojson, .json";
+  if (ext.empty())
+    throw OutputError(path, "", "no extension to tell the output format (" + known + ")");
+  throw OutputError(path, "", "unknown output format '" + ext + "' (" + known + ")");
+}
+
+TinWriteStats write_tin(const std::string& path, const mesh::Triangulation& tin,
+                        const TinWriteOptions& options) {
+  const TinFormat format = options.format ? *options.format : format_from_path(path);
+  const bool want_prj = format != TinFormat::geojson && !options.crs_wkt.empty();
+  if (!options.target_crs_wkt.empty()) {
+    if (format != TinFormat::geojson)
+      throw OutputError(path, "", "reprojection is only supported for GeoJSON output");
+    // The offset is in the units of the TIN's CRS; after reprojection it would mean nothing.
+    if (!detail::is_zero(options.offset))
+      throw OutputError(path, "", "an offset cannot be combined with reprojection");
+  }
+
+  // Both outputs are opened (so both overwrite checks fail) before any work, both temporaries
+  // are complete on disk before the first rename.
+  OutputFile out(path, options.overwrite);
+  std::optional<OutputFile> prj;
+  if (want_prj) {
+    prj.emplace(prj_path(path), options.overwrite);
+    std::string text;
+    try {
+      text = crs_to_prj(options.crs_wkt);
+    } catch (const Error& e) {
+      throw OutputError(prj->path(), "", e.detail());
+    }
+    if (text.empty()) throw OutputError(prj->path(), "", "the CRS cannot be written as ESRI WKT");
+    prj->write(text);
+  }
+
+  TinWriteStats stats;
+  switch (format) {
+    case TinFormat::obj:
+      stats = detail::write_obj(out, tin, options);
+      break;
+    case TinFormat::ply:
+      stats = detail::write_ply(out, tin, options);
+      break;
+    case TinFormat::geojson:
+      stats = detail::write_geojson(out, tin, options);
+      break;
+  }
+  out.close();
+  if (prj) prj->close();
+  out.commit();
+  if (prj) prj->commit();
+  stats.bytes = out.bytes_written();
+  return stats;
+}
+
+}  // namespace tincdt::io

@@ -1,0 +1,155 @@
+// Private to the TIN writers (src/io/*_writer.cpp): a block buffer that formats numbers without
+// losing precision, and the per-format entry points that write_tin() dispatches to.
+#pragma once
+
+#include <bit>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <utility>
+
+#include "core/error.hpp"
+#include "core/types.hpp"
+#include "io/output_file.hpp"
+#include "io/tin_writer.hpp"
+#include "mesh/triangulation.hpp"
+
+namespace tincdt::io::detail {
+
+// The shortest text that reads back to the same double: plain decimals ("500000",
+// "4000000.987654321") in the range coordinates live in, exponent form only for tiny or huge
+// magnitudes (std::to_chars alone would write 500000 as "5e+05"). At most 24 characters.
+inline char* format_double(char* first, char* last, double v) {
+  const double a = std::fabs(v);
+  if (a == 0 || (a >= 1e-5 && a < 1e15))
+    return std::to_chars(first, last, v, std::chars_format::fixed).ptr;
+  return std::to_chars(first, last, v).ptr;
+}
+
+// Collects text or packed binary records and passes them to an OutputFile in large blocks,
+// so the hot loops never call into stdio. Numbers are formatted with std::to_chars: a double
+// becomes its shortest text that reads back to the same bits.
+class BlockWriter {
+ public:
+  static constexpr std::size_t kBlock = std::size_t{4} << 20;
+  // Longest single item a put_* call appends (a double is at most 24 characters).
+  static constexpr std::size_t kMaxItem = 32;
+
+  explicit BlockWriter(OutputFile& out)
+      : out_(out), buf_(std::make_unique<char[]>(kBlock + kMaxItem)) {}
+  BlockWriter(const BlockWriter&) = delete;
+  BlockWriter& operator=(const BlockWriter&) = delete;
+
+  void put(char c) {
+    room();
+    buf_[pos_++] = c;
+  }
+  void put(std::string_view s) {
+    if (pos_ + s.size() > kBlock) flush();
+    if (s.size() > kBlock) {
+      out_.write(s.data(), s.size());
+      return;
+    }
+    std::memcpy(buf_.get() + pos_, s.data(), s.size());
+    pos_ += s.size();
+  }
+  void put_double(double v) {
+    room();
+    pos_ = static_cast<std::size_t>(
+        format_double(buf_.get() + pos_, buf_.get() + pos_ + kMaxItem, v) - buf_.get());
+  }
+  void put_uint(std::uint64_t v) {
+    room();
+    pos_ = static_cast<std::size_t>(
+        std::to_chars(buf_.get() + pos_, buf_.get() + pos_ + kMaxItem, v).ptr - buf_.get());
+  }
+  // Little-endian binary of an arithmetic value, whatever the host's byte order.
+  template <class T>
+  void put_le(T v) {
+    static_assert(sizeof(T) <= kMaxItem);
+    room();
+    char bytes[sizeof(T)];
+    std::memcpy(bytes, &v, sizeof(T));
+    if constexpr (std::endian::native == std::endian::big) {
+      for (std::size_t i = 0; i < sizeof(T) / 2; ++i) std::swap(bytes[i], bytes[sizeof(T) - 1 - i]);
+    }
+    std::memcpy(buf_.get() + pos_, bytes, sizeof(T));
+    pos_ += sizeof(T);
+  }
+  // Hands the buffered bytes to the OutputFile (also done by the hot paths when a block fills).
+  void flush() {
+    if (pos_ == 0) return;
+    out_.write(buf_.get(), pos_);
+    pos_ = 0;
+  }
+
+ private:
+  void room() {
+    if (pos_ >= kBlock) flush();
+  }
+
+  OutputFile& out_;
+  std::unique_ptr<char[]> buf_;
+  std::size_t pos_ = 0;
+};
+
+// Vertex v with the offset subtracted; throws OutputError for a NaN or infinite coordinate,
+// which no format can carry meaningfully (and would make the GeoJSON invalid).
+inline Point3 shifted_vertex(const std::string& path, const mesh::Triangulation& tin, VertexId v,
+                             const Point3& offset) {
+  const Point2 p = tin.point(v);
+  const Point3 q{p.x - offset.x, p.y - offset.y, tin.z(v) - offset.z};
+  if (!std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z))
+    throw OutputError(path, "vertex " + std::to_string(v), "coordinate is not a finite number");
+  return q;
+}
+
+inline bool is_zero(const Point3& p) {
+  return p.x == 0 && p.y == 0 && p.z == 0;
+}
+
+// Real triangles, counted from the corner array (the count written in headers must match the
+// records exactly, whatever the state of Triangulation::triangle_count()).
+inline std::uint64_t count_triangles(const mesh::Triangulation& tin) {
+  std::uint64_t n = 0;
+  tin.for_each_triangle([&n](TriangleId, const std::array<VertexId, 3>&) { ++n; });
+  return n;
+}
+
+// Calls f(origin, dest) once per constrained edge between two real vertices.
+template <class F>
+void for_each_constrained_segment(const mesh::Triangulation& tin, F&& f) {
+  tin.for_each_constrained_edge([&tin, &f](EdgeId e) {
+    const VertexId a = tin.origin(e);
+    const VertexId b = tin.dest(e);
+    if (a < mesh::kInfinite && b < mesh::kInfinite) f(a, b);
+  });
+}
+
+inline std::uint64_t count_constrained_segments(const mesh::Triangulation& tin) {
+  std::uint64_t n = 0;
+  for_each_constrained_segment(tin, [&n](VertexId, VertexId) { ++n; });
+  return n;
+}
+
+// "X Y Z" in shortest round-trip form, for the offset lines of the headers.
+std::string format_point(const Point3& p);
+// The text on one line: newlines and runs of blanks become one space.
+std::string one_line(std::string_view text);
+// "EPSG:2949" (any AUTHORITY:CODE) when crs_label() identifies the CRS, else "".
+std::string crs_code(const std::string& wkt);
+
+// The format writers. Each writes the whole file through `out` (not committed) and returns
+// the vertex and triangle counts; write_tin() owns the OutputFile(s) and commits them.
+TinWriteStats write_obj(OutputFile& out, const mesh::Triangulation& tin,
+                        const TinWriteOptions& options);
+TinWriteStats write_ply(OutputFile& out, const mesh::Triangulation& tin,
+                        const TinWriteOptions& options);
+TinWriteStats write_geojson(OutputFile& out, const mesh::Triangulation& tin,
+                            const TinWriteOptions& options);
+
+}  // namespace tincdt::io::detail

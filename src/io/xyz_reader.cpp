@@ -1,0 +1,462 @@
+// XYZ text reader: one point per line, numbers separated by blanks, commas or semicolons, an
+// optional header line naming the columns, '#' comments. A bad line is an error naming the line,
+// never a silent 0.
+//
+// The text is memory-mapped (or read from stdin in large blocks) and parsed with std::from_chars,
+// in windows of a few tens of MB. Each window is cut at newlines into one piece per core; the
+// pieces are parsed in parallel and appended in order, and the window's pages are then handed back
+// to the kernel, so resident memory stays near the size of the points, not of the text.
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstddef>
+#include <cstring>
+#include <exception>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <thread>
+#include <vector>
+
+#include "core/error.hpp"
+#include "io/mapped_file.hpp"
+#include "io/point_reader.hpp"
+
+namespace tincdt::io {
+namespace {
+
+constexpr std::size_t kPieceBytes = std::size_t{32} << 20;  // per thread and window
+constexpr std::size_t kMinPieceBytes = std::size_t{1} << 20;
+constexpr unsigned kMaxThreads = 8;
+
+// How the columns of the file are laid out.
+struct Layout {
+  char delimiter = 0;         // ',' or ';'; 0 = runs of blanks
+  int column[3] = {0, 1, 2};  // x, y, z
+  int last_column = 2;
+};
+
+bool is_blank(char c) {
+  return c == ' ' || c == '\t' || c == '\r';
+}
+
+const char* skip_blanks(const char* p, const char* end) {
+  while (p < end && is_blank(*p)) ++p;
+  return p;
+}
+
+// The end of the field starting at P.
+const char* field_end(const char* p, const char* end, char delimiter) {
+  while (p < end && !is_blank(*p) && *p != delimiter) ++p;
+  return p;
+}
+
+// from_chars, plus a leading '+' that some writers emit.
+std::from_chars_result parse_double(const char* p, const char* end, double& value) {
+  if (p < end && *p == '+' && p + 1 < end && p[1] != '-' && p[1] != '+') ++p;
+  return std::from_chars(p, end, value);
+}
+
+enum class Problem { kNone, kTooFewFields, kEmptyField, kNotANumber, kNotFinite, kNoDelimiter };
+
+// Where the first bad line of a piece is, and what is wrong with it.
+struct Failure {
+  Problem problem = Problem::kNone;
+  std::size_t line_index = 0;  // 0-based, within the piece
+  const char* line = nullptr;
+  const char* line_end = nullptr;
+  const char* field = nullptr;
+  const char* field_end = nullptr;
+  int column = 0;
+};
+
+struct PieceResult {
+  std::size_t lines = 0;
+  Failure failure;
+  std::exception_ptr exception;  // e.g. bad_alloc, rethrown by the caller
+};
+
+// Parses the fields of one line [p, eol) that is not blank or a comment. Returns kNone and the
+// point, or the problem and the field at fault.
+Problem parse_line(const char* p, const char* eol, const Layout& layout, Point3& point,
+                   Failure& where) {
+  double v[3] = {0, 0, 0};
+  for (int col = 0;; ++col) {
+    const int slot = layout.column[0] == col   ? 0
+                     : layout.column[1] == col ? 1
+                     : layout.column[2] == col ? 2
+                                               : -1;
+    const char* end;
+    if (slot >= 0) {
+      const auto [next, ec] = parse_double(p, eol, v[slot]);
+      end = next;
+      // The number must fill the field: "3.5abc" or "1,5" (decimal comma) is not a number.
+      const bool whole = ec == std::errc() && (next == eol || is_blank(*next) ||
+                                               (*next == layout.delimiter && *next != 0));
+      if (!whole || !std::isfinite(v[slot])) {
+        where.field = p;
+        where.field_end = field_end(p, eol, layout.delimiter);
+        where.column = col;
+        if (p == where.field_end) {
+          return p == eol ? Problem::kTooFewFields : Problem::kEmptyField;
+        }
+        return whole ? Problem::kNotFinite : Problem::kNotANumber;
+      }
+    } else {
+      end = field_end(p, eol, layout.delimiter);
+    }
+    if (col == layout.last_column) break;
+    // Step over the separator to the next field.
+    p = skip_blanks(end, eol);
+    if (layout.delimiter != 0) {
+      if (p == eol) {
+        where.field = where.field_end = eol;
+        return Problem::kTooFewFields;
+      }
+      if (*p != layout.delimiter) {
+        where.field = p;
+        where.field_end = field_end(p, eol, layout.delimiter);
+        where.column = col + 1;
+        return Problem::kNoDelimiter;
+      }
+      p = skip_blanks(p + 1, eol);
+    } else if (p == eol) {
+      where.field = where.field_end = eol;
+      return Problem::kTooFewFields;
+    }
+  }
+  point = {v[0], v[1], v[2]};
+  return Problem::kNone;
+}
+
+// Parses the whole lines in [b, e) (e is just past a '\n' or the end of the input), appending
+// the points to OUT. Stops at the first bad line.
+void parse_piece(const char* b, const char* e, const Layout& layout, std::vector<Point3>& out,
+                 PieceResult& result) {
+  try {
+    const char* p = b;
+    while (p < e) {
+      const auto* nl =
+          static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(e - p)));
+      const char* eol = nl != nullptr ? nl : e;
+      const char* q = skip_blanks(p, eol);
+      if (q != eol && *q != '#') {
+        Point3 point;
+        Failure& f = result.failure;
+        f.problem = parse_line(q, eol, layout, point, f);
+        if (f.problem != Problem::kNone) {
+          f.line_index = result.lines;
+          f.line = p;
+          f.line_end = eol;
+          return;
+        }
+        out.push_back(point);
+      }
+      ++result.lines;
+      p = nl != nullptr ? nl + 1 : e;
+    }
+  } catch (...) {
+    result.exception = std::current_exception();
+  }
+}
+
+// Text of a line or field for a message: no CR, control characters as '?', at most 120 chars.
+std::string quote(const char* b, const char* e) {
+  std::string s;
+  for (const char* p = b; p < e && s.size() < 120; ++p) {
+    if (*p == '\r') continue;
+    s.push_back(std::iscntrl(static_cast<unsigned char>(*p)) ? '?' : *p);
+  }
+  if (static_cast<std::size_t>(e - b) > 120) s += "...";
+  return s;
+}
+
+[[noreturn]] void throw_bad_line(const std::string& name, std::size_t line_number, const Failure& f,
+                                 char delimiter) {
+  std::string why;
+  const std::string field = quote(f.field, f.field_end);
+  switch (f.problem) {
+    case Problem::kTooFewFields:
+      why = "too few fields";
+      break;
+    case Problem::kEmptyField:
+      why = "field " + std::to_string(f.column + 1) + " is empty";
+      break;
+    case Problem::kNotANumber:
+      why = "'" + field + "' is not a number";
+      break;
+    case Problem::kNotFinite:
+      why = "'" + field + "' is not a finite number";
+      break;
+    case Problem::kNoDelimiter:
+      why = std::string("no '") + delimiter + "' before '" + field + "'";
+      break;
+    case Problem::kNone:
+      break;
+  }
+  throw InputError(
+      name, "line " + std::to_string(line_number),
+      "expected 3 numbers x y z, got '" + quote(f.line, f.line_end) + "' (" + why + ")");
+}
+
+std::string lower_unquoted(std::string_view s) {
+  while (!s.empty() && (s.front() == '"' || s.front() == '\'')) s.remove_prefix(1);
+  while (!s.empty() && (s.back() == '"' || s.back() == '\'')) s.remove_suffix(1);
+  std::string out(s);
+  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return out;
+}
+
+// Where the data starts: past a UTF-8 byte-order mark, leading comments and blank lines, and the
+// header line if there is one; plus the column layout. `found` is false when [b, e) holds no
+// complete data line yet and more input may follow.
+struct Start {
+  bool found = false;
+  Layout layout;
+  const char* data = nullptr;
+  std::size_t lines_before = 0;  // lines before `data`
+};
+
+Start find_start(const char* b, const char* e, bool at_eof) {
+  Start s;
+  if (e - b >= 3 && std::memcmp(b, "\xEF\xBB\xBF", 3) == 0) b += 3;
+  const char* p = b;
+  while (p < e) {
+    const auto* nl =
+        static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(e - p)));
+    if (nl == nullptr && !at_eof) return s;  // the line may go on in the next block
+    const char* eol = nl != nullptr ? nl : e;
+    const char* next = nl != nullptr ? nl + 1 : e;
+    const char* q = skip_blanks(p, eol);
+    if (q == eol || *q == '#') {
+      ++s.lines_before;
+      p = next;
+      continue;
+    }
+    // The separator: ';' if the line has one, else ',' if it has one, else blanks (a comment at
+    // the end of the line does not count).
+    std::string_view line(q, static_cast<std::size_t>(eol - q));
+    line = line.substr(0, line.find('#'));
+    if (line.find(';') != std::string_view::npos) {
+      s.layout.delimiter = ';';
+    } else if (line.find(',') != std::string_view::npos) {
+      s.layout.delimiter = ',';
+    }
+    // A header is a first line whose first field does not even start like a number.
+    double ignored = 0;
+    const bool numeric = parse_double(q, eol, ignored).ec == std::errc() ||
+                         (*q != '\0' && std::strchr("0123456789+-.", *q) != nullptr);
+    s.found = true;
+    s.data = p;
+    if (numeric) return s;
+    int column[3] = {-1, -1, -1};
+    const char* f = q;
+    for (int col = 0; f < eol; ++col) {
+      const char* fe = f;
+      if (s.layout.delimiter != 0) {
+        while (fe < eol && *fe != s.layout.delimiter) ++fe;
+      } else {
+        fe = field_end(f, eol, 0);
+      }
+      const char* trimmed_end = fe;
+      while (trimmed_end > f && is_blank(trimmed_end[-1])) --trimmed_end;
+      const std::string name = lower_unquoted({f, static_cast<std::size_t>(trimmed_end - f)});
+      for (int k = 0; k < 3; ++k) {
+        if (name.size() == 1 && name[0] == "xyz"[k] && column[k] < 0) column[k] = col;
+      }
+      f = skip_blanks(fe < eol && *fe == s.layout.delimiter ? fe + 1 : fe, eol);
+    }
+    if (column[0] >= 0 && column[1] >= 0 && column[2] >= 0) {
+      std::copy(column, column + 3, s.layout.column);
+      s.layout.last_column = std::max({column[0], column[1], column[2]});
+    }
+    s.data = next;
+    ++s.lines_before;
+    return s;
+  }
+  if (at_eof) {
+    s.found = true;
+    s.data = e;
+  }
+  return s;
+}
+
+unsigned thread_count() {
+  const unsigned hw = std::thread::hardware_concurrency();
+  return std::clamp(hw, 1u, kMaxThreads);
+}
+
+// Parses the whole lines of [b, e), cut into up to THREADS pieces at newlines, and appends the
+// points in file order. LINES_BEFORE counts the lines of the input before b and is advanced.
+// Returns the number of points appended.
+std::size_t parse_window(const std::string& name, const char* b, const char* e,
+                         const Layout& layout, unsigned threads, std::size_t& lines_before,
+                         std::vector<Point3>& out, std::vector<std::vector<Point3>>& scratch) {
+  const auto bytes = static_cast<std::size_t>(e - b);
+  const std::size_t pieces =
+      std::clamp<std::size_t>(bytes / kMinPieceBytes, 1, std::max(1u, threads));
+  std::vector<const char*> cut(pieces + 1, e);
+  cut[0] = b;
+  for (std::size_t i = 1; i < pieces; ++i) {
+    const char* guess = std::max(cut[i - 1], b + bytes / pieces * i);
+    const auto* nl =
+        static_cast<const char*>(std::memchr(guess, '\n', static_cast<std::size_t>(e - guess)));
+    cut[i] = nl != nullptr ? nl + 1 : e;
+  }
+  if (scratch.size() < pieces) scratch.resize(pieces);
+  std::vector<PieceResult> results(pieces);
+  const std::size_t before = out.size();
+  {
+    // Joins the workers however this block is left (a thread that fails to start throws).
+    struct Workers {
+      std::vector<std::thread> threads;
+      ~Workers() {
+        for (std::thread& t : threads) t.join();
+      }
+    } workers;
+    workers.threads.reserve(pieces - 1);
+    for (std::size_t i = 1; i < pieces; ++i) {
+      scratch[i].clear();
+      workers.threads.emplace_back(parse_piece, cut[i], cut[i + 1], std::cref(layout),
+                                   std::ref(scratch[i]), std::ref(results[i]));
+    }
+    parse_piece(cut[0], cut[1], layout, out, results[0]);  // piece 0 straight into `out`
+  }
+  for (std::size_t i = 0; i < pieces; ++i) {
+    const PieceResult& r = results[i];
+    if (r.exception) std::rethrow_exception(r.exception);
+    if (r.failure.problem != Problem::kNone) {
+      throw_bad_line(name, lines_before + r.failure.line_index + 1, r.failure, layout.delimiter);
+    }
+    if (i > 0) out.insert(out.end(), scratch[i].begin(), scratch[i].end());
+    lines_before += r.lines;
+  }
+  return out.size() - before;
+}
+
+// Reserves room for the points of a SIZE-byte text, judging the line length from its first MB.
+void reserve_for(const char* b, std::size_t size, std::vector<Point3>& out) {
+  const std::size_t sample = std::min(size, kMinPieceBytes);
+  const auto newlines = static_cast<std::size_t>(std::count(b, b + sample, '\n'));
+  if (sample == size) {
+    out.reserve(out.size() + newlines + 1);
+    return;
+  }
+  const double per_line =
+      static_cast<double>(sample) / static_cast<double>(std::max<std::size_t>(newlines, 1));
+  out.reserve(out.size() + static_cast<std::size_t>(static_cast<double>(size) / per_line * 1.01) +
+              16);
+  detail::advise_huge_pages(out);
+}
+
+PointReadStats read_mapped(const std::string& path, std::vector<Point3>& out) {
+  const detail::MappedFile file(path);
+  if (file.size() == 0) throw InputError(path, "", "empty file");
+  const char* const b = file.chars();
+  const char* const e = b + file.size();
+  file.advise_sequential(0, file.size());
+  const Start start = find_start(b, e, true);
+  PointReadStats stats;
+  stats.format = "xyz";
+  reserve_for(start.data, static_cast<std::size_t>(e - start.data), out);
+  const unsigned threads = thread_count();
+  const std::size_t window = kPieceBytes * threads;
+  std::vector<std::vector<Point3>> scratch;
+  std::size_t lines = start.lines_before;
+  const char* p = start.data;
+  while (p < e) {
+    const char* w = p + std::min(window, static_cast<std::size_t>(e - p));
+    if (w < e) {  // end the window after a newline
+      const auto* nl =
+          static_cast<const char*>(std::memchr(w, '\n', static_cast<std::size_t>(e - w)));
+      w = nl != nullptr ? nl + 1 : e;
+    }
+    stats.points_kept += parse_window(path, p, w, start.layout, threads, lines, out, scratch);
+    file.release(static_cast<std::size_t>(p - b), static_cast<std::size_t>(w - b));
+    p = w;
+  }
+  stats.points_read = stats.points_kept;
+  return stats;
+}
+
+PointReadStats read_stream(int fd, const std::string& name, std::vector<Point3>& out) {
+  const unsigned threads = thread_count();
+  std::size_t capacity = kPieceBytes * threads;
+  auto buffer = std::make_unique<char[]>(capacity);
+  std::size_t filled = 0;
+  bool eof = false;
+  bool any_input = false;
+  bool started = false;
+  Layout layout;
+  std::size_t lines = 0;
+  std::vector<std::vector<Point3>> scratch;
+  PointReadStats stats;
+  stats.format = "xyz";
+  while (!eof || filled > 0) {
+    // Fill the buffer, growing it only for a line longer than the whole buffer.
+    if (filled == capacity) {
+      auto bigger = std::make_unique<char[]>(capacity * 2);
+      std::memcpy(bigger.get(), buffer.get(), filled);
+      buffer = std::move(bigger);
+      capacity *= 2;
+    }
+    while (!eof && filled < capacity) {
+      const ssize_t n = ::read(fd, buffer.get() + filled, capacity - filled);
+      if (n < 0) {
+        if (errno == EINTR) continue;
+        throw InputError(name, "", std::string("read failed: ") + std::strerror(errno));
+      }
+      if (n == 0) eof = true;
+      filled += static_cast<std::size_t>(n);
+      if (n > 0) any_input = true;
+    }
+    const char* b = buffer.get();
+    const char* e = b + filled;
+    if (!started) {
+      const Start start = find_start(b, e, eof);
+      if (!start.found) continue;  // no complete first data line yet: read more
+      started = true;
+      layout = start.layout;
+      lines = start.lines_before;
+      // Drop the header and leading comments so that the buffer starts with data.
+      filled = static_cast<std::size_t>(e - start.data);
+      std::memmove(buffer.get(), start.data, filled);
+      e = b + filled;
+    }
+    // Parse up to the last newline (everything, at the end of the input).
+    const char* cut = e;
+    if (!eof) {
+      while (cut > b && cut[-1] != '\n') --cut;
+      if (cut == b) continue;  // no complete line yet
+    }
+    stats.points_kept += parse_window(name, b, cut, layout, threads, lines, out, scratch);
+    const auto rest = static_cast<std::size_t>(e - cut);
+    std::memmove(buffer.get(), cut, rest);
+    filled = rest;
+  }
+  if (!any_input) throw InputError(name, "", "empty input");
+  stats.points_read = stats.points_kept;
+  return stats;
+}
+
+}  // namespace
+
+PointReadStats read_xyz(const std::string& path, std::vector<Point3>& out) {
+  if (path == "-") return read_stream(STDIN_FILENO, "<stdin>", out);
+  {
+    // Pipes and devices (e.g. /dev/stdin, <(command)) cannot be mapped: stream them.
+    struct stat st {};
+    if (::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode)) {
+      const detail::FileHandle file(path);
+      return read_stream(file.fd(), path, out);
+    }
+  }
+  return read_mapped(path, out);
+}
+
+}  // namespace tincdt::io
