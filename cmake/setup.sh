@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs what tincdt needs to build, test and format, from Debian 12 (bookworm) packages.
 # Idempotent: when everything is installed it only checks, quickly, and changes nothing.
-# Runs apt-get as root, or through sudo otherwise. Usage: cmake/setup.sh
+# Runs apt-get as root, or through sudo otherwise.
+# Usage: cmake/setup.sh [EXTRA_PACKAGE...]   (the benchmark script adds CGAL and friends)
 set -euo pipefail
 
 # Keep in step with README.md ("Dependencies").
@@ -13,6 +14,7 @@ packages=(
   libbenchmark-dev                      # benchmarks
   clang-format                          # format check
 )
+packages+=("$@")
 
 say() { printf 'setup.sh: %s\n' "$*"; }
 die() { printf 'setup.sh: error: %s\n' "$*" >&2; exit 1; }

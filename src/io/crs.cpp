@@ -8,11 +8,13 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <mutex>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/error.hpp"
@@ -66,6 +68,47 @@ class Srs {
  private:
   OGRSpatialReferenceH h_;
 };
+
+// "+proj=lcc +lat_0=41.75 ..." as sorted (key, value) pairs.
+std::vector<std::pair<std::string, std::string>> proj_parameters(OGRSpatialReferenceH srs) {
+  char* text = nullptr;
+  std::vector<std::pair<std::string, std::string>> out;
+  if (OSRExportToProj4(srs, &text) != OGRERR_NONE || text == nullptr) {
+    CPLFree(text);
+    return out;
+  }
+  const std::string proj = text;
+  CPLFree(text);
+  std::size_t i = 0;
+  while (i < proj.size()) {
+    while (i < proj.size() && (proj[i] == ' ' || proj[i] == '+')) ++i;
+    const std::size_t end = std::min(proj.find(' ', i), proj.size());
+    const std::string token = proj.substr(i, end - i);
+    if (!token.empty()) {
+      const std::size_t eq = token.find('=');
+      out.emplace_back(token.substr(0, eq), eq == std::string::npos ? "" : token.substr(eq + 1));
+    }
+    i = end;
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+bool same_proj_parameters(OGRSpatialReferenceH a, OGRSpatialReferenceH b) {
+  const auto pa = proj_parameters(a), pb = proj_parameters(b);
+  if (pa.empty() || pa.size() != pb.size()) return false;
+  for (std::size_t i = 0; i < pa.size(); ++i) {
+    if (pa[i].first != pb[i].first) return false;
+    if (pa[i].second == pb[i].second) continue;
+    char* end_a = nullptr;
+    char* end_b = nullptr;
+    const double x = std::strtod(pa[i].second.c_str(), &end_a);
+    const double y = std::strtod(pb[i].second.c_str(), &end_b);
+    if (*end_a != '\0' || *end_b != '\0' || pa[i].second.empty()) return false;
+    if (std::fabs(x - y) > 1e-9 * std::max(std::fabs(x), std::fabs(y))) return false;
+  }
+  return true;
+}
 
 // CPL-allocated string to std::string.
 std::string take_cpl_string(char* s) {
@@ -316,7 +359,11 @@ bool same_crs(const std::string& wkt_a, const std::string& wkt_b) {
   Srs b;
   if (!a.import_wkt(wkt_a) || !b.import_wkt(wkt_b)) return false;
   const char* const options[] = {"IGNORE_DATA_AXIS_TO_SRS_AXIS_MAPPING=YES", nullptr};
-  return OSRIsSameEx(a.get(), b.get(), options) != 0;
+  if (OSRIsSameEx(a.get(), b.get(), options) != 0) return true;
+  // ESRI-style WKT in LAS files often names the datum differently and carries parameters
+  // converted between units (a false easting of 399999.9999984 ft for 400000 m): the same
+  // projection if the PROJ definitions agree key by key, numbers to a relative 1e-9.
+  return same_proj_parameters(a.get(), b.get());
 }
 
 std::string crs_label(const std::string& wkt) {

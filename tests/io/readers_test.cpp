@@ -868,6 +868,19 @@ TEST(Crs, SameCrs) {
   EXPECT_FALSE(same_crs(utm, "garbage"));
 }
 
+TEST(Crs, EsriWktFromLasMatchesItsContoursPrj) {
+  // autzen_trim.las carries ESRI WKT whose false easting is 399999.9999984 ft for 400000 m; the
+  // contours derived from it carry EPSG:2994. Strict OSR comparison calls them different.
+  const std::string data = TINCDT_SHARED_DATA;
+  if (!std::filesystem::exists(data)) GTEST_SKIP() << "no shared data at " << data;
+  std::vector<Point3> points;
+  const PointReadStats stats = read_las(data + "/las/autzen_trim.las", {}, points);
+  const std::string prj = crs_from_user(data + "/pair_autzen/autzen_trim_contours_2ft.prj");
+  EXPECT_TRUE(same_crs(stats.crs_wkt, prj));
+  EXPECT_FALSE(same_crs(stats.crs_wkt, crs_from_user("EPSG:2992")));  // Oregon Lambert, ft
+  EXPECT_FALSE(same_crs(stats.crs_wkt, crs_from_user("EPSG:2949")));
+}
+
 TEST(Crs, PrjIsEsriWkt1) {
   const std::string prj = crs_to_prj(crs_from_user("EPSG:32632"));
   EXPECT_THAT(prj, HasSubstr("PROJCS[\"WGS_1984_UTM_Zone_32N\""));
