@@ -1,0 +1,221 @@
+// BuildReport as JSON: a small hand-written emitter (objects, arrays, strings, numbers).
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include "io/output_file.hpp"
+#include "pipeline/build.hpp"
+
+#ifndef TINCDT_VERSION
+#error "TINCDT_VERSION must be defined by the build (the CMake project version)"
+#endif
+
+namespace tincdt::pipeline {
+namespace {
+
+// Length of the valid UTF-8 sequence starting at s[i], or 0 if it is not valid.
+std::size_t utf8_length(std::string_view s, std::size_t i) {
+  const auto byte = [&](std::size_t k) { return static_cast<unsigned char>(s[k]); };
+  const unsigned char c = byte(i);
+  std::size_t n = 0;
+  std::uint32_t cp = 0;
+  if (c < 0x80) return 1;
+  if (c >= 0xC2 && c <= 0xDF) {
+    n = 2;
+    cp = c & 0x1Fu;
+  } else if (c >= 0xE0 && c <= 0xEF) {
+    n = 3;
+    cp = c & 0x0Fu;
+  } else if (c >= 0xF0 && c <= 0xF4) {
+    n = 4;
+    cp = c & 0x07u;
+  } else {
+    return 0;
+  }
+  if (i + n > s.size()) return 0;
+  for (std::size_t k = 1; k < n; ++k) {
+    if ((byte(i + k) & 0xC0u) != 0x80u) return 0;
+    cp = (cp << 6) | (byte(i + k) & 0x3Fu);
+  }
+  if ((n == 3 && cp < 0x800) || (n == 4 && (cp < 0x10000 || cp > 0x10FFFF))) return 0;
+  if (cp >= 0xD800 && cp <= 0xDFFF) return 0;  // UTF-16 surrogates are not characters
+  return n;
+}
+
+// A JSON string literal. Bytes that are not valid UTF-8 (possible in file names) become U+FFFD.
+std::string quote(std::string_view s) {
+  static constexpr char kHex[] = "0123456789abcdef";
+  std::string out;
+  out.reserve(s.size() + 2);
+  out += '"';
+  for (std::size_t i = 0; i < s.size();) {
+    const auto c = static_cast<unsigned char>(s[i]);
+    switch (c) {
+      case '"':
+        out += "\\\"";
+        break;
+      case '\\':
+        out += "\\\\";
+        break;
+      case '\b':
+        out += "\\b";
+        break;
+      case '\f':
+        out += "\\f";
+        break;
+      case '\n':
+        out += "\\n";
+        break;
+      case '\r':
+        out += "\\r";
+        break;
+      case '\t':
+        out += "\\t";
+        break;
+      default:
+        if (c < 0x20) {
+          out += "\\u00";
+          out += kHex[c >> 4];
+          out += kHex[c & 0xF];
+        } else if (const std::size_t n = utf8_length(s, i); n == 0) {
+          out += "\\ufffd";
+        } else {
+          out.append(s.substr(i, n));
+          i += n;
+          continue;
+        }
+    }
+    ++i;
+  }
+  out += '"';
+  return out;
+}
+
+std::string number(double v) {
+  if (!std::isfinite(v)) return "null";
+  // Shortest text that reads back to the same double; plain decimals ("500000", "0.25") for
+  // ordinary magnitudes, exponent form only for very large or very small values.
+  char buf[64];
+  const double a = std::fabs(v);
+  const bool plain = a == 0 || (a >= 1e-4 && a < 1e15);
+  const auto res = std::to_chars(buf, buf + sizeof buf, v,
+                                 plain ? std::chars_format::fixed : std::chars_format::general);
+  return std::string(buf, res.ptr);
+}
+
+std::string number(std::uint64_t v) {
+  return std::to_string(v);
+}
+
+// Emits one JSON value at a time, with two-space indentation.
+class JsonWriter {
+ public:
+  JsonWriter& begin_object(std::string_view key = {}) { return open(key, '{'); }
+  JsonWriter& end_object() { return close('}'); }
+  JsonWriter& begin_array(std::string_view key = {}) { return open(key, '['); }
+  JsonWriter& end_array() { return close(']'); }
+  JsonWriter& field(std::string_view key, std::string_view v) { return raw(key, quote(v)); }
+  JsonWriter& field(std::string_view key, const std::string& v) { return raw(key, quote(v)); }
+  JsonWriter& field(std::string_view key, const char* v) { return raw(key, quote(v)); }
+  JsonWriter& field(std::string_view key, double v) { return raw(key, number(v)); }
+  JsonWriter& field(std::string_view key, std::uint64_t v) { return raw(key, number(v)); }
+  JsonWriter& value(double v) { return raw({}, number(v)); }
+  std::string str() const { return out_ + "\n"; }
+
+ private:
+  JsonWriter& raw(std::string_view key, const std::string& text) {
+    separate(key);
+    out_ += text;
+    return *this;
+  }
+  JsonWriter& open(std::string_view key, char bracket) {
+    separate(key);
+    out_ += bracket;
+    ++depth_;
+    first_ = true;
+    return *this;
+  }
+  JsonWriter& close(char bracket) {
+    --depth_;
+    if (!first_) newline();
+    out_ += bracket;
+    first_ = false;
+    return *this;
+  }
+  void separate(std::string_view key) {
+    if (depth_ > 0) {
+      if (!first_) out_ += ',';
+      newline();
+    }
+    first_ = false;
+    if (!key.empty()) {
+      out_ += quote(key);
+      out_ += ": ";
+    }
+  }
+  void newline() {
+    out_ += '\n';
+    out_.append(static_cast<std::size_t>(2 * depth_), ' ');
+  }
+
+  std::string out_;
+  int depth_ = 0;
+  bool first_ = true;
+};
+
+}  // namespace
+
+std::string_view version() {
+  return TINCDT_VERSION;
+}
+
+std::string BuildReport::to_json() const {
+  JsonWriter j;
+  j.begin_object();
+  j.field("tincdt_version", version());
+  j.field("points_read", points_read);
+  j.field("points_kept", points_kept);
+  j.field("duplicates_merged", duplicates_merged);
+  j.field("vertices", vertices);
+  j.field("triangles", triangles);
+  j.field("constraints", constraints);
+  j.field("steiner_vertices", steiner_vertices);
+  j.begin_object("timings_s")
+      .field("read", timings_s.read)
+      .field("delaunay", timings_s.delaunay)
+      .field("constraints", timings_s.constraints)
+      .field("validate", timings_s.validate)
+      .field("write", timings_s.write)
+      .field("total", timings_s.total)
+      .end_object();
+  j.field("peak_rss_bytes", peak_rss_bytes);
+  j.field("crs", crs);
+  j.field("crs_wkt", crs_wkt);
+  j.field("output", output);
+  j.field("output_format", output_format);
+  j.field("output_bytes", output_bytes);
+  j.begin_array("offset").value(offset.x).value(offset.y).value(offset.z).end_array();
+  j.begin_array("inputs");
+  for (const Input& in : inputs) {
+    j.begin_object()
+        .field("path", in.path)
+        .field("format", in.format)
+        .field("crs", in.crs)
+        .field("points_read", in.points_read)
+        .field("points_kept", in.points_kept)
+        .end_object();
+  }
+  j.end_array();
+  j.end_object();
+  return j.str();
+}
+
+void write_stats(const BuildReport& report, const std::string& path, bool overwrite) {
+  io::OutputFile file(path, overwrite);
+  file.write(report.to_json());
+  file.commit();
+}
+
+}  // namespace tincdt::pipeline

@@ -1,0 +1,803 @@
+// Runs the tincdt binary the way a user would and checks what a user sees: the exit code, the
+// one-line message naming the file, and that a failed run leaves no file (not even a temporary).
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <gdal_priv.h>
+#include <gtest/gtest.h>
+#include <ogrsf_frmts.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+extern char** environ;
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// ---- files ---------------------------------------------------------------------------------
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+void spit(const fs::path& p, const std::string& bytes) {
+  std::ofstream out(p, std::ios::binary | std::ios::trunc);
+  out << bytes;
+  ASSERT_TRUE(out.good()) << p;
+}
+
+std::set<std::string> listing(const fs::path& dir) {
+  std::set<std::string> names;
+  for (const auto& e : fs::directory_iterator(dir)) names.insert(e.path().filename().string());
+  return names;
+}
+
+std::string shared_data() {
+  return TINCDT_SHARED_DATA;
+}
+
+bool have_shared_data() {
+  return fs::is_directory(fs::path(shared_data()) / "las");
+}
+
+std::string sanitize(std::string s) {
+  for (char& c : s)
+    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+  return s;
+}
+
+std::uint64_t stats_number(const std::string& json, const std::string& key) {
+  const std::regex re("\"" + key + "\": (\\d+)");
+  std::smatch m;
+  if (!std::regex_search(json, m, re)) return UINT64_MAX;
+  return std::stoull(m[1]);
+}
+
+// ---- synthetic LAS 1.2, point format 0 --------------------------------------------------------
+
+struct LasPoint {
+  double x, y, z;
+  std::uint8_t cls;
+};
+
+template <class T>
+void put(std::string& buf, std::size_t offset, T value) {
+  std::memcpy(buf.data() + offset, &value, sizeof value);
+}
+
+std::string make_las(const std::vector<LasPoint>& points) {
+  constexpr std::uint16_t kHeader = 227;
+  constexpr std::uint16_t kRecord = 20;
+  const double scale = 0.001, ox = 500000, oy = 4000000, oz = 0;
+  std::string buf(kHeader + kRecord * points.size(), '\0');
+  std::memcpy(buf.data(), "LASF", 4);
+  buf[24] = 1;
+  buf[25] = 2;
+  std::memcpy(buf.data() + 26, "tincdt cli_test", 15);
+  std::memcpy(buf.data() + 58, "tincdt cli_test", 15);
+  put<std::uint16_t>(buf, 94, kHeader);
+  put<std::uint32_t>(buf, 96, kHeader);
+  put<std::uint32_t>(buf, 100, 0);
+  put<std::uint8_t>(buf, 104, 0);
+  put<std::uint16_t>(buf, 105, kRecord);
+  put<std::uint32_t>(buf, 107, static_cast<std::uint32_t>(points.size()));
+  put<std::uint32_t>(buf, 111, static_cast<std::uint32_t>(points.size()));  // all first returns
+  double min_x = 1e300, min_y = 1e300, min_z = 1e300, max_x = -1e300, max_y = -1e300,
+         max_z = -1e300;
+  for (const LasPoint& p : points) {
+    min_x = std::min(min_x, p.x), max_x = std::max(max_x, p.x);
+    min_y = std::min(min_y, p.y), max_y = std::max(max_y, p.y);
+    min_z = std::min(min_z, p.z), max_z = std::max(max_z, p.z);
+  }
+  const double header_doubles[] = {scale, scale, scale, ox,    oy,    oz,
+                                   max_x, min_x, max_y, min_y, max_z, min_z};
+  for (std::size_t i = 0; i < 12; ++i) put<double>(buf, 131 + 8 * i, header_doubles[i]);
+  std::size_t at = kHeader;
+  for (const LasPoint& p : points) {
+    put<std::int32_t>(buf, at, static_cast<std::int32_t>(std::lround((p.x - ox) / scale)));
+    put<std::int32_t>(buf, at + 4, static_cast<std::int32_t>(std::lround((p.y - oy) / scale)));
+    put<std::int32_t>(buf, at + 8, static_cast<std::int32_t>(std::lround((p.z - oz) / scale)));
+    put<std::uint8_t>(buf, at + 14, 0x09);  // return 1 of 1
+    put<std::uint8_t>(buf, at + 15, p.cls);
+    at += kRecord;
+  }
+  return buf;
+}
+
+// A jittered 20 x 20 grid at UTM magnitudes; every other point is ground (class 2).
+std::vector<LasPoint> grid_points() {
+  std::vector<LasPoint> pts;
+  std::uint32_t state = 12345;
+  const auto jitter = [&] {
+    state = state * 1664525u + 1013904223u;
+    return (static_cast<double>(state >> 8) / static_cast<double>(1u << 24) - 0.5) * 0.6;
+  };
+  for (int i = 0; i < 20; ++i)
+    for (int j = 0; j < 20; ++j)
+      pts.push_back({500100.0 + i + jitter(), 4000200.0 + j + jitter(), 100.0 + 0.25 * i,
+                     static_cast<std::uint8_t>((i + j) % 2 == 0 ? 2 : 1)});
+  return pts;
+}
+
+std::string grid_xyz() {
+  std::string s = "# x y z\n";
+  char line[96];
+  for (const LasPoint& p : grid_points()) {
+    std::snprintf(line, sizeof line, "%.3f %.3f %.3f\n", p.x, p.y, p.z);
+    s += line;
+  }
+  return s;
+}
+
+// ---- running the binary ------------------------------------------------------------------------
+
+struct Outcome {
+  int exit_code = -1;  // -1 when killed by a signal
+  std::string out;
+  std::string err;
+
+  std::vector<std::string> err_lines() const {
+    std::vector<std::string> lines;
+    std::istringstream s(err);
+    for (std::string line; std::getline(s, line);) lines.push_back(line);
+    return lines;
+  }
+  // The "tincdt: error: ..." lines.
+  std::vector<std::string> errors() const {
+    std::vector<std::string> e;
+    for (const std::string& l : err_lines())
+      if (l.rfind("tincdt: error: ", 0) == 0) e.push_back(l);
+    return e;
+  }
+};
+
+std::ostream& operator<<(std::ostream& os, const Outcome& r) {
+  return os << "exit " << r.exit_code << "\n--- stdout\n" << r.out << "--- stderr\n" << r.err;
+}
+
+class Scratch {
+ public:
+  Scratch() {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    const std::string name = sanitize(std::string(info->test_suite_name()) + "." + info->name());
+    dir_ = fs::path(TINCDT_TEST_TMP) / "cli" / name;
+    capture_ = fs::path(TINCDT_TEST_TMP) / "cli-capture" / name;
+    fs::remove_all(dir_);
+    fs::remove_all(capture_);
+    fs::create_directories(dir_);
+    fs::create_directories(capture_);
+  }
+
+  const fs::path& dir() const { return dir_; }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+  Outcome run(const std::vector<std::string>& args, const std::string& stdin_path = "/dev/null") {
+    const std::string out_path = (capture_ / "stdout").string();
+    const std::string err_path = (capture_ / "stderr").string();
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, 0, stdin_path.c_str(), O_RDONLY, 0);
+    posix_spawn_file_actions_addopen(&actions, 1, out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
+                                     0644);
+    posix_spawn_file_actions_addopen(&actions, 2, err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
+                                     0644);
+    std::vector<std::string> argv_s = {TINCDT_EXE};
+    argv_s.insert(argv_s.end(), args.begin(), args.end());
+    std::vector<char*> argv;
+    for (std::string& a : argv_s) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    pid_t pid = 0;
+    const int rc = posix_spawn(&pid, TINCDT_EXE, &actions, nullptr, argv.data(), environ);
+    posix_spawn_file_actions_destroy(&actions);
+    Outcome r;
+    if (rc != 0) {
+      ADD_FAILURE() << "cannot run " << TINCDT_EXE << ": " << std::strerror(rc);
+      return r;
+    }
+    int status = 0;
+    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.out = slurp(out_path);
+    r.err = slurp(err_path);
+    return r;
+  }
+
+ private:
+  fs::path dir_;
+  fs::path capture_;
+};
+
+// Checks a failed run: exit code, exactly one "tincdt: error:" line naming `culprit` and
+// matching `pattern`, and the scratch folder holding exactly `files` (no output, no temporary).
+void expect_failure(const Outcome& r, int code, const std::string& culprit,
+                    const std::string& pattern, const Scratch& s,
+                    const std::set<std::string>& files) {
+  EXPECT_EQ(r.exit_code, code) << r;
+  const auto errors = r.errors();
+  ASSERT_EQ(errors.size(), 1u) << r;
+  if (!culprit.empty()) {
+    EXPECT_NE(errors[0].find(culprit), std::string::npos) << r;
+  }
+  if (!pattern.empty()) {
+    EXPECT_TRUE(std::regex_search(errors[0], std::regex(pattern, std::regex::icase)))
+        << "expected /" << pattern << "/ in: " << errors[0];
+  }
+  EXPECT_EQ(listing(s.dir()), files);
+}
+
+class Cli : public ::testing::Test {
+ protected:
+  Scratch s;
+};
+
+// ---- information and usage --------------------------------------------------------------------
+
+TEST_F(Cli, VersionPrintsProjectVersion) {
+  const Outcome r = s.run({"--version"});
+  EXPECT_EQ(r.exit_code, 0) << r;
+  EXPECT_EQ(r.out, std::string("tincdt ") + TINCDT_VERSION + "\n");
+  EXPECT_TRUE(std::regex_match(r.out, std::regex("tincdt [0-9]+\\.[0-9]+\\.[0-9]+\n")));
+}
+
+TEST_F(Cli, HelpListsOptionsAndExamples) {
+  const Outcome r = s.run({"--help"});
+  EXPECT_EQ(r.exit_code, 0) << r;
+  for (const char* needle : {"Usage: tincdt [OPTIONS] INPUT... -o OUTPUT",
+                             "-o,--output",
+                             "-f,--format",
+                             "--overwrite",
+                             "--ply-ascii",
+                             "--offset",
+                             "--t-srs",
+                             "--a-srs",
+                             "--on-duplicate",
+                             "--keep-class",
+                             "--drop-class",
+                             "--first-only",
+                             "--last-only",
+                             "--stats",
+                             "-q,--quiet",
+                             "-v,--verbose",
+                             "--version",
+                             "Examples:",
+                             "--keep-class 2",
+                             "EPSG:4326",
+                             "Exit status"})
+    EXPECT_NE(r.out.find(needle), std::string::npos) << needle << "\n" << r.out;
+  EXPECT_TRUE(r.err.empty()) << r;
+}
+
+TEST_F(Cli, NoArgumentsIsUsageError) {
+  const Outcome r = s.run({});
+  expect_failure(r, 2, "", "INPUT", s, {});
+}
+
+TEST_F(Cli, NoOutputIsUsageError) {
+  spit(s.path("a.xyz"), grid_xyz());
+  const Outcome r = s.run({s.path("a.xyz")});
+  expect_failure(r, 2, "", "--output", s, {"a.xyz"});
+}
+
+TEST_F(Cli, NoInputIsUsageError) {
+  const Outcome r = s.run({"-o", s.path("t.obj")});
+  expect_failure(r, 2, "", "INPUT", s, {});
+}
+
+TEST_F(Cli, UnknownOptionIsUsageError) {
+  spit(s.path("a.xyz"), grid_xyz());
+  const Outcome r = s.run({s.path("a.xyz"), "-o", s.path("t.obj"), "--frobnicate"});
+  expect_failure(r, 2, "--frobnicate", "", s, {"a.xyz"});
+}
+
+TEST_F(Cli, BadOptionValuesAreUsageErrors) {
+  spit(s.path("a.xyz"), grid_xyz());
+  const std::string in = s.path("a.xyz"), out = s.path("t.obj");
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {{"--offset", "1,2"}, "--offset"},
+      {{"--offset", "1,2,x"}, "--offset"},
+      {{"--offset", "1,2,3,4"}, "--offset"},
+      {{"--offset", "nan,0,0"}, "--offset"},
+      {{"--keep-class", "abc"}, "--keep-class"},
+      {{"--keep-class", "2,300"}, "--keep-class"},
+      {{"--drop-class", "-1"}, "--drop-class"},
+      {{"--keep-class", "2", "--drop-class", "2"}, "both"},
+      {{"--on-duplicate", "median"}, "--on-duplicate"},
+      {{"-f", "stl"}, "--format"},
+      {{"--first-only", "--last-only"}, "exclude each other"},
+      {{"-q", "-v"}, "exclude each other"},
+      {{"--t-srs", "EPSG:4326"}, "GeoJSON"},  // OBJ output
+  };
+  for (const auto& [extra, pattern] : cases) {
+    SCOPED_TRACE(extra.front() + " " + extra.back());
+    std::vector<std::string> args = {in, "-o", out};
+    args.insert(args.end(), extra.begin(), extra.end());
+    expect_failure(s.run(args), 2, "", pattern, s, {"a.xyz"});
+  }
+}
+
+TEST_F(Cli, UnknownOutputExtensionIsUsageError) {
+  spit(s.path("a.xyz"), grid_xyz());
+  const Outcome r = s.run({s.path("a.xyz"), "-o", s.path("t.stl")});
+  expect_failure(r, 2, "t.stl", "format", s, {"a.xyz"});
+}
+
+TEST_F(Cli, NegativeOffsetIsAValueNotAnOption) {
+  spit(s.path("a.xyz"), grid_xyz());
+  const Outcome r = s.run({s.path("a.xyz"), "-o", s.path("t.obj"), "--offset", "-1000,-2000,0"});
+  EXPECT_EQ(r.exit_code, 0) << r;
+}
+
+// ---- bad input, as a new user would try it ----------------------------------------------------
+
+TEST_F(Cli, MissingFile) {
+  const std::string missing = s.path("no_such_file.las");
+  const Outcome r = s.run({missing, "-o", s.path("t.ply")});
+  expect_failure(r, 1, missing, "", s, {});
+  EXPECT_EQ(r.err_lines().size(), 1u) << r;
+}
+
+TEST_F(Cli, EmptyXyzFile) {
+  spit(s.path("empty.xyz"), "");
+  const Outcome r = s.run({s.path("empty.xyz"), "-o", s.path("t.ply")});
+  expect_failure(r, 1, s.path("empty.xyz"), "", s, {"empty.xyz"});
+}
+
+TEST_F(Cli, EmptyLasFile) {
+  spit(s.path("empty.las"), "");
+  const Outcome r = s.run({s.path("empty.las"), "-o", s.path("t.ply")});
+  expect_failure(r, 1, s.path("empty.las"), "", s, {"empty.las"});
+  EXPECT_EQ(r.err_lines().size(), 1u) << r;
+}
+
+TEST_F(Cli, TruncatedLas) {
+  const std::string las = make_las(grid_points());
+  spit(s.path("cut.las"), las.substr(0, las.size() / 2 + 7));
+  const Outcome r = s.run({s.path("cut.las"), "-o", s.path("t.ply")});
+  expect_failure(r, 1, s.path("cut.las"), "", s, {"cut.las"});
+  EXPECT_EQ(r.err_lines().size(), 1u) << r;
+}
+
+TEST_F(Cli, TruncatedLasHeader) {
+  spit(s.path("cut.las"), make_las(grid_points()).substr(0, 100));
+  const Outcome r = s.run({s.path("cut.las"), "-o", s.path("t.ply")});
+  expect_failure(r, 1, s.path("cut.las"), "", s, {"cut.las"});
+}
+
+TEST_F(Cli, LasWithWrongPointCount) {
+  std::string las = make_las(grid_points());
+  put<std::uint32_t>(las, 107, 400 + 25);  // header claims 25 more points than there are
+  put<std::uint32_t>(las, 111, 400 + 25);
+  spit(s.path("count.las"), las);
+  const Outcome r = s.run({s.path("count.las"), "-o", s.path("t.ply")});
+  expect_failure(r, 1, s.path("count.las"), "", s, {"count.las"});
+  EXPECT_EQ(r.err_lines().size(), 1u) << r;
+}
+
+TEST_F(Cli, TruncatedSharedLas) {
+  if (!have_shared_data()) GTEST_SKIP() << "shared data not found at " << shared_data();
+  const std::string las = slurp(fs::path(shared_data()) / "las" / "simple.las");
+  spit(s.path("simple_cut.las"), las.substr(0, las.size() - las.size() / 3));
+  const Outcome r = s.run({s.path("simple_cut.las"), "-o", s.path("t.obj")});
+  expect_failure(r, 1, s.path("simple_cut.las"), "", s, {"simple_cut.las"});
+}
+
+TEST_F(Cli, SharedLasWithWrongPointCount) {
+  if (!have_shared_data()) GTEST_SKIP() << "shared data not found at " << shared_data();
+  std::string las = slurp(fs::path(shared_data()) / "las" / "simple.las");  // LAS 1.2
+  std::uint32_t count = 0;
+  std::memcpy(&count, las.data() + 107, 4);
+  ASSERT_EQ(count, 1065u);
+  put<std::uint32_t>(las, 107, count * 2);
+  spit(s.path("simple_count.las"), las);
+  const Outcome r = s.run({s.path("simple_count.las"), "-o", s.path("t.obj")});
+  expect_failure(r, 1, s.path("simple_count.las"), "", s, {"simple_count.las"});
+}
+
+TEST_F(Cli, MalformedXyzLine) {
+  spit(s.path("bad.xyz"), "1 2 3\n4 5 6\n7 8 oops\n9 9 9\n");
+  const Outcome r = s.run({s.path("bad.xyz"), "-o", s.path("t.obj")});
+  expect_failure(r, 1, s.path("bad.xyz"), "line 3", s, {"bad.xyz"});
+  EXPECT_EQ(r.err_lines().size(), 1u) << r;
+}
+
+TEST_F(Cli, MalformedXyzInSecondOfTwoInputs) {
+  spit(s.path("good.xyz"), grid_xyz());
+  spit(s.path("bad.xyz"), "1 2 3\n4 5\n");
+  const Outcome r = s.run({s.path("good.xyz"), s.path("bad.xyz"), "-o", s.path("t.obj")});
+  expect_failure(r, 1, s.path("bad.xyz"), "line 2", s, {"good.xyz", "bad.xyz"});
+}
+
+TEST_F(Cli, TooFewPoints) {
+  spit(s.path("two.xyz"), "1 2 3\n4 5 6\n1 2 7\n");
+  const Outcome r = s.run({s.path("two.xyz"), "-o", s.path("t.obj")});
+  expect_failure(r, 1, s.path("two.xyz"), "fewer than 3 distinct points", s, {"two.xyz"});
+}
+
+TEST_F(Cli, CollinearPoints) {
+  spit(s.path("line.xyz"), "0 0 1\n1 1 1\n2 2 1\n3 3 1\n");
+  const Outcome r = s.run({s.path("line.xyz"), "-o", s.path("t.obj")});
+  expect_failure(r, 1, s.path("line.xyz"), "collinear", s, {"line.xyz"});
+}
+
+TEST_F(Cli, FilterKeepsNothing) {
+  spit(s.path("g.las"), make_las(grid_points()));
+  const Outcome r = s.run({s.path("g.las"), "-o", s.path("t.obj"), "--keep-class", "9"});
+  expect_failure(r, 1, s.path("g.las"), "filters kept none", s, {"g.las"});
+}
+
+// ---- bad output --------------------------------------------------------------------------------
+
+TEST_F(Cli, UnwritableOutputParentIsAFile) {
+  spit(s.path("a.xyz"), grid_xyz());
+  spit(s.path("afile"), "not a folder");
+  const std::string out = s.path("afile") + "/t.ply";
+  const Outcome r = s.run({s.path("a.xyz"), "-o", out});
+  expect_failure(r, 1, out, "", s, {"a.xyz", "afile"});
+  EXPECT_EQ(slurp(s.path("afile")), "not a folder");
+}
+
+TEST_F(Cli, OutputFolderMissing) {
+  spit(s.path("a.xyz"), grid_xyz());
+  const std::string out = s.path("nowhere") + "/t.ply";
+  expect_failure(s.run({s.path("a.xyz"), "-o", out}), 1, out, "does not exist", s, {"a.xyz"});
+}
+
+TEST_F(Cli, OutputIsAFolder) {
+  spit(s.path("a.xyz"), grid_xyz());
+  fs::create_directory(s.path("out.ply"));
+  expect_failure(s.run({s.path("a.xyz"), "-o", s.path("out.ply"), "--overwrite"}), 1,
+                 s.path("out.ply"), "folder", s, {"a.xyz", "out.ply"});
+}
+
+TEST_F(Cli, OutputExistsIsKeptUnlessOverwrite) {
+  spit(s.path("a.xyz"), grid_xyz());
+  spit(s.path("t.obj"), "old content\n");
+  const Outcome r = s.run({s.path("a.xyz"), "-o", s.path("t.obj")});
+  expect_failure(r, 1, s.path("t.obj"), "exists.*--overwrite", s, {"a.xyz", "t.obj"});
+  EXPECT_EQ(slurp(s.path("t.obj")), "old content\n");
+
+  const Outcome r2 = s.run({s.path("a.xyz"), "-o", s.path("t.obj"), "--overwrite"});
+  EXPECT_EQ(r2.exit_code, 0) << r2;
+  EXPECT_NE(slurp(s.path("t.obj")), "old content\n");
+  EXPECT_EQ(listing(s.dir()), (std::set<std::string>{"a.xyz", "t.obj"}));
+}
+
+TEST_F(Cli, OutputExistsFailsBeforeReading) {
+  // The input is broken too; the output check must come first so a long job cannot fail late.
+  spit(s.path("bad.xyz"), "1 2 x\n");
+  spit(s.path("t.obj"), "old\n");
+  expect_failure(s.run({s.path("bad.xyz"), "-o", s.path("t.obj")}), 1, s.path("t.obj"), "exists", s,
+                 {"bad.xyz", "t.obj"});
+}
+
+TEST_F(Cli, StatsFileExistsFailsBeforeWork) {
+  spit(s.path("a.xyz"), grid_xyz());
+  spit(s.path("s.json"), "{}");
+  const Outcome r = s.run({s.path("a.xyz"), "-o", s.path("t.obj"), "--stats", s.path("s.json")});
+  expect_failure(r, 1, s.path("s.json"), "exists", s, {"a.xyz", "s.json"});
+  EXPECT_EQ(slurp(s.path("s.json")), "{}");
+}
+
+TEST_F(Cli, OutputSameAsInputIsRefused) {
+  spit(s.path("a.json"), "1 2 3\n");
+  expect_failure(s.run({s.path("a.json"), "-o", s.path("a.json"), "--overwrite"}), 1,
+                 s.path("a.json"), "input", s, {"a.json"});
+  EXPECT_EQ(slurp(s.path("a.json")), "1 2 3\n");
+}
+
+TEST_F(Cli, NoStatsOnFailure) {
+  spit(s.path("bad.xyz"), "1 2 3\nfoo\n");
+  const Outcome r = s.run({s.path("bad.xyz"), "-o", s.path("t.ply"), "--stats", s.path("s.json")});
+  expect_failure(r, 1, s.path("bad.xyz"), "line 2", s, {"bad.xyz"});
+}
+
+// ---- successful runs ---------------------------------------------------------------------------
+
+TEST_F(Cli, XyzToEveryFormatWithStats) {
+  spit(s.path("a.xyz"), grid_xyz());
+  for (const std::string ext : {"obj", "ply", "geojson"}) {
+    SCOPED_TRACE(ext);
+    const std::string out = s.path("t." + ext), stats = s.path(ext + ".json");
+    const Outcome r = s.run({s.path("a.xyz"), "-o", out, "--stats", stats, "--validate"});
+    ASSERT_EQ(r.exit_code, 0) << r;
+    EXPECT_TRUE(r.errors().empty()) << r;
+    EXPECT_NE(r.err.find("TIN: 400 vertices"), std::string::npos) << r;
+    EXPECT_NE(r.err.find("wrote " + out), std::string::npos) << r;
+    const std::string json = slurp(stats);
+    for (const char* key :
+         {"points_read", "points_kept", "duplicates_merged", "vertices", "triangles", "constraints",
+          "steiner_vertices", "peak_rss_bytes", "tincdt_version"})
+      EXPECT_NE(json.find(std::string("\"") + key + "\": "), std::string::npos) << key << json;
+    EXPECT_TRUE(std::regex_search(
+        json, std::regex("\"timings_s\": \\{\\s*\"read\": [-0-9.e]+,\\s*\"delaunay\": [-0-9.e]+,"
+                         "\\s*\"constraints\": [-0-9.e]+,[^}]*\"write\": [-0-9.e]+,\\s*"
+                         "\"total\": [-0-9.e]+\\s*\\}")))
+        << json;
+    EXPECT_TRUE(std::regex_search(json, std::regex("\"crs\": \"\""))) << json;
+    EXPECT_EQ(stats_number(json, "points_read"), 400u);
+    EXPECT_EQ(stats_number(json, "vertices"), 400u);
+    EXPECT_GT(stats_number(json, "peak_rss_bytes"), 0u);
+    EXPECT_TRUE(fs::is_regular_file(out));
+  }
+  EXPECT_EQ(listing(s.dir()), (std::set<std::string>{"a.xyz", "t.obj", "t.ply", "t.geojson",
+                                                     "obj.json", "ply.json", "geojson.json"}));
+}
+
+TEST_F(Cli, ObjCountsMatchStats) {
+  spit(s.path("a.xyz"), grid_xyz());
+  const Outcome r = s.run({s.path("a.xyz"), "-o", s.path("t.obj"), "--stats", s.path("s.json")});
+  ASSERT_EQ(r.exit_code, 0) << r;
+  const std::string obj = slurp(s.path("t.obj")), json = slurp(s.path("s.json"));
+  std::uint64_t v = 0, f = 0;
+  std::istringstream in(obj);
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("v ", 0) == 0) ++v;
+    if (line.rfind("f ", 0) == 0) ++f;
+  }
+  EXPECT_EQ(v, stats_number(json, "vertices"));
+  EXPECT_EQ(f, stats_number(json, "triangles"));
+}
+
+TEST_F(Cli, LasWithClassFilter) {
+  spit(s.path("g.las"), make_las(grid_points()));
+  const Outcome r = s.run(
+      {s.path("g.las"), "-o", s.path("t.ply"), "--keep-class", "2", "--stats", s.path("s.json")});
+  ASSERT_EQ(r.exit_code, 0) << r;
+  const std::string json = slurp(s.path("s.json"));
+  EXPECT_EQ(stats_number(json, "points_read"), 400u);
+  EXPECT_EQ(stats_number(json, "points_kept"), 200u);
+  EXPECT_EQ(stats_number(json, "vertices"), 200u);
+}
+
+TEST_F(Cli, ClassListsDoNotSwallowInputs) {
+  spit(s.path("g.las"), make_las(grid_points()));
+  const std::vector<std::pair<std::vector<std::string>, std::uint64_t>> cases = {
+      {{"--keep-class", "2", s.path("g.las")}, 200},
+      {{"--keep-class", "2,1", s.path("g.las")}, 400},
+      {{"--keep-class", "1", "--keep-class", "2", s.path("g.las")}, 400},
+      {{"--drop-class", "7", "--keep-class", "1", s.path("g.las")}, 200},
+      {{s.path("g.las"), "--drop-class", "2"}, 200},
+  };
+  for (const auto& [args, kept] : cases) {
+    SCOPED_TRACE(args.front() + " " + args[1]);
+    std::vector<std::string> a = args;
+    a.insert(a.end(), {"-o", s.path("t.obj"), "--stats", s.path("s.json"), "--overwrite"});
+    const Outcome r = s.run(a);
+    ASSERT_EQ(r.exit_code, 0) << r;
+    EXPECT_EQ(stats_number(slurp(s.path("s.json")), "points_kept"), kept);
+  }
+}
+
+TEST_F(Cli, ExistingPrjFailsBeforeTriangulating) {
+  spit(s.path("a.xyz"), grid_xyz());
+  spit(s.path("t.prj"), "old");
+  const Outcome r = s.run({s.path("a.xyz"), "-o", s.path("t.ply"), "--a-srs", "EPSG:32633"});
+  expect_failure(r, 1, s.path("t.prj"), "exists", s, {"a.xyz", "t.prj"});
+  EXPECT_EQ(slurp(s.path("t.prj")), "old");
+}
+
+TEST_F(Cli, DuplicatesAreMergedAndCounted) {
+  spit(s.path("d.xyz"), grid_xyz() + "500100.5 4000200.5 1\n500100.5 4000200.5 3\n");
+  const Outcome r = s.run({s.path("d.xyz"), "-o", s.path("t.obj"), "--stats", s.path("s.json"),
+                           "--on-duplicate", "max"});
+  ASSERT_EQ(r.exit_code, 0) << r;
+  const std::string json = slurp(s.path("s.json"));
+  EXPECT_EQ(stats_number(json, "points_read"), 402u);
+  EXPECT_EQ(stats_number(json, "duplicates_merged"), 1u);
+  EXPECT_EQ(stats_number(json, "vertices"), 401u);
+}
+
+TEST_F(Cli, QuietPrintsNothingOnSuccess) {
+  spit(s.path("a.xyz"), grid_xyz());
+  const Outcome r = s.run({"-q", s.path("a.xyz"), "-o", s.path("t.ply")});
+  EXPECT_EQ(r.exit_code, 0) << r;
+  EXPECT_EQ(r.err, "") << r;
+  EXPECT_EQ(r.out, "") << r;
+}
+
+TEST_F(Cli, NoProgressWhenStderrIsNotATerminal) {
+  spit(s.path("a.xyz"), grid_xyz());
+  const Outcome r = s.run({s.path("a.xyz"), "-o", s.path("t.ply"), "-v"});
+  EXPECT_EQ(r.exit_code, 0) << r;
+  EXPECT_EQ(r.err.find('\r'), std::string::npos) << r;
+  EXPECT_NE(r.err.find("tincdt: debug: "), std::string::npos) << r;
+  for (const std::string& line : r.err_lines()) EXPECT_EQ(line.rfind("tincdt: ", 0), 0u) << line;
+}
+
+TEST_F(Cli, StandardInput) {
+  spit(s.path("a.xyz"), grid_xyz());
+  const Outcome r = s.run({"-", "-o", s.path("t.obj")}, s.path("a.xyz"));
+  EXPECT_EQ(r.exit_code, 0) << r;
+  EXPECT_TRUE(fs::is_regular_file(s.path("t.obj")));
+}
+
+TEST_F(Cli, FormatOverridesExtension) {
+  spit(s.path("a.xyz"), grid_xyz());
+  const Outcome r = s.run({s.path("a.xyz"), "-o", s.path("mesh.txt"), "-f", "ply"});
+  ASSERT_EQ(r.exit_code, 0) << r;
+  EXPECT_EQ(slurp(s.path("mesh.txt")).substr(0, 4), "ply\n");
+}
+
+TEST_F(Cli, PlyAsciiAndOffsetAuto) {
+  spit(s.path("a.xyz"), grid_xyz());
+  const Outcome r = s.run({s.path("a.xyz"), "-o", s.path("t.ply"), "--ply-ascii", "--offset",
+                           "auto", "--stats", s.path("s.json")});
+  ASSERT_EQ(r.exit_code, 0) << r;
+  const std::string ply = slurp(s.path("t.ply"));
+  EXPECT_NE(ply.find("format ascii 1.0"), std::string::npos);
+  EXPECT_TRUE(std::regex_search(slurp(s.path("s.json")),
+                                std::regex("\"offset\": \\[\\s*500000,\\s*4000000,\\s*0\\s*\\]")))
+      << slurp(s.path("s.json"));
+}
+
+TEST_F(Cli, AssignedCrsGoesToPrjAndStats) {
+  spit(s.path("a.xyz"), grid_xyz());
+  const Outcome r = s.run({s.path("a.xyz"), "-o", s.path("t.obj"), "--a-srs", "EPSG:32633",
+                           "--stats", s.path("s.json")});
+  ASSERT_EQ(r.exit_code, 0) << r;
+  EXPECT_TRUE(fs::is_regular_file(s.path("t.prj")));
+  EXPECT_NE(slurp(s.path("s.json")).find("\"crs\": \"EPSG:32633\""), std::string::npos);
+}
+
+TEST_F(Cli, ReprojectWithoutCrsFails) {
+  spit(s.path("a.xyz"), grid_xyz());
+  const Outcome r = s.run({s.path("a.xyz"), "-o", s.path("t.geojson"), "--t-srs", "EPSG:4326"});
+  expect_failure(r, 1, s.path("a.xyz"), "no CRS.*--a-srs", s, {"a.xyz"});
+}
+
+TEST_F(Cli, ReprojectToWgs84) {
+  spit(s.path("a.xyz"), grid_xyz());
+  const Outcome r = s.run({s.path("a.xyz"), "-o", s.path("t.geojson"), "--a-srs", "EPSG:32633",
+                           "--t-srs", "EPSG:4326"});
+  ASSERT_EQ(r.exit_code, 0) << r;
+  const std::string gj = slurp(s.path("t.geojson"));
+  // UTM 33N, x = 500100 m lies about 15 degrees east, y = 4000200 m about 36 degrees north.
+  EXPECT_TRUE(std::regex_search(gj, std::regex("\\[\\s*15\\.0[0-9]*,\\s*36\\.[0-9]+")))
+      << gj.substr(0, 600);
+}
+
+TEST_F(Cli, BadSrsIsUsageError) {
+  spit(s.path("a.xyz"), grid_xyz());
+  const Outcome r = s.run({s.path("a.xyz"), "-o", s.path("t.obj"), "--a-srs", "EPSG:999999"});
+  expect_failure(r, 2, "", "--a-srs", s, {"a.xyz"});
+}
+
+// ---- real data: every shared LAS and XYZ file to every format -----------------------------------
+
+std::vector<std::string> shared_files(const char* sub) {
+  std::vector<std::string> files;
+  const fs::path dir = fs::path(shared_data()) / sub;
+  if (fs::is_directory(dir))
+    for (const auto& e : fs::directory_iterator(dir))
+      if (e.is_regular_file()) files.push_back(e.path().string());
+  std::sort(files.begin(), files.end());
+  if (files.empty()) files.push_back("");  // one test that skips with a message
+  return files;
+}
+
+std::vector<std::string> las_and_xyz() {
+  std::vector<std::string> files = shared_files("las");
+  for (const std::string& f : shared_files("xyz")) files.push_back(f);
+  files.erase(std::remove(files.begin(), files.end(), ""), files.end());
+  if (files.empty()) files.push_back("");
+  return files;
+}
+
+std::string param_name(const ::testing::TestParamInfo<std::string>& info) {
+  return info.param.empty() ? std::string("none") : sanitize(fs::path(info.param).filename());
+}
+
+class RealData : public ::testing::TestWithParam<std::string> {
+ protected:
+  Scratch s;
+};
+
+std::uint64_t geojson_feature_count(const std::string& path) {
+  GDALAllRegister();
+  GDALDataset* ds = GDALDataset::Open(path.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY);
+  if (ds == nullptr) return UINT64_MAX;
+  std::uint64_t n = UINT64_MAX;
+  if (ds->GetLayerCount() == 1) n = static_cast<std::uint64_t>(ds->GetLayer(0)->GetFeatureCount());
+  GDALClose(ds);
+  return n;
+}
+
+std::optional<std::pair<std::uint64_t, std::uint64_t>> ply_counts(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::uint64_t v = 0, f = 0;
+  bool seen_v = false, seen_f = false;
+  for (std::string line; std::getline(in, line) && line != "end_header";) {
+    std::istringstream ls(line);
+    std::string word, element;
+    std::uint64_t n = 0;
+    ls >> word >> element >> n;
+    if (word == "element" && element == "vertex") v = n, seen_v = true;
+    if (word == "element" && element == "face") f = n, seen_f = true;
+  }
+  if (!seen_v || !seen_f) return std::nullopt;
+  return std::make_pair(v, f);
+}
+
+TEST_P(RealData, ToObjPlyGeojson) {
+  const std::string input = GetParam();
+  if (input.empty()) GTEST_SKIP() << "shared data not found at " << shared_data();
+  const bool single_point = fs::path(input).filename() == "1.0_0.las";
+
+  for (const std::string ext : {"obj", "ply", "geojson"}) {
+    SCOPED_TRACE(input + " -> " + ext);
+    // One basename per format: tin_obj.obj and tin_ply.ply each get their own .prj.
+    const std::string out = s.path("tin_" + ext + "." + ext), stats = s.path(ext + ".json");
+    const Outcome r = s.run({input, "-o", out, "--stats", stats, "--validate"});
+    if (single_point) {
+      expect_failure(r, 1, input, "fewer than 3 distinct points", s, {});
+      continue;
+    }
+    ASSERT_EQ(r.exit_code, 0) << r;
+    ASSERT_TRUE(fs::is_regular_file(out));
+    const std::string json = slurp(stats);
+    const std::uint64_t triangles = stats_number(json, "triangles");
+    const std::uint64_t vertices = stats_number(json, "vertices");
+    ASSERT_NE(triangles, UINT64_MAX) << json;
+    EXPECT_GT(triangles, 0u);
+    EXPECT_GE(stats_number(json, "points_read"), vertices);
+    if (ext == "geojson") {
+      EXPECT_EQ(geojson_feature_count(out), triangles) << out;
+    } else if (ext == "ply") {
+      const auto counts = ply_counts(out);
+      ASSERT_TRUE(counts.has_value());
+      EXPECT_EQ(counts->first, vertices);
+      EXPECT_EQ(counts->second, triangles);
+    } else {
+      std::uint64_t f = 0;
+      std::ifstream in(out);
+      for (std::string line; std::getline(in, line);) f += line.rfind("f ", 0) == 0;
+      EXPECT_EQ(f, triangles);
+    }
+  }
+  // Nothing but the outputs, their .prj files and the stats: no temporaries.
+  for (const std::string& name : listing(s.dir()))
+    EXPECT_TRUE(std::regex_match(
+        name, std::regex("tin_(obj|ply|geojson)\\.(obj|ply|geojson|prj)|[a-z]+\\.json")))
+        << name;
+}
+
+INSTANTIATE_TEST_SUITE_P(Shared, RealData, ::testing::ValuesIn(las_and_xyz()), param_name);
+
+class RealLaz : public ::testing::TestWithParam<std::string> {
+ protected:
+  Scratch s;
+};
+
+TEST_P(RealLaz, IsRefusedWithAClearMessage) {
+  const std::string input = GetParam();
+  if (input.empty()) GTEST_SKIP() << "shared data not found at " << shared_data();
+  const Outcome r = s.run({input, "-o", s.path("tin.ply")});
+  expect_failure(r, 1, input, "", s, {});
+  ASSERT_EQ(r.errors().size(), 1u);
+  std::string message = r.errors()[0];
+  message.erase(message.find(input), input.size());  // the path says .laz; the text must too
+  EXPECT_NE(message.find("LAZ"), std::string::npos) << message;
+}
+
+INSTANTIATE_TEST_SUITE_P(Shared, RealLaz, ::testing::ValuesIn(shared_files("laz")), param_name);
+
+}  // namespace
