@@ -266,12 +266,23 @@ std::string secs(double s) {
 void log_summary(const pipeline::BuildOptions& options, const pipeline::BuildReport& r) {
   std::string line = "read " + count(r.points_read) + " points from " + count(r.inputs.size()) +
                      (r.inputs.size() == 1 ? " file" : " files");
+  if (r.line_vertices > 0) line += " and " + count(r.line_vertices) + " line vertices";
   if (r.points_kept != r.points_read) line += ", kept " + count(r.points_kept);
   if (r.duplicates_merged > 0) line += ", merged " + count(r.duplicates_merged) + " duplicates";
   spdlog::info(line);
-  spdlog::info("TIN: {} vertices, {} triangles", count(r.vertices), count(r.triangles));
+  if (r.constraint_segments > 0) {
+    std::string c = "lines: " + count(r.line_features) + " features, " +
+                    count(r.constraint_segments) + " segments";
+    if (r.crossings > 0) c += ", " + count(r.crossings) + " crossings joined";
+    if (r.constraint_segments_split > 0)
+      c += ", " + count(r.constraint_segments_split) + " split at vertices";
+    spdlog::info(c);
+  }
+  spdlog::info("TIN: {} vertices, {} triangles{}", count(r.vertices), count(r.triangles),
+               r.constraints > 0 ? ", " + count(r.constraints) + " constrained edges" : "");
   std::string t =
       "time: read " + secs(r.timings_s.read) + ", delaunay " + secs(r.timings_s.delaunay);
+  if (r.timings_s.constraints > 0) t += ", constraints " + secs(r.timings_s.constraints);
   if (r.timings_s.validate > 0) t += ", validate " + secs(r.timings_s.validate);
   t += ", write " + secs(r.timings_s.write) + ", total " + secs(r.timings_s.total);
   if (r.peak_rss_bytes > 0) t += "; peak memory " + bytes(r.peak_rss_bytes);
@@ -310,6 +321,13 @@ struct Cli {
   bool last_only = false;
   std::string stats;
   bool validate = false;
+  std::vector<std::string> contours;
+  std::vector<std::string> breaklines;
+  std::string layer;
+  std::string z_field;
+  bool z_from_m = false;
+  std::string restore = "delaunay";
+  std::string on_crossing = "split";
   bool quiet = false;
   bool verbose = false;
 };
@@ -317,7 +335,7 @@ struct Cli {
 class UsageFormatter : public CLI::Formatter {
  public:
   std::string make_usage(const CLI::App*, std::string) const override {
-    return "Usage: tincdt [OPTIONS] INPUT... -o OUTPUT\n";
+    return "Usage: tincdt [OPTIONS] [INPUT...] [--contours LINES]... -o OUTPUT\n";
   }
 };
 
@@ -328,6 +346,10 @@ constexpr const char* kFooter = R"(Examples:
     tincdt a.xyz b.xyz --a-srs EPSG:2949 --t-srs EPSG:4326 -o tin.geojson
   Ground class only, with a JSON report:
     tincdt tile.las --keep-class 2 -o ground.obj --stats ground.json
+  Ground points plus 3D contour lines as constrained edges:
+    tincdt tile.las --keep-class 2 --contours contours.shp -o tin.ply
+  A TIN from a contour map alone, z from an attribute:
+    tincdt --contours contours.gpkg:contours --z-field ELEV -o tin.ply
 
 Exit status: 0 success, 1 input, output or runtime error, 2 usage error.)";
 
@@ -339,7 +361,6 @@ void define_options(CLI::App& app, Cli& c) {
   app.set_help_flag("-h,--help", "Print this help and exit");
 
   app.add_option("INPUT", c.inputs, "Point files: LAS 1.0-1.4, or XYZ text ('-' = stdin)")
-      ->required()
       ->type_name("FILE");
 
   const char* out = "Output";
@@ -383,6 +404,40 @@ void define_options(CLI::App& app, Cli& c) {
         ->group(in);
   app.add_flag("--first-only", c.first_only, "Keep only first returns (LAS)")->group(in);
   app.add_flag("--last-only", c.last_only, "Keep only last returns (LAS)")->group(in);
+
+  const char* lines = "Contours and breaklines (any OGR source; FILE or FILE:LAYER)";
+  app.add_option("--contours", c.contours, "Contour lines: every segment becomes a TIN edge")
+      ->type_name("LINES")
+      ->expected(1)
+      ->allow_extra_args(false)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
+      ->group(lines);
+  app.add_option("--breaklines", c.breaklines, "Breaklines: every segment becomes a TIN edge")
+      ->type_name("LINES")
+      ->expected(1)
+      ->allow_extra_args(false)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
+      ->group(lines);
+  app.add_option("--layer", c.layer, "Layer to read from each line source")
+      ->type_name("NAME")
+      ->group(lines);
+  app.add_option("--z-field", c.z_field, "Take z from this attribute (2D lines)")
+      ->type_name("NAME")
+      ->group(lines);
+  app.add_flag("--z-from-m", c.z_from_m, "Take z from the lines' M values")->group(lines);
+  app.add_option("--on-crossing", c.on_crossing,
+                 "Crossing lines: join them at a new vertex, or stop with an error")
+      ->check(CLI::IsMember({"split", "error"}, CLI::ignore_case).description(""))
+      ->type_name("split|error")
+      ->capture_default_str()
+      ->group(lines);
+  app.add_option("--restore", c.restore,
+                 "After each line is in: restore the constrained Delaunay property,\n"
+                 "improve aspect ratios (the paper's criterion), or leave the swaps")
+      ->check(CLI::IsMember({"delaunay", "aspect", "none"}, CLI::ignore_case).description(""))
+      ->type_name("delaunay|aspect|none")
+      ->capture_default_str()
+      ->group(lines);
 
   const char* tri = "Triangulation";
   app.add_option("--on-duplicate", c.on_duplicate, "z of points with equal x, y")
@@ -449,6 +504,22 @@ pipeline::BuildOptions to_build_options(const Cli& c) {
       {"mean", delaunay::DuplicatePolicy::mean}};
   o.on_duplicate = policies.at(lower(c.on_duplicate));
   o.validate = c.validate;
+
+  if (c.inputs.empty() && c.contours.empty() && c.breaklines.empty())
+    throw UsageError("no input: give point files, --contours or --breaklines");
+  o.contours = c.contours;
+  o.breaklines = c.breaklines;
+  o.lines.layer = c.layer;
+  o.lines.z_field = c.z_field;
+  o.lines.z_from_m = c.z_from_m;
+  if (!c.z_field.empty() && c.z_from_m)
+    throw UsageError("--z-field and --z-from-m exclude each other");
+  const std::string restore = lower(c.restore);
+  o.constraint.restore = restore == "aspect" ? constraints::Restore::aspect
+                         : restore == "none" ? constraints::Restore::none
+                                             : constraints::Restore::delaunay;
+  o.constraint.on_crossing = lower(c.on_crossing) == "error" ? constraints::OnCrossing::error
+                                                             : constraints::OnCrossing::split;
   return o;
 }
 

@@ -7,6 +7,7 @@
 #include <cerrno>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -135,6 +136,68 @@ double round_down(double v, double step) {
   return std::floor(v / step) * step;
 }
 
+// "FILE feature FID" for messages about a constraint's source.
+std::string describe_feature(const io::LineData& lines, std::uint32_t feature) {
+  if (feature >= lines.features.size()) return "a line";
+  const io::LineFeature& f = lines.features[feature];
+  return lines.files[f.file] + " feature " + std::to_string(f.fid);
+}
+
+// The constraint stage: every line segment becomes a chain of constrained edges.
+void insert_lines(delaunay::DelaunayResult& result, std::size_t n_points, const io::LineData& lines,
+                  const constraints::ConstraintOptions& options, const ProgressFn* progress,
+                  const LogFn& log, BuildReport& report) {
+  std::vector<constraints::Segment> segments;
+  segments.reserve(lines.segments.size());
+  for (const io::LineData::Segment& s : lines.segments)
+    segments.push_back({result.vertex_of_point[n_points + s.a],
+                        result.vertex_of_point[n_points + s.b], s.feature});
+  result.vertex_of_point = {};
+
+  constraints::ConstraintResult c;
+  try {
+    c = constraints::insert_constraints(result.tin, segments, options, progress);
+  } catch (const constraints::CrossingError& e) {
+    char at[64];
+    std::snprintf(at, sizeof at, "(%.3f, %.3f)", e.at.x, e.at.y);
+    const std::string& file =
+        e.source_a < lines.features.size() ? lines.files[lines.features[e.source_a].file] : "";
+    throw InputError(file,
+                     e.source_a < lines.features.size()
+                         ? "feature " + std::to_string(lines.features[e.source_a].fid)
+                         : "",
+                     std::string("crosses ") + describe_feature(lines, e.source_b) + " at " + at +
+                         " (use --on-crossing split to join them there)");
+  }
+  report.zero_length_segments += c.segments_skipped;
+  report.constraint_segments_split = c.split_at_vertices;
+  report.crossings = c.crossings.size();
+  report.steiner_vertices = c.crossings.size();
+  report.max_z_disagreement = c.max_z_disagreement;
+  report.flips.insertion = c.flips_insertion;
+  report.flips.restoration = c.flips_restoration;
+  if (c.segments_skipped > 0)
+    emit(log, log_debug,
+         std::to_string(c.segments_skipped) +
+             " line segments have both ends on one vertex (merged points): skipped");
+  if (!c.crossings.empty()) {
+    const constraints::Crossing* worst = &c.crossings.front();
+    for (const constraints::Crossing& x : c.crossings) {
+      if (std::fabs(x.z_a - x.z_b) > std::fabs(worst->z_a - worst->z_b)) worst = &x;
+      emit(log, log_debug,
+           "crossing: " + describe_feature(lines, x.source_a) + " and " +
+               describe_feature(lines, x.source_b) + " joined at a new vertex");
+    }
+    char dz[32];
+    std::snprintf(dz, sizeof dz, "%.3f", c.max_z_disagreement);
+    emit(log, log_warn,
+         std::to_string(c.crossings.size()) +
+             " crossing line segments joined at new vertices; the largest z disagreement is " + dz +
+             " between " + describe_feature(lines, worst->source_a) + " and " +
+             describe_feature(lines, worst->source_b));
+  }
+}
+
 }  // namespace
 
 std::string_view format_name(io::TinFormat format) {
@@ -168,7 +231,8 @@ BuildReport build(const BuildOptions& options, const ProgressFn* progress, const
   report.output = options.output;
 
   // ---- checks that need no data: fail now rather than after a long read ----------------------
-  if (options.inputs.empty()) throw InputError("no input files given");
+  if (options.inputs.empty() && options.contours.empty() && options.breaklines.empty())
+    throw InputError("no input given: point files, contours or breaklines");
   const io::TinFormat format =
       options.write.format ? *options.write.format : io::format_from_path(options.output);
   report.output_format = std::string(format_name(format));
@@ -262,6 +326,42 @@ BuildReport build(const BuildOptions& options, const ProgressFn* progress, const
                         ? static_cast<double>(bytes_done) / static_cast<double>(total_bytes)
                         : static_cast<double>(i + 1) / static_cast<double>(options.inputs.size()));
   }
+  // Contours and breaklines: their vertices go after the points, so vertex_of_point[n_points + i]
+  // is line vertex i, and their CRS must agree with the points'.
+  const std::size_t n_points = points.size();
+  io::LineData lines;
+  std::vector<std::string> line_sources = options.contours;
+  line_sources.insert(line_sources.end(), options.breaklines.begin(), options.breaklines.end());
+  for (const std::string& path : line_sources) {
+    const io::LineReadStats s = io::read_lines(path, options.lines, lines);
+    for (const std::string& w : s.warnings) emit(log, log_warn, w);
+    report.line_features += s.features;
+    report.zero_length_segments += s.zero_length_segments;
+    emit(log, log_debug,
+         path + ": layer " + s.layer + ", " + std::to_string(s.features) + " features, " +
+             std::to_string(s.segments) + " segments, " + crs.name(s.crs_wkt));
+    if (!options.assign_crs_wkt.empty()) {
+      if (!s.crs_wkt.empty() && !io::same_crs(s.crs_wkt, options.assign_crs_wkt))
+        emit(log, log_warn,
+             path + ": its CRS " + crs.name(s.crs_wkt) + " is overridden by --a-srs " +
+                 crs.name(options.assign_crs_wkt));
+    } else if (s.crs_wkt.empty()) {
+      without_crs.push_back(path);
+    } else if (crs_wkt.empty()) {
+      crs_wkt = s.crs_wkt;
+      crs_source = path;
+    } else if (!io::same_crs(crs_wkt, s.crs_wkt)) {
+      throw InputError(path, "",
+                       "CRS " + crs.name(s.crs_wkt) + " differs from " + crs.name(crs_wkt) +
+                           " of " + crs_source +
+                           " (reproject one of them, or use --a-srs to override both)");
+    }
+  }
+  report.line_vertices = lines.vertices.size();
+  report.constraint_segments = lines.segments.size();
+  points.insert(points.end(), lines.vertices.begin(), lines.vertices.end());
+  lines.vertices = {};
+
   if (!crs_wkt.empty() && options.assign_crs_wkt.empty()) {
     for (const std::string& path : without_crs)
       emit(log, log_warn,
@@ -296,9 +396,9 @@ BuildReport build(const BuildOptions& options, const ProgressFn* progress, const
   report.offset = write.offset;
 
   // ---- Delaunay stage -------------------------------------------------------------------------
-  if (report.points_read == 0)
+  if (report.points_read == 0 && lines.segments.empty())
     throw GeometryError(describe_inputs(options.inputs), "", "no points in the input");
-  if (report.points_kept == 0)
+  if (report.points_kept == 0 && lines.segments.empty())
     throw GeometryError(describe_inputs(options.inputs), "",
                         "the class/return filters kept none of the " +
                             std::to_string(report.points_read) + " points");
@@ -306,7 +406,7 @@ BuildReport build(const BuildOptions& options, const ProgressFn* progress, const
   t0 = Clock::now();
   delaunay::DelaunayOptions dopt;
   dopt.on_duplicate = options.on_duplicate;
-  dopt.keep_point_map = false;
+  dopt.keep_point_map = !lines.segments.empty();
   delaunay::DelaunayResult result = [&] {
     try {
       return delaunay::triangulate(std::move(points), dopt, progress);
@@ -322,15 +422,25 @@ BuildReport build(const BuildOptions& options, const ProgressFn* progress, const
   points = {};  // moved-from; release whatever is left
   report.timings_s.delaunay = seconds_since(t0);
   report.duplicates_merged = result.duplicates_merged;
-  report.vertices = result.tin.vertex_count();
-  report.triangles = result.tin.triangle_count();
   if (result.duplicates_merged > 0)
     emit(log, log_debug,
          std::to_string(result.duplicates_merged) + " duplicate points merged (same x, y)");
 
+  // ---- constraint stage -----------------------------------------------------------------------
+  if (!lines.segments.empty()) {
+    t0 = Clock::now();
+    insert_lines(result, n_points, lines, options.constraint, progress, log, report);
+    report.timings_s.constraints = seconds_since(t0);
+  }
+  result.tin.for_each_constrained_edge([&](EdgeId) { ++report.constraints; });
+  report.vertices = result.tin.vertex_count();
+  report.triangles = result.tin.triangle_count();
+
   if (options.validate) {
     t0 = Clock::now();
-    const std::string problem = result.tin.validate();
+    // Only the CDT promises locally Delaunay edges; the other restorations keep a valid TIN.
+    const std::string problem = result.tin.validate(
+        {.delaunay = options.constraint.restore == constraints::Restore::delaunay});
     report.timings_s.validate = seconds_since(t0);
     if (!problem.empty())
       throw Error("internal error: the TIN failed validation: " + problem +

@@ -8,9 +8,11 @@
 #include <string_view>
 #include <vector>
 
+#include "constraints/constraints.hpp"
 #include "core/progress.hpp"
 #include "core/types.hpp"
 #include "delaunay/delaunay.hpp"
+#include "io/line_reader.hpp"
 #include "io/point_reader.hpp"
 #include "io/tin_writer.hpp"
 
@@ -24,9 +26,18 @@ struct BuildOptions {
   io::PointFilter filter;
   std::string assign_crs_wkt;  // --a-srs: the inputs' CRS, replacing any in the files
 
+  // Contours and breaklines (any OGR source, "FILE" or "FILE:LAYER"): their vertices join the
+  // Delaunay stage, their segments become constrained edges. Lines alone make a valid job.
+  std::vector<std::string> contours;
+  std::vector<std::string> breaklines;
+  io::LineReadOptions lines;  // --layer, --z-field, --z-from-m, for every line source
+
   // ---- Delaunay stage --------------------------------------------------------------------
   delaunay::DuplicatePolicy on_duplicate = delaunay::DuplicatePolicy::mean;
   bool validate = false;  // run Triangulation::validate() before writing (slow)
+
+  // ---- constraint stage ------------------------------------------------------------------
+  constraints::ConstraintOptions constraint;  // --restore, --on-crossing
 
   // ---- output --------------------------------------------------------------------------
   std::string output;
@@ -50,8 +61,19 @@ struct BuildReport {
   std::uint64_t duplicates_merged = 0;
   std::uint64_t vertices = 0;
   std::uint64_t triangles = 0;
-  std::uint64_t constraints = 0;
+  std::uint64_t constraints = 0;  // constrained edges in the TIN
   std::uint64_t steiner_vertices = 0;
+  // Constraint stage.
+  std::uint64_t line_features = 0;
+  std::uint64_t line_vertices = 0;
+  std::uint64_t constraint_segments = 0;        // input segments
+  std::uint64_t zero_length_segments = 0;       // skipped (repeated vertices, merged ends)
+  std::uint64_t constraint_segments_split = 0;  // at a vertex lying on them
+  std::uint64_t crossings = 0;
+  double max_z_disagreement = 0;  // between two crossing constraints, at their crossing
+  struct Flips {
+    std::uint64_t insertion = 0, restoration = 0;
+  } flips;
   struct Timings {
     double read = 0, delaunay = 0, constraints = 0, validate = 0, write = 0, total = 0;
   } timings_s;

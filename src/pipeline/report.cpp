@@ -182,6 +182,17 @@ std::string BuildReport::to_json() const {
   j.field("triangles", triangles);
   j.field("constraints", constraints);
   j.field("steiner_vertices", steiner_vertices);
+  j.field("line_features", line_features);
+  j.field("line_vertices", line_vertices);
+  j.field("constraint_segments", constraint_segments);
+  j.field("zero_length_segments", zero_length_segments);
+  j.field("constraint_segments_split", constraint_segments_split);
+  j.field("crossings", crossings);
+  j.field("max_z_disagreement", max_z_disagreement);
+  j.begin_object("flips")
+      .field("insertion", flips.insertion)
+      .field("restoration", flips.restoration);
+  j.end_object();
   j.begin_object("timings_s")
       .field("read", timings_s.read)
       .field("delaunay", timings_s.delaunay)

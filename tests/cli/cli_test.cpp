@@ -261,7 +261,12 @@ TEST_F(Cli, VersionPrintsProjectVersion) {
 TEST_F(Cli, HelpListsOptionsAndExamples) {
   const Outcome r = s.run({"--help"});
   EXPECT_EQ(r.exit_code, 0) << r;
-  for (const char* needle : {"Usage: tincdt [OPTIONS] INPUT... -o OUTPUT",
+  for (const char* needle : {"Usage: tincdt [OPTIONS] [INPUT...] [--contours LINES]... -o OUTPUT",
+                             "--contours",
+                             "--breaklines",
+                             "--z-field",
+                             "--restore",
+                             "--on-crossing",
                              "-o,--output",
                              "-f,--format",
                              "--overwrite",
@@ -288,7 +293,7 @@ TEST_F(Cli, HelpListsOptionsAndExamples) {
 
 TEST_F(Cli, NoArgumentsIsUsageError) {
   const Outcome r = s.run({});
-  expect_failure(r, 2, "", "INPUT", s, {});
+  expect_failure(r, 2, "", "--output|input", s, {});
 }
 
 TEST_F(Cli, NoOutputIsUsageError) {
@@ -801,3 +806,123 @@ TEST_P(RealLaz, IsRefusedWithAClearMessage) {
 INSTANTIATE_TEST_SUITE_P(Shared, RealLaz, ::testing::ValuesIn(shared_files("laz")), param_name);
 
 }  // namespace
+
+// ---- contours and breaklines (the constraint stage) -----------------------------------------
+
+namespace {
+
+std::uint64_t ply_edge_count(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  for (std::string line; std::getline(in, line) && line != "end_header";) {
+    std::istringstream ls(line);
+    std::string word, element;
+    std::uint64_t n = 0;
+    ls >> word >> element >> n;
+    if (word == "element" && element == "edge") return n;
+  }
+  return 0;
+}
+
+// Two 3D lines crossing at (5, 5): z 10 -> 20 along one, 30 -> 30 along the other.
+const char* kCrossingLines = R"({"type": "FeatureCollection", "features": [
+  {"type": "Feature", "properties": {"ID": 1},
+   "geometry": {"type": "LineString", "coordinates": [[0, 0, 10], [10, 10, 20]]}},
+  {"type": "Feature", "properties": {"ID": 2},
+   "geometry": {"type": "LineString", "coordinates": [[0, 10, 30], [10, 0, 30]]}}]})";
+
+}  // namespace
+
+struct LineJob {
+  std::string name;
+  std::vector<std::string> args;  // relative to the shared data folder, "@" marks a path
+};
+
+class RealLines : public ::testing::TestWithParam<LineJob> {
+ protected:
+  Scratch s;
+};
+
+TEST_P(RealLines, GiveValidConstrainedTins) {
+  if (!have_shared_data()) GTEST_SKIP() << "shared data not found at " << shared_data();
+  std::vector<std::string> args;
+  for (const std::string& a : GetParam().args)
+    args.push_back(a[0] == '@' ? shared_data() + "/" + a.substr(1) : a);
+  const std::string out = s.path("tin.ply"), stats = s.path("stats.json");
+  args.insert(args.end(), {"-o", out, "--stats", stats, "--validate"});
+  const Outcome r = s.run(args);
+  ASSERT_EQ(r.exit_code, 0) << r;
+  const std::string json = slurp(stats);
+  const std::uint64_t constraints = stats_number(json, "constraints");
+  EXPECT_GT(constraints, 100u) << json;
+  EXPECT_GE(constraints, stats_number(json, "constraint_segments")) << json;
+  EXPECT_EQ(stats_number(json, "crossings"), 0u) << json;  // contours of one surface never cross
+  EXPECT_EQ(ply_edge_count(out), constraints);
+  const auto counts = ply_counts(out);
+  ASSERT_TRUE(counts.has_value());
+  EXPECT_EQ(counts->second, stats_number(json, "triangles"));
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Shared, RealLines,
+    ::testing::Values(
+        LineJob{"topography_pair",
+                {"@las/Topography.las", "--keep-class", "2", "--contours",
+                 "@pair_topography/Topography_contours_1m_3d.shp"}},
+        LineJob{"autzen_pair_2d",
+                {"@las/autzen_trim.las", "--keep-class", "2", "--contours",
+                 "@pair_autzen/autzen_trim_contours_2ft.shp", "--z-field", "ELEV"}},
+        LineJob{"vinschgau_2d_alone",
+                {"--contours", "@contours/elev_vinschgau_contours_100m.shp", "--z-field", "ELEV"}},
+        LineJob{"vinschgau_3d_alone",
+                {"--contours", "@contours/elev_vinschgau_contours_100m_3d.shp"}},
+        LineJob{"vinschgau_gpkg_alone",
+                {"--contours", "@contours/elev_vinschgau_contours_100m.gpkg", "--z-field", "ELEV"}},
+        LineJob{"lidr_3d_as_breaklines",
+                {"--breaklines", "@contours/Topography_lidR2016_contours_2m_3d.shp"}}),
+    [](const ::testing::TestParamInfo<LineJob>& job) { return job.param.name; });
+
+TEST_F(Cli, TwoDimensionalContoursNeedAZSource) {
+  if (!have_shared_data()) GTEST_SKIP() << "shared data not found at " << shared_data();
+  const std::string lines = shared_data() + "/contours/elev_vinschgau_contours_100m.shp";
+  const Outcome r = s.run({"--contours", lines, "-o", s.path("tin.ply")});
+  expect_failure(r, 1, lines, "feature .*--z-field", s, {});
+}
+
+TEST_F(Cli, CrossingLinesAreJoinedOrRefused) {
+  spit(s.path("lines.geojson"), kCrossingLines);
+  const Outcome joined = s.run({"--breaklines", s.path("lines.geojson"), "-o", s.path("tin.ply"),
+                                "--stats", s.path("stats.json"), "--validate"});
+  ASSERT_EQ(joined.exit_code, 0) << joined;
+  const std::string json = slurp(s.path("stats.json"));
+  EXPECT_EQ(stats_number(json, "crossings"), 1u) << json;
+  EXPECT_EQ(stats_number(json, "steiner_vertices"), 1u) << json;
+  EXPECT_EQ(stats_number(json, "vertices"), 5u) << json;
+  EXPECT_EQ(ply_edge_count(s.path("tin.ply")), 4u);
+  EXPECT_NE(joined.err.find("z disagreement"), std::string::npos) << joined;
+
+  const Outcome refused = s.run({"--breaklines", s.path("lines.geojson"), "-o", s.path("tin2.ply"),
+                                 "--on-crossing", "error"});
+  // GeoJSON lines are in WGS 84, so the first TIN got a .prj.
+  expect_failure(refused, 1, s.path("lines.geojson"), "feature .*crosses", s,
+                 {"lines.geojson", "tin.ply", "tin.prj", "stats.json"});
+}
+
+TEST_F(Cli, LinesInAnotherCrsAreRefused) {
+  if (!have_shared_data()) GTEST_SKIP() << "shared data not found at " << shared_data();
+  const std::string lines = shared_data() + "/contours/elev_vinschgau_contours_100m_3d.shp";
+  const Outcome r =
+      s.run({shared_data() + "/las/Topography.las", "--contours", lines, "-o", s.path("tin.ply")});
+  expect_failure(r, 1, lines, "CRS .* differs", s, {});
+}
+
+TEST_F(Cli, RestoreModesAreAccepted) {
+  spit(s.path("lines.geojson"), kCrossingLines);
+  for (const std::string mode : {"delaunay", "aspect", "none"}) {
+    const Outcome r = s.run({"--breaklines", s.path("lines.geojson"), "-o",
+                             s.path("tin_" + mode + ".ply"), "--restore", mode, "--validate"});
+    EXPECT_EQ(r.exit_code, 0) << mode << ": " << r;
+  }
+  const Outcome bad = s.run(
+      {"--breaklines", s.path("lines.geojson"), "-o", s.path("x.ply"), "--restore", "sideways"});
+  EXPECT_EQ(bad.exit_code, 2) << bad;
+}
