@@ -277,6 +277,26 @@ BuildReport build(const BuildOptions& options, const ProgressFn* progress, const
   std::string crs_wkt = options.assign_crs_wkt;  // the CRS of the merged points
   std::string crs_source = crs_wkt.empty() ? std::string() : std::string("--a-srs");
   std::vector<std::string> without_crs;  // inputs with no CRS of their own
+  // Every input's CRS must agree with the first one found, unless --a-srs overrides them all.
+  auto merge_crs = [&](const std::string& path, const std::string& wkt) {
+    if (!options.assign_crs_wkt.empty()) {
+      if (!wkt.empty() && !io::same_crs(wkt, options.assign_crs_wkt))
+        emit(log, log_warn,
+             path + ": its CRS " + crs.name(wkt) + " is overridden by --a-srs " +
+                 crs.name(options.assign_crs_wkt));
+    } else if (wkt.empty()) {
+      without_crs.push_back(path);
+    } else if (crs_wkt.empty()) {
+      crs_wkt = wkt;
+      crs_source = path;
+    } else if (!io::same_crs(crs_wkt, wkt)) {
+      const std::string mine = crs.name(wkt), theirs = crs.name(crs_wkt);
+      throw InputError(path, "",
+                       "CRS " + mine + " differs from " + theirs + " of " + crs_source +
+                           (mine == theirs ? " (same name, different definition)" : "") +
+                           " (reproject one of them, or use --a-srs to override both)");
+    }
+  };
   std::uint64_t bytes_done = 0;
   report_progress(progress, "read", 0.0);
   for (std::size_t i = 0; i < options.inputs.size(); ++i) {
@@ -301,23 +321,7 @@ BuildReport build(const BuildOptions& options, const ProgressFn* progress, const
         emit(log, log_warn, path + ": the filters kept none of its points");
     }
 
-    if (!options.assign_crs_wkt.empty()) {
-      if (!s.crs_wkt.empty() && !io::same_crs(s.crs_wkt, options.assign_crs_wkt))
-        emit(log, log_warn,
-             path + ": its CRS " + crs.name(s.crs_wkt) + " is overridden by --a-srs " +
-                 crs.name(options.assign_crs_wkt));
-    } else if (s.crs_wkt.empty()) {
-      without_crs.push_back(path);
-    } else if (crs_wkt.empty()) {
-      crs_wkt = s.crs_wkt;
-      crs_source = path;
-    } else if (!io::same_crs(crs_wkt, s.crs_wkt)) {
-      const std::string mine = crs.name(s.crs_wkt), theirs = crs.name(crs_wkt);
-      throw InputError(path, "",
-                       "CRS " + mine + " differs from " + theirs + " of " + crs_source +
-                           (mine == theirs ? " (same name, different definition)" : "") +
-                           " (reproject one of them, or use --a-srs to override both)");
-    }
+    merge_crs(path, s.crs_wkt);
     report.inputs.push_back(std::move(in));
 
     bytes_done += sizes[i];
@@ -340,22 +344,7 @@ BuildReport build(const BuildOptions& options, const ProgressFn* progress, const
     emit(log, log_debug,
          path + ": layer " + s.layer + ", " + std::to_string(s.features) + " features, " +
              std::to_string(s.segments) + " segments, " + crs.name(s.crs_wkt));
-    if (!options.assign_crs_wkt.empty()) {
-      if (!s.crs_wkt.empty() && !io::same_crs(s.crs_wkt, options.assign_crs_wkt))
-        emit(log, log_warn,
-             path + ": its CRS " + crs.name(s.crs_wkt) + " is overridden by --a-srs " +
-                 crs.name(options.assign_crs_wkt));
-    } else if (s.crs_wkt.empty()) {
-      without_crs.push_back(path);
-    } else if (crs_wkt.empty()) {
-      crs_wkt = s.crs_wkt;
-      crs_source = path;
-    } else if (!io::same_crs(crs_wkt, s.crs_wkt)) {
-      throw InputError(path, "",
-                       "CRS " + crs.name(s.crs_wkt) + " differs from " + crs.name(crs_wkt) +
-                           " of " + crs_source +
-                           " (reproject one of them, or use --a-srs to override both)");
-    }
+    merge_crs(path, s.crs_wkt);
   }
   report.line_vertices = lines.vertices.size();
   report.constraint_segments = lines.segments.size();
