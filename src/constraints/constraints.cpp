@@ -110,10 +110,15 @@ class ConstraintInserter {
 
   void mark(EdgeId e, VertexId a, VertexId b, std::uint32_t source) {
     tin_.set_constrained(e, true);
-    const auto piece = static_cast<std::uint32_t>(result_.pieces.size());
     result_.pieces.push_back({a, b, source});
-    next_piece_.push_back(index_.find(edge_key(a, b)));  // chain the sources of one edge
-    index_.insert(edge_key(a, b), piece);
+    if (indexed_) index_piece(static_cast<std::uint32_t>(result_.pieces.size() - 1));
+  }
+
+  // Only a crossing needs to find the pieces on an edge, so the index is built at the first one.
+  void index_piece(std::uint32_t piece) {
+    const Piece& p = result_.pieces[piece];
+    next_piece_.push_back(index_.find(edge_key(p.a, p.b)));  // chain the sources of one edge
+    index_.insert(edge_key(p.a, p.b), piece);
   }
 
   // Makes segment a -> b (or its first part, up to a vertex on it) an edge; queues the rest.
@@ -123,16 +128,18 @@ class ConstraintInserter {
 
     // The triangle at a that the segment leaves through: (a, r, l) with r right of a -> b and
     // l left of it, or an edge a -> u along the segment.
+    // Most segments are edges already (the Delaunay stage saw their vertices): look first, with
+    // no orientation test.
+    if (const EdgeId ab = tin_.find_edge(a, b); ab != kNoId) {
+      mark(ab, a, b, s.source);
+      return;
+    }
     EdgeId cur = kNoId;
     VertexId r = kNoId, l = kNoId;
     const EdgeId first = tin_.edge_from(a);
     EdgeId e = first;
     do {
       const VertexId u = tin_.dest(e), w = tin_.apex(e);
-      if (u == b) {
-        mark(e, a, b, s.source);
-        return;
-      }
       if (u != kInfinite) {
         const int side_u = orient2d(pa, pb, pt(u));
         if (side_u == 0 &&
@@ -252,6 +259,10 @@ class ConstraintInserter {
   // Segment s crosses the constrained edge r-l: join them at a new vertex (or at a vertex that
   // already sits exactly there) and queue the four halves.
   void split_crossing(const Segment& s, VertexId r, VertexId l) {
+    if (!indexed_) {
+      indexed_ = true;
+      for (std::uint32_t p = 0; p < result_.pieces.size(); ++p) index_piece(p);
+    }
     const std::uint32_t first_piece = index_.find(edge_key(r, l));
     std::uint32_t other = kNoId;
     for (std::uint32_t p = first_piece; p != kNoId && other == kNoId; p = next_piece_[p])
@@ -302,6 +313,7 @@ class ConstraintInserter {
   ConstraintOptions options_;
   mesh::PointInserter points_;
   ConstraintResult result_;
+  bool indexed_ = false;
   PieceIndex index_;                       // edge -> its latest piece
   std::vector<std::uint32_t> next_piece_;  // piece -> the previous piece on the same edge
   std::vector<Segment> work_;
@@ -314,6 +326,7 @@ class ConstraintInserter {
 ConstraintResult insert_constraints(Triangulation& tin, const std::vector<Segment>& segments,
                                     const ConstraintOptions& options, const ProgressFn* progress) {
   ConstraintInserter inserter(tin, options);
+  inserter.result().pieces.reserve(segments.size());
   Progress report(progress, "constraints", segments.size());
   std::uint64_t done = 0;
   for (const Segment& s : segments) {
@@ -329,6 +342,8 @@ ConstraintResult insert_constraints(Triangulation& tin, const std::vector<Segmen
   }
   report.finish();
   ConstraintResult result = inserter.take_result();
+  if (result.crossings.empty()) return result;  // no piece retired, repeated or added a triangle
+
   // Drop retired pieces, and repeats of one edge for one source: two crossing points that round
   // to within an ulp of each other can make a chain step back over an edge it already holds.
   std::erase_if(result.pieces, [](const Piece& p) { return p.source == kNoId; });
@@ -342,7 +357,7 @@ ConstraintResult insert_constraints(Triangulation& tin, const std::vector<Segmen
                                     return x.source == y.source && x.a == y.a && x.b == y.b;
                                   }),
                       result.pieces.end());
-  tin.recount();
+  tin.recount();  // each crossing vertex added triangles
   return result;
 }
 

@@ -1,9 +1,11 @@
 #include "mesh/triangulation.hpp"
 
+#include <atomic>
 #include <cmath>
 #include <numbers>
 #include <sstream>
 
+#include "core/parallel.hpp"
 #include "mesh/geometry.hpp"
 #include "predicates/predicates.hpp"
 
@@ -98,10 +100,16 @@ void Triangulation::flip(EdgeId e) {
 
 void Triangulation::build_vertex_index() {
   vertex_edge_.assign(vertex_count(), kNoId);
-  for (std::size_t e = 0; e < corner_.size(); ++e) {
-    const VertexId v = corner_[e];
-    if (v < kInfinite) vertex_edge_[v] = static_cast<EdgeId>(e);
-  }
+  // Any leaving half-edge will do, so two threads may race on a vertex: relaxed atomics make
+  // that well-defined at the price of a plain store.
+  parallel_chunks(corner_.size(), [this](std::size_t begin, std::size_t end) {
+    for (std::size_t e = begin; e < end; ++e) {
+      const VertexId v = corner_[e];
+      if (v < kInfinite)
+        std::atomic_ref<EdgeId>(vertex_edge_[v])
+            .store(static_cast<EdgeId>(e), std::memory_order_relaxed);
+    }
+  });
 }
 
 EdgeId Triangulation::find_edge(VertexId u, VertexId v) const {
