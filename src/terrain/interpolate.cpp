@@ -1,0 +1,86 @@
+#include "terrain/interpolate.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include "predicates/predicates.hpp"
+
+namespace tincdt::terrain {
+
+using mesh::Triangulation;
+using predicates::orient2d;
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// The plane through the corners of t, at p. Barycentric weights from 2x2 determinants of
+// coordinate differences relative to one corner, so map coordinates of 10^6 lose no digits.
+double plane_z(const Triangulation& tin, TriangleId t, Point2 p) {
+  const auto c = tin.triangle(t);
+  const Point2 a = tin.point(c[0]), b = tin.point(c[1]), d = tin.point(c[2]);
+  const double ux = b.x - a.x, uy = b.y - a.y, vx = d.x - a.x, vy = d.y - a.y;
+  const double wx = p.x - a.x, wy = p.y - a.y;
+  const double det = ux * vy - uy * vx;  // > 0: real triangles are counter-clockwise
+  const double lb = (wx * vy - wy * vx) / det, ld = (ux * wy - uy * wx) / det;
+  const double za = tin.z(c[0]);
+  return za + lb * (tin.z(c[1]) - za) + ld * (tin.z(c[2]) - za);
+}
+
+}  // namespace
+
+double SurfaceSampler::z_at(Point2 p) {
+  found_ = kNoId;
+  if (!std::isfinite(p.x) || !std::isfinite(p.y)) return kNaN;
+  const auto slots = static_cast<TriangleId>(tin_.triangle_slots());
+  TriangleId t = start_ < slots ? start_ : kNoId;
+  if (t == kNoId || tin_.is_ghost(t)) {
+    for (t = 0; t < slots && tin_.is_ghost(t); ++t) {
+    }
+    if (t == slots) return kNaN;
+  }
+  // Visibility walk: step across an edge that has p strictly on its far side. The first edge to
+  // test is picked at random: with a fixed order this walk can cycle forever on a triangulation
+  // that is not Delaunay (constrained TINs, swapped flats); randomised, it ends with probability
+  // one, and on real data after about as many steps as the fixed order.
+  EdgeId from = kNoId;
+  for (;;) {
+    random_ ^= random_ << 13;
+    random_ ^= random_ >> 7;
+    random_ ^= random_ << 17;
+    const auto first = static_cast<EdgeId>(random_ % 3);
+    EdgeId crossed = kNoId;
+    for (EdgeId i = 0; i < 3 && crossed == kNoId; ++i) {
+      const EdgeId e = 3 * t + (first + i) % 3;
+      if (e == from) continue;  // entered through it: p is on its inner side
+      if (orient2d(tin_.point(tin_.origin(e)), tin_.point(tin_.dest(e)), p) < 0) crossed = e;
+    }
+    if (crossed == kNoId) break;
+    from = tin_.twin(crossed);
+    const TriangleId next = mesh::triangle_of(from);
+    // p is strictly outside a hull edge: the hull is convex, so p is outside the TIN.
+    if (tin_.is_ghost(next)) return kNaN;
+    start_ = t = next;
+  }
+  start_ = t;
+  if (tin_.is_removed(t)) {
+    // On an edge shared with a kept triangle, p is on the kept surface's boundary: use that.
+    TriangleId kept = kNoId;
+    for (EdgeId e = 3 * t; e < 3 * t + 3; ++e) {
+      const TriangleId n = mesh::triangle_of(tin_.twin(e));
+      if (tin_.is_kept(n) && orient2d(tin_.point(tin_.origin(e)), tin_.point(tin_.dest(e)), p) == 0)
+        kept = n;
+    }
+    if (kept == kNoId) return kNaN;
+    t = kept;
+  }
+  found_ = t;
+  return plane_z(tin_, t, p);
+}
+
+double interpolate_z(const Triangulation& tin, Point2 p, TriangleId hint) {
+  SurfaceSampler sampler(tin, hint);
+  return sampler.z_at(p);
+}
+
+}  // namespace tincdt::terrain

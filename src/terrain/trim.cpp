@@ -1,0 +1,63 @@
+#include "terrain/trim.hpp"
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "core/error.hpp"
+
+namespace tincdt::terrain {
+
+std::uint64_t trim_long_edges(mesh::Triangulation& tin, double max_edge,
+                              const TrimOptions& options) {
+  if (!(max_edge > 0))
+    throw Error("max edge length must be positive, not " + std::to_string(max_edge));
+  if (std::isinf(max_edge)) return 0;
+  const double limit2 = max_edge * max_edge;  // compare squared lengths: no sqrt per edge
+
+  const auto long_edged = [&](TriangleId t) {
+    const auto c = tin.triangle(t);
+    for (int i = 0; i < 3; ++i) {
+      if (!options.constrained_edges_count && tin.is_constrained(3 * t + static_cast<EdgeId>(i)))
+        continue;
+      const Point2 p = tin.point(c[i]), q = tin.point(c[(i + 1) % 3]);
+      const double dx = p.x - q.x, dy = p.y - q.y;
+      if (dx * dx + dy * dy > limit2) return true;
+    }
+    return false;
+  };
+  const auto neighbour = [&](TriangleId t, int i) {
+    return mesh::triangle_of(tin.twin(3 * t + static_cast<EdgeId>(i)));
+  };
+
+  // Seed with the kept triangles on the boundary; afterwards only the neighbours of removed
+  // triangles can become boundary triangles, so the work is proportional to what is removed
+  // plus the boundary, never a rescan of the whole TIN.
+  std::vector<TriangleId> queue;
+  const auto slots = static_cast<TriangleId>(tin.triangle_slots());
+  for (TriangleId t = 0; t < slots; ++t) {
+    if (!tin.is_kept(t)) continue;
+    for (int i = 0; i < 3; ++i)
+      if (!tin.is_kept(neighbour(t, i))) {
+        queue.push_back(t);
+        break;
+      }
+  }
+
+  std::uint64_t removed = 0;
+  while (!queue.empty()) {
+    const TriangleId t = queue.back();
+    queue.pop_back();
+    // A triangle may be queued once per removed neighbour: the kept check makes repeats free.
+    if (!tin.is_kept(t) || !long_edged(t)) continue;
+    tin.set_removed(t, true);
+    ++removed;
+    for (int i = 0; i < 3; ++i) {
+      const TriangleId n = neighbour(t, i);
+      if (tin.is_kept(n)) queue.push_back(n);
+    }
+  }
+  return removed;
+}
+
+}  // namespace tincdt::terrain
