@@ -1,6 +1,8 @@
 // GeoJSON: a FeatureCollection of one 3D Polygon per triangle (closed ring, counter-clockwise,
 // as RFC 7946 asks), written directly with to_chars (building it through OGR is far too slow for
-// millions of triangles). The CRS is written the way GDAL's GeoJSON driver writes it:
+// millions of triangles). The CRS member, vertex positions and reprojection defined here are
+// shared with the constraint-line writer (constraint_writer.cpp). The CRS is written the way GDAL's
+// GeoJSON driver writes it:
 //   "crs": { "type": "name", "properties": { "name": "urn:ogc:def:crs:EPSG::2949" } }
 // and left out for WGS 84 (EPSG:4326 / CRS84), RFC 7946's only CRS. A CRS without an EPSG code,
 // which GDAL would drop, is written as one-line WKT in the same member; GDAL reads it back.
@@ -16,39 +18,6 @@
 
 namespace tincdt::io::detail {
 namespace {
-
-std::string json_string(std::string_view s) {
-  std::string j = "\"";
-  for (const char c : s) {
-    if (c == '"' || c == '\\') {
-      j += '\\';
-      j += c;
-    } else if (static_cast<unsigned char>(c) < 0x20) {
-      static constexpr char kHex[] = "0123456789abcdef";
-      j += "\\u00";
-      j += kHex[(c >> 4) & 0xf];
-      j += kHex[c & 0xf];
-    } else {
-      j += c;
-    }
-  }
-  return j + "\"";
-}
-
-std::string gdal_message(const char* fallback) {
-  const char* msg = CPLGetLastErrorMsg();
-  return msg != nullptr && *msg != '\0' ? std::string(msg) : std::string(fallback);
-}
-
-OGRSpatialReference parse_crs(const std::string& path, const std::string& wkt, const char* what) {
-  OGRSpatialReference srs;
-  if (srs.SetFromUserInput(wkt.c_str()) != OGRERR_NONE)
-    throw OutputError(
-        path, "",
-        std::string("cannot read ") + what + ": " + gdal_message("not a CRS OSR understands"));
-  srs.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
-  return srs;
-}
 
 bool is_wgs84(const OGRSpatialReference& srs) {
   OGRSpatialReference wgs84;
@@ -76,54 +45,39 @@ struct CtDeleter {
   }
 };
 
-// Every vertex in the target CRS (traditional GIS order: lon, lat for geographic CRSs), in
-// separate x, y, z arrays as OSR wants them. Empty when both CRSs are the same.
-struct Reprojected {
-  std::vector<double> x, y, z;
-};
+}  // namespace
 
-Reprojected reproject(const std::string& path, const mesh::Triangulation& tin,
-                      const std::string& source_wkt, const std::string& target_wkt) {
-  std::string target_name = crs_label(target_wkt);
-  if (target_name.empty()) target_name = "the target CRS";
-  if (source_wkt.empty())
-    throw OutputError(path, "",
-                      "cannot reproject to " + target_name + ": the CRS of the TIN is unknown");
-  CPLErrorHandlerPusher quiet(CPLQuietErrorHandler, nullptr);
-  const OGRSpatialReference source = parse_crs(path, source_wkt, "the CRS of the TIN");
-  const OGRSpatialReference target = parse_crs(path, target_wkt, "the target CRS");
-  Reprojected r;
-  if (source.IsSame(&target)) return r;
-  CPLErrorReset();
-  std::unique_ptr<OGRCoordinateTransformation, CtDeleter> ct(
-      OGRCreateCoordinateTransformation(&source, &target));
-  if (!ct)
+std::string gdal_message(const char* fallback) {
+  const char* msg = CPLGetLastErrorMsg();
+  return msg != nullptr && *msg != '\0' ? std::string(msg) : std::string(fallback);
+}
+
+OGRSpatialReference parse_crs(const std::string& path, const std::string& wkt, const char* what) {
+  OGRSpatialReference srs;
+  if (srs.SetFromUserInput(wkt.c_str()) != OGRERR_NONE)
     throw OutputError(
-        path, "", "no transformation to " + target_name + ": " + gdal_message("unknown reason"));
+        path, "",
+        std::string("cannot read ") + what + ": " + gdal_message("not a CRS OSR understands"));
+  srs.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+  return srs;
+}
 
-  const std::size_t n = tin.vertex_count();
-  r.x.resize(n);
-  r.y.resize(n);
-  r.z.resize(n);
-  for (std::size_t v = 0; v < n; ++v) {
-    const Point2 p = tin.point(static_cast<VertexId>(v));
-    r.x[v] = p.x;
-    r.y[v] = p.y;
-    r.z[v] = tin.z(static_cast<VertexId>(v));
+std::string json_string(std::string_view s) {
+  std::string j = "\"";
+  for (const char c : s) {
+    if (c == '"' || c == '\\') {
+      j += '\\';
+      j += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      static constexpr char kHex[] = "0123456789abcdef";
+      j += "\\u00";
+      j += kHex[(c >> 4) & 0xf];
+      j += kHex[c & 0xf];
+    } else {
+      j += c;
+    }
   }
-  constexpr std::size_t kChunk = 1 << 16;
-  std::vector<int> ok(kChunk);
-  for (std::size_t first = 0; first < n; first += kChunk) {
-    const std::size_t count = std::min(kChunk, n - first);
-    std::fill(ok.begin(), ok.end(), 0);
-    ct->Transform(static_cast<int>(count), r.x.data() + first, r.y.data() + first,
-                  r.z.data() + first, nullptr, ok.data());
-    for (std::size_t i = 0; i < count; ++i)
-      if (!ok[i])
-        throw OutputError(path, "vertex " + std::to_string(first + i),
-                          "cannot be reprojected to " + target_name);
-  }
-  return r;
+  return j + "\"";
 }
 
 void put_position(BlockWriter& w, const Point3& p) {
@@ -136,30 +90,10 @@ void put_position(BlockWriter& w, const Point3& p) {
   w.put(']');
 }
 
-}  // namespace
-
-TinWriteStats write_geojson(OutputFile& out, const mesh::Triangulation& tin,
-                            const TinWriteOptions& options) {
-  const std::string& path = out.path();
+void put_feature_collection_start(BlockWriter& w, const std::string& path,
+                                  const TinWriteOptions& options) {
   const bool reprojecting = !options.target_crs_wkt.empty();
-  const Reprojected r =
-      reprojecting ? reproject(path, tin, options.crs_wkt, options.target_crs_wkt) : Reprojected{};
-  const std::string& out_crs = reprojecting ? options.target_crs_wkt : options.crs_wkt;
-  const std::uint64_t nt = count_triangles(tin);
-
-  const std::string crs = crs_member(path, out_crs);
-
-  // Position of vertex v as written: reprojected, or shifted by the offset (write_tin() refuses
-  // the two together).
-  const auto position = [&](VertexId v) {
-    if (r.x.empty()) return shifted_vertex(path, tin, v, options.offset);
-    const Point3 q{r.x[v], r.y[v], r.z[v]};
-    if (!std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z))
-      throw OutputError(path, "vertex " + std::to_string(v), "coordinate is not a finite number");
-    return q;
-  };
-
-  BlockWriter w(out);
+  const std::string crs = crs_member(path, reprojecting ? options.target_crs_wkt : options.crs_wkt);
   w.put(std::string_view("{\n\"type\": \"FeatureCollection\",\n"));
   w.put(crs);
   // A foreign member (RFC 7946 section 6.1): the offset subtracted from every position. GDAL
@@ -170,6 +104,89 @@ TinWriteStats write_geojson(OutputFile& out, const mesh::Triangulation& tin,
     w.put(std::string_view(",\n"));
   }
   w.put(std::string_view("\"features\": [\n"));
+}
+
+GeoJsonPositions::GeoJsonPositions(const std::string& path, const mesh::Triangulation& tin,
+                                   const TinWriteOptions& options,
+                                   const std::vector<VertexId>* only)
+    : path_(path), tin_(tin), offset_(options.offset) {
+  if (options.target_crs_wkt.empty()) return;
+  const std::string& target_wkt = options.target_crs_wkt;
+  std::string target_name = crs_label(target_wkt);
+  if (target_name.empty()) target_name = "the target CRS";
+  if (options.crs_wkt.empty())
+    throw OutputError(path, "",
+                      "cannot reproject to " + target_name + ": the CRS of the TIN is unknown");
+  CPLErrorHandlerPusher quiet(CPLQuietErrorHandler, nullptr);
+  const OGRSpatialReference source = parse_crs(path, options.crs_wkt, "the CRS of the TIN");
+  const OGRSpatialReference target = parse_crs(path, target_wkt, "the target CRS");
+  if (source.IsSame(&target)) return;
+  CPLErrorReset();
+  std::unique_ptr<OGRCoordinateTransformation, CtDeleter> ct(
+      OGRCreateCoordinateTransformation(&source, &target));
+  if (!ct)
+    throw OutputError(
+        path, "", "no transformation to " + target_name + ": " + gdal_message("unknown reason"));
+
+  // The vertices to transform, in separate x, y, z arrays as OSR wants them; ids[i] is the
+  // vertex of entry i.
+  std::vector<VertexId> ids;
+  if (only != nullptr) {
+    slot_.assign(tin.vertex_count(), kNoId);
+    for (const VertexId v : *only) {
+      if (slot_[v] != kNoId) continue;
+      slot_[v] = static_cast<VertexId>(ids.size());
+      ids.push_back(v);
+    }
+  }
+  const std::size_t n = only != nullptr ? ids.size() : tin.vertex_count();
+  const auto vertex = [&](std::size_t i) {
+    return only != nullptr ? ids[i] : static_cast<VertexId>(i);
+  };
+  x_.resize(n);
+  y_.resize(n);
+  z_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const VertexId v = vertex(i);
+    const Point2 p = tin.point(v);
+    x_[i] = p.x;
+    y_[i] = p.y;
+    z_[i] = tin.z(v);
+  }
+  constexpr std::size_t kChunk = 1 << 16;
+  std::vector<int> ok(kChunk);
+  for (std::size_t first = 0; first < n; first += kChunk) {
+    const std::size_t count = std::min(kChunk, n - first);
+    std::fill(ok.begin(), ok.end(), 0);
+    ct->Transform(static_cast<int>(count), x_.data() + first, y_.data() + first, z_.data() + first,
+                  nullptr, ok.data());
+    for (std::size_t i = 0; i < count; ++i)
+      if (!ok[i])
+        throw OutputError(path, "vertex " + std::to_string(vertex(first + i)),
+                          "cannot be reprojected to " + target_name);
+  }
+  reprojected_ = true;
+}
+
+Point3 GeoJsonPositions::operator()(VertexId v) const {
+  if (!reprojected_) return shifted_vertex(path_, tin_, v, offset_);
+  const VertexId i = slot_.empty() ? v : slot_[v];
+  const Point3 q{x_[i], y_[i], z_[i]};
+  if (!std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z))
+    throw OutputError(path_, "vertex " + std::to_string(v), "coordinate is not a finite number");
+  return q;
+}
+
+TinWriteStats write_geojson(OutputFile& out, const mesh::Triangulation& tin,
+                            const TinWriteOptions& options) {
+  const std::string& path = out.path();
+  // Position of vertex v as written: reprojected, or shifted by the offset (write_tin() refuses
+  // the two together).
+  const GeoJsonPositions position(path, tin, options);
+  const std::uint64_t nt = count_triangles(tin);
+
+  BlockWriter w(out);
+  put_feature_collection_start(w, path, options);
   std::uint64_t id = 0;
   tin.for_each_triangle([&](TriangleId, const std::array<VertexId, 3>& c) {
     if (id > 0) w.put(std::string_view(",\n"));

@@ -194,6 +194,9 @@ class LayerReader {
     fid_ = fid;
     feature_ = feature;
     have_z_ = false;
+    unsupported_.clear();
+    degenerate_ = false;
+    has_at_ = false;
     const std::size_t segments_before = out_.segments.size();
     OGRGeometryH geometry = OGR_F_GetGeometryRef(feature);
     if (geometry != nullptr && !OGR_G_IsEmpty(geometry)) {
@@ -208,6 +211,7 @@ class LayerReader {
     }
     if (out_.segments.size() == segments_before) {
       ++stats_.empty_features;
+      out_.dropped.push_back({file_index_, fid_, drop_reason(geometry), at_, has_at_});
       return;
     }
     if (out_.features.size() >= kMaxIndex) fail("more than 2^32 - 1 features");
@@ -221,6 +225,45 @@ class LayerReader {
  private:
   [[noreturn]] void fail(const std::string& detail) const {
     throw InputError(file_, "layer " + layer_ + ", feature " + std::to_string(fid_), detail);
+  }
+
+  // Why the feature gave no segment.
+  std::string drop_reason(OGRGeometryH geometry) const {
+    if (geometry == nullptr) return "no geometry";
+    if (OGR_G_IsEmpty(geometry)) return "empty geometry";
+    std::string reason;
+    if (degenerate_) reason = "degenerate: no line or ring with 2 distinct vertices";
+    if (!unsupported_.empty()) {
+      if (!reason.empty()) reason += "; ";
+      reason += unsupported_ + " geometry: only lines and polygon rings are used";
+    }
+    return reason.empty() ? std::string("no line geometry") : reason;
+  }
+
+  // The first location of a problem in the feature, for the dropped-feature record.
+  void note_location(const Point3& p) {
+    if (has_at_) return;
+    at_ = p;
+    has_at_ = true;
+  }
+
+  // A geometry the reader does not use (points, surfaces): its name and first vertex.
+  void note_unsupported(OGRGeometryH g) {
+    if (unsupported_.empty()) unsupported_ = OGRGeometryTypeToName(OGR_G_GetGeometryType(g));
+    Point3 p{};
+    if (first_vertex(g, p)) note_location(p);
+  }
+
+  static bool first_vertex(OGRGeometryH g, Point3& p) {
+    if (OGR_G_IsEmpty(g)) return false;
+    if (OGR_G_GetPointCount(g) > 0) {
+      OGR_G_GetPoint(g, 0, &p.x, &p.y, &p.z);
+      return true;
+    }
+    const int n = OGR_G_GetGeometryCount(g);
+    for (int i = 0; i < n; ++i)
+      if (first_vertex(OGR_G_GetGeometryRef(g, i), p)) return true;
+    return false;
   }
 
   void add_geometry(OGRGeometryH g) {
@@ -243,6 +286,7 @@ class LayerReader {
         break;
       }
       default:  // points, surfaces: nothing to constrain
+        note_unsupported(g);
         break;
     }
   }
@@ -279,6 +323,7 @@ class LayerReader {
     const int count = OGR_G_GetPointCount(g);
     if (count <= 0) {
       ++stats_.degenerate_parts;
+      degenerate_ = true;
       return;
     }
     const bool has_z = OGR_G_Is3D(g) != 0;
@@ -318,7 +363,10 @@ class LayerReader {
     // Collapse runs of the same x, y (keeping the first z).
     std::size_t k = 1;
     for (std::size_t r = 1; r < n; ++r) {
-      if (p[r].x == p[k - 1].x && p[r].y == p[k - 1].y) continue;
+      if (p[r].x == p[k - 1].x && p[r].y == p[k - 1].y) {
+        out_.skipped.push_back({p[r], file_index_, fid_});
+        continue;
+      }
       if (r != k) p[k] = p[r];
       ++k;
     }
@@ -333,6 +381,8 @@ class LayerReader {
       closed = true;
     }
     if (k < 2) {
+      note_location(p[0]);
+      degenerate_ = true;
       v.resize(base);
       ++stats_.degenerate_parts;
       return;
@@ -370,6 +420,11 @@ class LayerReader {
   bool have_z_ = false;
   double z_ = 0.0;
   std::uint64_t curves_ = 0;
+  // What made the current feature useless, for out_.dropped.
+  std::string unsupported_;  // name of the first geometry type not read, "" when none
+  bool degenerate_ = false;  // a part with < 2 distinct vertices
+  bool has_at_ = false;
+  Point3 at_{0, 0, 0};
 };
 
 // Splits "FILE:LAYER" into its parts, at the last ':' and only when FILE exists and the whole
@@ -515,6 +570,8 @@ LineReadStats read_lines(const std::string& path, const LineReadOptions& options
   const std::size_t segments = out.segments.size();
   const std::size_t features = out.features.size();
   const std::size_t files = out.files.size();
+  const std::size_t skipped = out.skipped.size();
+  const std::size_t dropped = out.dropped.size();
   try {
     return read_layer(path, options, out);
   } catch (...) {
@@ -522,6 +579,8 @@ LineReadStats read_lines(const std::string& path, const LineReadOptions& options
     out.segments.resize(segments);
     out.features.resize(features);
     out.files.resize(files);
+    out.skipped.resize(skipped);
+    out.dropped.resize(dropped);
     throw;
   }
 }

@@ -22,6 +22,23 @@ struct LineFeature {
   double z;            // the feature's level when z came from an attribute, else NaN
 };
 
+// A repeated vertex that was collapsed, i.e. a zero-length segment that was skipped.
+struct LineSkip {
+  Point3 at;           // the collapsed vertex, with its own z (the vertex kept has the run's first)
+  std::uint32_t file;  // index into LineData::files
+  std::int64_t fid;    // OGR feature id
+};
+
+// A feature that gave no segment, and why.
+struct LineDrop {
+  std::uint32_t file;  // index into LineData::files
+  std::int64_t fid;    // OGR feature id
+  std::string reason;  // "no geometry", "empty geometry", "Point geometry: ...", "degenerate: ..."
+  Point3 at;           // when has_at: the first vertex of the first degenerate line (z from the z
+                       // source) or of the first unused geometry (its own Z, 0 when 2D)
+  bool has_at;         // false for no geometry, an empty geometry, only empty parts
+};
+
 struct LineData {
   std::vector<Point3> vertices;
   struct Segment {
@@ -32,6 +49,10 @@ struct LineData {
   std::vector<Segment> segments;
   std::vector<LineFeature> features;
   std::vector<std::string> files;  // path (and ":layer" when one was named) per file index
+  // For diagnostics: one entry per repeated vertex collapsed (LineReadStats::repeated_vertices)
+  // and one per feature dropped (LineReadStats::empty_features), in reading order.
+  std::vector<LineSkip> skipped;
+  std::vector<LineDrop> dropped;
 };
 
 struct LineReadStats {
@@ -42,6 +63,8 @@ struct LineReadStats {
   std::uint64_t zero_length_segments = 0;  // skipped; each is one collapsed repeat, so equal
                                            // to repeated_vertices
   std::uint64_t degenerate_parts = 0;      // lines / rings with < 2 distinct vertices, skipped
+                                           // (a feature left without segments by them is also
+                                           // one of empty_features)
   std::uint64_t closed_parts = 0;          // rings and closed lines: last segment ends at first
   std::uint64_t empty_features = 0;        // no geometry, no line geometry (points) or no
                                            // usable segment
@@ -55,7 +78,9 @@ struct LineReadStats {
 // Appends the LineStrings, MultiLineStrings and Polygon / MultiPolygon rings of PATH (spec may
 // be "FILE" or "FILE:LAYER"; options.layer wins when set), with their Z/M/ZM variants and
 // GeometryCollections of them; curved geometries are approximated by line strings (and said so
-// in `warnings`); points are skipped and counted in empty_features. PATH is split at its last ':'
+// in `warnings`); points are skipped and counted in empty_features. Each collapsed vertex is
+// recorded in out.skipped and each feature without segments in out.dropped with the reason.
+// PATH is split at its last ':'
 // only when the whole does not exist and the part before the ':' does. Without a layer name the
 // source must have exactly one layer. Z comes from options.z_field, else options.z_from_m, else
 // the geometry's Z. Consecutive vertices with the same x, y are collapsed (the first z is kept).

@@ -1,5 +1,7 @@
-// Private to the TIN writers (src/io/*_writer.cpp): a block buffer that formats numbers without
-// losing precision, and the per-format entry points that write_tin() dispatches to.
+// Private to the writers (src/io/*_writer.cpp): a block buffer that formats numbers without
+// losing precision, the per-format entry points that write_tin() dispatches to, and the GeoJSON
+// pieces (CRS member, vertex positions, reprojection) that the TIN and constraint-line writers
+// share.
 #pragma once
 
 #include <bit>
@@ -11,12 +13,15 @@
 #include <string>
 #include <string_view>
 #include <utility>
+#include <vector>
 
 #include "core/error.hpp"
 #include "core/types.hpp"
 #include "io/output_file.hpp"
 #include "io/tin_writer.hpp"
 #include "mesh/triangulation.hpp"
+
+class OGRSpatialReference;  // GDAL's (ogr_spatialref.h), for parse_crs()
 
 namespace tincdt::io::detail {
 
@@ -142,6 +147,44 @@ std::string format_point(const Point3& p);
 std::string one_line(std::string_view text);
 // "EPSG:2949" (any AUTHORITY:CODE) when crs_label() identifies the CRS, else "".
 std::string crs_code(const std::string& wkt);
+
+// ---- GDAL and GeoJSON helpers (geojson_writer.cpp) ------------------------------------------
+
+// GDAL's last error message, or FALLBACK when it said nothing.
+std::string gdal_message(const char* fallback);
+// Any CRS text OSR reads (WKT, "EPSG:n", ...) as an OSR object in traditional GIS axis order
+// (x = easting / longitude); throws OutputError naming PATH and WHAT when OSR cannot read it.
+OGRSpatialReference parse_crs(const std::string& path, const std::string& wkt, const char* what);
+// S as a JSON string literal, quotes included.
+std::string json_string(std::string_view s);
+// "[x,y,z]" in shortest round-trip form.
+void put_position(BlockWriter& w, const Point3& p);
+// The opening of a GeoJSON FeatureCollection, up to and including "\"features\": [\n": the
+// "crs" member the way GDAL writes it (the target CRS when reprojecting; none for WGS 84 or an
+// unknown CRS) and the "tincdt_offset" foreign member when there is an offset.
+void put_feature_collection_start(BlockWriter& w, const std::string& path,
+                                  const TinWriteOptions& options);
+
+// Where a GeoJSON writer puts a vertex: shifted by options.offset, or, with a target CRS,
+// reprojected into it (lon, lat order for geographic CRSs). Throws OutputError for a vertex that
+// is not finite or cannot be reprojected, and when the TIN's CRS is unknown or there is no
+// transformation. The caller refuses an offset together with a target CRS.
+class GeoJsonPositions {
+ public:
+  // Reprojects the vertices listed in ONLY (any order, repeats allowed), or all when it is null;
+  // operator() may then be asked only for those.
+  GeoJsonPositions(const std::string& path, const mesh::Triangulation& tin,
+                   const TinWriteOptions& options, const std::vector<VertexId>* only = nullptr);
+  Point3 operator()(VertexId v) const;
+
+ private:
+  const std::string& path_;
+  const mesh::Triangulation& tin_;
+  Point3 offset_;
+  bool reprojected_ = false;
+  std::vector<VertexId> slot_;  // vertex -> index into x_, y_, z_ (empty: the vertex id itself)
+  std::vector<double> x_, y_, z_;
+};
 
 // The format writers. Each writes the whole file through `out` (not committed) and returns
 // the vertex and triangle counts; write_tin() owns the OutputFile(s) and commits them.

@@ -2,6 +2,7 @@
 // facts checked here) and against small vector sources that the tests write with OGR.
 
 #include <cpl_conv.h>
+#include <cpl_error.h>
 #include <gdal.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -210,6 +211,8 @@ TEST(LineReaderReal, Vinschgau2dWithZField) {
   EXPECT_EQ(d.segments.size(), s.segments);
   EXPECT_EQ(s.repeated_vertices, 0u);
   EXPECT_EQ(s.degenerate_parts, 0u);
+  EXPECT_TRUE(d.skipped.empty());
+  EXPECT_TRUE(d.dropped.empty());
   EXPECT_EQ(crs_label(s.crs_wkt), "EPSG:32632");
   ASSERT_EQ(d.files.size(), 1u);
   EXPECT_EQ(d.files[0], path);
@@ -336,6 +339,15 @@ TEST(LineReader, RepeatedVerticesAreCollapsed) {
   expect_well_formed(d);
   EXPECT_EQ(s.repeated_vertices, 4u);
   EXPECT_EQ(s.zero_length_segments, 4u);
+  // Each collapsed vertex where it was, with its own z, for the diagnostics.
+  ASSERT_EQ(d.skipped.size(), 4u);
+  const Point3 collapsed[] = {{0, 0, 1}, {1, 0, 5}, {1, 0, 2}, {2, 0, 3}};
+  for (std::size_t i = 0; i < 4; ++i) {
+    EXPECT_EQ(d.skipped[i].at, collapsed[i]) << i;
+    EXPECT_EQ(d.skipped[i].file, 0u);
+    EXPECT_EQ(d.skipped[i].fid, 1);
+  }
+  EXPECT_TRUE(d.dropped.empty());
   ASSERT_EQ(d.vertices.size(), 3u);
   EXPECT_EQ(d.vertices[0], (Point3{0, 0, 1}));
   EXPECT_EQ(d.vertices[1], (Point3{1, 0, 2}));  // the first z of the run is kept
@@ -368,6 +380,19 @@ TEST(LineReader, ZeroLengthPartsAddNothing) {
   EXPECT_EQ(d.segments[1].feature, 1u);
   EXPECT_EQ(d.vertices.size(), 4u);
   EXPECT_EQ(s.closed_parts, 0u);
+  // The two zero-length segments, and feature 2 dropped at its single point.
+  ASSERT_EQ(d.skipped.size(), s.zero_length_segments);
+  ASSERT_EQ(d.skipped.size(), 2u);
+  EXPECT_EQ(d.skipped[0].at, (Point3{5, 5, 1}));
+  EXPECT_EQ(d.skipped[0].fid, 1);
+  EXPECT_EQ(d.skipped[1].at, (Point3{7, 7, 2}));
+  EXPECT_EQ(d.skipped[1].fid, 2);
+  ASSERT_EQ(d.dropped.size(), s.empty_features);
+  EXPECT_EQ(d.dropped[0].fid, 2);
+  EXPECT_EQ(d.dropped[0].file, 0u);
+  EXPECT_THAT(d.dropped[0].reason, HasSubstr("degenerate"));
+  ASSERT_TRUE(d.dropped[0].has_at);
+  EXPECT_EQ(d.dropped[0].at, (Point3{7, 7, 1}));
 }
 
 TEST(LineReader, MultiLineStringsAndPolygonRings) {
@@ -545,6 +570,83 @@ TEST(LineReader, PointsAreSkippedAndCounted) {
   EXPECT_EQ(d.features[0].fid, 4);
   EXPECT_EQ(s.segments, 1u);
   EXPECT_EQ(d.vertices.size(), 2u);
+  // Why each of the three was dropped, and where.
+  ASSERT_EQ(d.dropped.size(), 3u);
+  EXPECT_EQ(d.dropped[0].fid, 1);
+  EXPECT_THAT(d.dropped[0].reason, AllOf(HasSubstr("Point"), HasSubstr("only lines")));
+  ASSERT_TRUE(d.dropped[0].has_at);
+  EXPECT_EQ(d.dropped[0].at, (Point3{0, 0, 1}));
+  EXPECT_EQ(d.dropped[1].fid, 2);
+  EXPECT_THAT(d.dropped[1].reason, HasSubstr("Multi Point"));
+  ASSERT_TRUE(d.dropped[1].has_at);
+  EXPECT_EQ(d.dropped[1].at, (Point3{0, 0, 1}));
+  EXPECT_EQ(d.dropped[2].fid, 3);
+  EXPECT_EQ(d.dropped[2].reason, "no geometry");
+  EXPECT_FALSE(d.dropped[2].has_at);
+  EXPECT_TRUE(d.skipped.empty());
+}
+
+TEST(LineReader, EveryDroppedFeatureHasItsReason) {
+  CPLPushErrorHandler(CPLQuietErrorHandler);  // "non-standard gpkg_geom_TIN extension"
+  const std::string path = write_lines(
+      "dropped.gpkg",
+      {
+          {"LINESTRING Z EMPTY", 1.0, 1},
+          {"POLYGON Z ((3 3 9, 3 3 9, 3 3 9, 3 3 9))", 1.0, 2},  // a ring of one point
+          {"GEOMETRYCOLLECTION Z (LINESTRING Z (8 8 1, 8 8 2), POINT Z (6 6 6))", 1.0, 3},
+          {"TIN Z (((0 0 1, 1 0 1, 0 1 1, 0 0 1)))", 1.0, 4},
+          {"LINESTRING Z (0 0 1, 1 1 1)", 1.0, 5},
+      });
+  CPLPopErrorHandler();
+  LineData d;
+  const LineReadStats s = read(path, d);
+  expect_well_formed(d);
+  EXPECT_EQ(s.features, 5u);
+  EXPECT_EQ(s.empty_features, 4u);
+  ASSERT_EQ(d.dropped.size(), 4u);
+  EXPECT_EQ(d.dropped[0].fid, 1);
+  EXPECT_EQ(d.dropped[0].reason, "empty geometry");
+  EXPECT_FALSE(d.dropped[0].has_at);
+  EXPECT_EQ(d.dropped[1].fid, 2);
+  EXPECT_THAT(d.dropped[1].reason, HasSubstr("degenerate"));
+  EXPECT_EQ(d.dropped[1].at, (Point3{3, 3, 9}));
+  // Both problems named; the location is the first one met (the line comes before the point).
+  EXPECT_EQ(d.dropped[2].fid, 3);
+  EXPECT_THAT(d.dropped[2].reason, AllOf(HasSubstr("degenerate"), HasSubstr("Point")));
+  ASSERT_TRUE(d.dropped[2].has_at);
+  EXPECT_EQ(d.dropped[2].at, (Point3{8, 8, 1}));
+  EXPECT_EQ(d.dropped[3].fid, 4);
+  EXPECT_THAT(d.dropped[3].reason, HasSubstr("TIN"));
+  ASSERT_TRUE(d.dropped[3].has_at);
+  EXPECT_EQ(d.dropped[3].at, (Point3{0, 0, 1}));
+  // The collapsed vertices of features 2 (three) and 3 (one) are recorded too, and counted.
+  EXPECT_EQ(d.skipped.size(), s.repeated_vertices);
+  ASSERT_EQ(d.skipped.size(), 4u);
+  EXPECT_EQ(d.skipped[2].fid, 2);
+  EXPECT_EQ(d.skipped[3].at, (Point3{8, 8, 2}));
+  EXPECT_EQ(d.skipped[3].fid, 3);
+  ASSERT_EQ(d.features.size(), 1u);
+  EXPECT_EQ(d.features[0].fid, 5);
+}
+
+TEST(LineReader, DiagnosticsIndexTheFileTheyCameFrom) {
+  const std::string a = write_lines(
+      "diag_a.gpkg", {{"POINT Z (1 1 1)", 1.0, 1}, {"LINESTRING Z (0 0 1, 1 0 1)", 1.0, 2}});
+  const std::string b =
+      write_lines("diag_b.gpkg", {{"LINESTRING Z (0 0 1, 0 0 1, 1 0 1)", 1.0, 7}, {"", 1.0, 8}});
+  LineData d;
+  read(a, d);
+  read(b, d);
+  ASSERT_EQ(d.files.size(), 2u);
+  ASSERT_EQ(d.dropped.size(), 2u);
+  EXPECT_EQ(d.dropped[0].file, 0u);
+  EXPECT_EQ(d.dropped[0].fid, 1);
+  EXPECT_EQ(d.dropped[1].file, 1u);
+  EXPECT_EQ(d.dropped[1].fid, 8);
+  ASSERT_EQ(d.skipped.size(), 1u);
+  EXPECT_EQ(d.skipped[0].file, 1u);
+  EXPECT_EQ(d.skipped[0].fid, 7);
+  EXPECT_EQ(d.skipped[0].at, (Point3{0, 0, 1}));
 }
 
 TEST(LineReader, CurvesAreApproximatedWithAWarning) {
@@ -577,10 +679,12 @@ TEST(LineReader, UnreadableSources) {
 
 TEST(LineReader, FailedReadLeavesEarlierDataAlone) {
   const std::string good = write_lines("keep_good.gpkg", {{"LINESTRING Z (0 0 1, 1 0 1)", 1.0, 1}});
-  const std::string bad = write_lines("keep_bad.gpkg", {
-                                                           {"LINESTRING Z (0 0 1, 1 0 1)", 1.0, 1},
-                                                           {"LINESTRING (0 1, 1 1)", 1.0, 2},
-                                                       });
+  const std::string bad =
+      write_lines("keep_bad.gpkg", {
+                                       {"LINESTRING Z (0 0 1, 0 0 1, 1 0 1)", 1.0, 1},
+                                       {"POINT Z (4 4 4)", 1.0, 2},
+                                       {"LINESTRING (0 1, 1 1)", 1.0, 3},
+                                   });
   LineData d;
   read(good, d);
   EXPECT_THROW(read(bad, d), InputError);
@@ -588,6 +692,8 @@ TEST(LineReader, FailedReadLeavesEarlierDataAlone) {
   EXPECT_EQ(d.segments.size(), 1u);
   EXPECT_EQ(d.features.size(), 1u);
   EXPECT_EQ(d.files.size(), 1u);
+  EXPECT_TRUE(d.skipped.empty()) << "the failed file's collapsed vertex must go too";
+  EXPECT_TRUE(d.dropped.empty()) << "the failed file's dropped point must go too";
 }
 
 }  // namespace

@@ -1,0 +1,121 @@
+// Constraint lines as GeoJSON: see constraint_writer.hpp. Written directly with to_chars through
+// the TIN writer's BlockWriter, header and positions (writer_detail.hpp), so both GeoJSON
+// outputs agree to the bit.
+#include "io/constraint_writer.hpp"
+
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/error.hpp"
+#include "io/output_file.hpp"
+#include "io/writer_detail.hpp"
+
+namespace tincdt::io {
+namespace {
+
+std::string edge_where(std::size_t i) {
+  return "constraint edge " + std::to_string(i);
+}
+
+// Checks the edges against the TIN and the feature table; returns the number of distinct
+// vertices they use.
+std::uint64_t check_edges(const std::string& path, const mesh::Triangulation& tin,
+                          const std::vector<ConstraintEdge>& edges,
+                          const std::vector<ConstraintFeatureInfo>& features) {
+  const std::size_t nv = tin.vertex_count();
+  std::vector<bool> used(nv, false);
+  std::uint64_t distinct = 0;
+  for (std::size_t i = 0; i < edges.size(); ++i) {
+    const ConstraintEdge& e = edges[i];
+    for (const VertexId v : {e.a, e.b}) {
+      if (v >= nv)
+        throw OutputError(path, edge_where(i),
+                          "vertex " + std::to_string(v) + " is not a vertex of the TIN (" +
+                              std::to_string(nv) + " vertices)");
+      if (!used[v]) {
+        used[v] = true;
+        ++distinct;
+      }
+    }
+    if (e.feature >= features.size())
+      throw OutputError(path, edge_where(i),
+                        "feature index " + std::to_string(e.feature) + " is out of range (" +
+                            std::to_string(features.size()) + " features)");
+  }
+  return distinct;
+}
+
+}  // namespace
+
+TinWriteStats write_constraint_lines(const std::string& path, const mesh::Triangulation& tin,
+                                     const std::vector<ConstraintEdge>& edges,
+                                     const std::vector<ConstraintFeatureInfo>& features,
+                                     const TinWriteOptions& options) {
+  using detail::BlockWriter;
+  const bool reprojecting = !options.target_crs_wkt.empty();
+  // The offset is in the units of the TIN's CRS; after reprojection it would mean nothing.
+  if (reprojecting && !detail::is_zero(options.offset))
+    throw OutputError(path, "", "an offset cannot be combined with reprojection");
+  const std::uint64_t distinct = check_edges(path, tin, edges, features);
+
+  OutputFile out(path, options.overwrite);
+  std::vector<VertexId> ends;
+  if (reprojecting) {
+    ends.reserve(2 * edges.size());
+    for (const ConstraintEdge& e : edges) {
+      ends.push_back(e.a);
+      ends.push_back(e.b);
+    }
+  }
+  const detail::GeoJsonPositions position(path, tin, options, reprojecting ? &ends : nullptr);
+  ends = {};
+
+  BlockWriter w(out);
+  detail::put_feature_collection_start(w, path, options);
+  // The escaped file name of the last feature seen: consecutive edges mostly share their file.
+  std::string file_json;
+  const std::string* file_of_json = nullptr;
+  for (std::size_t i = 0; i < edges.size(); ++i) {
+    const ConstraintEdge& e = edges[i];
+    const ConstraintFeatureInfo& f = features[e.feature];
+    if (file_of_json == nullptr || *file_of_json != f.file) {
+      file_json = detail::json_string(f.file);
+      file_of_json = &f.file;
+    }
+    const Point3 a = position(e.a);
+    const Point3 b = position(e.b);
+    const double za = tin.z(e.a);
+    const double zb = tin.z(e.b);
+    if (!std::isfinite(za) || !std::isfinite(zb))
+      throw OutputError(path, edge_where(i), "height is not a finite number");
+
+    if (i > 0) w.put(std::string_view(",\n"));
+    w.put(std::string_view("{\"type\":\"Feature\",\"properties\":{\"source_file\":"));
+    w.put(file_json);
+    w.put(std::string_view(",\"source_fid\":"));
+    if (f.fid < 0) {
+      w.put('-');
+      w.put_uint(0 - static_cast<std::uint64_t>(f.fid));
+    } else {
+      w.put_uint(static_cast<std::uint64_t>(f.fid));
+    }
+    w.put(std::string_view(",\"z_start\":"));
+    w.put_double(za);
+    w.put(std::string_view(",\"z_end\":"));
+    w.put_double(zb);
+    w.put(std::string_view("},\"geometry\":{\"type\":\"LineString\",\"coordinates\":["));
+    detail::put_position(w, a);
+    w.put(',');
+    detail::put_position(w, b);
+    w.put(std::string_view("]}}"));
+  }
+  w.put(std::string_view("\n]\n}\n"));
+  w.flush();
+  out.commit();
+  return {distinct, 0, out.bytes_written()};
+}
+
+}  // namespace tincdt::io
