@@ -2,6 +2,8 @@
 // Header-only so that it needs no entry in the module's source list.
 #pragma once
 
+#include "core/memory.hpp"
+
 #include <fcntl.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
@@ -101,17 +103,6 @@ class MappedFile {
   std::size_t size_ = 0;
 };
 
-// Asks for transparent huge pages on the unused capacity of a large vector about to be filled:
-// the kernel then zero-fills 2 MB per page fault instead of 4 kB. Only a hint.
-template <typename T>
-void advise_huge_pages(std::vector<T>& v) {
-  constexpr std::size_t kHuge = std::size_t{2} << 20;
-  const auto begin = reinterpret_cast<std::uintptr_t>(v.data() + v.size());
-  const auto end = reinterpret_cast<std::uintptr_t>(v.data() + v.capacity());
-  const std::uintptr_t first = (begin + kHuge - 1) / kHuge * kHuge;
-  const std::uintptr_t last = end / kHuge * kHuge;
-  if (first >= last) return;
-  (void)::madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
-}
+using tincdt::advise_huge_pages;
 
 }  // namespace tincdt::io::detail

@@ -5,6 +5,7 @@
 #include <numbers>
 #include <sstream>
 
+#include "core/memory.hpp"
 #include "core/parallel.hpp"
 #include "mesh/geometry.hpp"
 #include "predicates/predicates.hpp"
@@ -21,6 +22,7 @@ VertexId Triangulation::add_vertex(Point2 p, double z) {
 void Triangulation::reserve_vertices(std::size_t n) {
   xy_.reserve(n);
   z_.reserve(n);
+  advise_huge_pages(xy_);
 }
 
 TriangleId Triangulation::add_triangle(VertexId a, VertexId b, VertexId c) {
@@ -42,6 +44,8 @@ void Triangulation::set_corners(TriangleId t, VertexId a, VertexId b, VertexId c
 void Triangulation::reserve_triangles(std::size_t n) {
   corner_.reserve(3 * n);
   twin_.reserve(3 * n);
+  advise_huge_pages(corner_);
+  advise_huge_pages(twin_);
 }
 
 void Triangulation::set_removed(TriangleId t, bool on) {
