@@ -16,6 +16,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <exception>
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -264,25 +265,44 @@ std::string secs(double s) {
 }
 
 void log_summary(const pipeline::BuildOptions& options, const pipeline::BuildReport& r) {
-  std::string line = "read " + count(r.points_read) + " points from " + count(r.inputs.size()) +
-                     (r.inputs.size() == 1 ? " file" : " files");
+  const auto point_files = static_cast<std::uint64_t>(
+      std::count_if(r.inputs.begin(), r.inputs.end(),
+                    [](const pipeline::BuildReport::Input& in) { return in.kind == "points"; }));
+  std::string line = "read " + count(r.points_read) + " points from " + count(point_files) +
+                     (point_files == 1 ? " file" : " files");
   if (r.line_vertices > 0) line += " and " + count(r.line_vertices) + " line vertices";
   if (r.points_kept != r.points_read) line += ", kept " + count(r.points_kept);
   if (r.duplicates_merged > 0) line += ", merged " + count(r.duplicates_merged) + " duplicates";
   spdlog::info(line);
   if (r.constraint_segments > 0) {
-    std::string c = "lines: " + count(r.line_features) + " features, " +
-                    count(r.constraint_segments) + " segments";
+    std::string c = "constraints: " + count(r.constraint_segments) + " segments";
+    if (r.line_features > 0) c += " from " + count(r.line_features) + " line features";
+    if (r.surface_features > 0)
+      c += (r.line_features > 0 ? " and " : " from ") + count(r.surface_features) +
+           " surface features";
     if (r.crossings > 0) c += ", " + count(r.crossings) + " crossings joined";
     if (r.constraint_segments_split > 0)
       c += ", " + count(r.constraint_segments_split) + " split at vertices";
     spdlog::info(c);
   }
+  if (r.draped_vertices > 0)
+    spdlog::info("draped: {} vertices ({} of soft lines)", count(r.draped_vertices),
+                 count(r.soft_line_vertices));
+  if (r.flats.fixed)
+    spdlog::info("flat triangles: {} before, {} after ({} swaps, {} new vertices)",
+                 count(r.flats.before), count(r.flats.after), count(r.flats.swaps),
+                 count(r.flats.vertices_added));
+  if (r.replaced_vertices > 0) spdlog::info("replace: {} vertices", count(r.replaced_vertices));
+  if (r.trimmed_triangles + r.clipped_triangles + r.erased_triangles > 0)
+    spdlog::info("removed triangles: {} trimmed (--max-edge), {} clipped, {} erased",
+                 count(r.trimmed_triangles), count(r.clipped_triangles), count(r.erased_triangles));
   spdlog::info("TIN: {} vertices, {} triangles{}", count(r.vertices), count(r.triangles),
                r.constraints > 0 ? ", " + count(r.constraints) + " constrained edges" : "");
   std::string t =
       "time: read " + secs(r.timings_s.read) + ", delaunay " + secs(r.timings_s.delaunay);
   if (r.timings_s.constraints > 0) t += ", constraints " + secs(r.timings_s.constraints);
+  if (r.timings_s.surface > 0) t += ", surface features " + secs(r.timings_s.surface);
+  if (r.timings_s.terrain > 0.0005) t += ", terrain " + secs(r.timings_s.terrain);
   if (r.timings_s.validate > 0) t += ", validate " + secs(r.timings_s.validate);
   t += ", write " + secs(r.timings_s.write) + ", total " + secs(r.timings_s.total);
   if (r.peak_rss_bytes > 0) t += "; peak memory " + bytes(r.peak_rss_bytes);
@@ -300,6 +320,8 @@ void log_summary(const pipeline::BuildOptions& options, const pipeline::BuildRep
     w += buf;
   }
   spdlog::info(w + ")");
+  if (!r.constraints_out.empty()) spdlog::info("wrote {}", r.constraints_out);
+  if (!r.diagnostics.empty()) spdlog::info("wrote {}", r.diagnostics);
   if (!options.stats_path.empty()) spdlog::info("wrote {}", options.stats_path);
 }
 
@@ -323,6 +345,15 @@ struct Cli {
   bool validate = false;
   std::vector<std::string> contours;
   std::vector<std::string> breaklines;
+  std::vector<std::string> hard_lines;
+  std::vector<std::string> soft_lines;
+  std::vector<std::string> clip;
+  std::vector<std::string> erase;
+  std::vector<std::string> replace;
+  std::string max_edge;
+  bool fix_flats = false;
+  std::string constraints_out;
+  std::string diagnostics;
   std::string layer;
   std::string z_field;
   bool z_from_m = false;
@@ -350,6 +381,23 @@ constexpr const char* kFooter = R"(Examples:
     tincdt tile.las --keep-class 2 --contours contours.shp -o tin.ply
   A TIN from a contour map alone, z from an attribute:
     tincdt --contours contours.gpkg:contours --z-field ELEV -o tin.ply
+  Clip to a boundary polygon (2D: draped), and drop the long edges of a ragged outline:
+    tincdt tile.las --keep-class 2 --clip boundary.gpkg --max-edge 25 -o tin.ply
+  Erase a lake (no data inside), keep a road centreline as soft edges:
+    tincdt tile.las --erase lakes.shp --soft-lines roads.shp -o tin.ply
+  Fix the flat triangles of a contour-only TIN, with a QA report:
+    tincdt --contours contours.shp --fix-flats -o tin.ply --stats qa.json
+
+Order of the stages (and precedence where features overlap):
+  1. points, contours and hard lines: triangulated, the lines made TIN edges
+  2. soft lines, clip / erase / replace rings: 2D vertices draped on that TIN,
+     then made TIN edges (a draped line crossing a hard one takes its z there)
+  3. --fix-flats
+  4. --replace: vertices on or inside get the polygon's z (later polygons win)
+  5. --max-edge: trims inward from the convex hull
+  6. --clip: triangles outside every clip polygon are removed
+  7. --erase: triangles inside an erase polygon are removed (erase wins over
+     clip; replaced vertices inside an erase polygon go with their triangles)
 
 Exit status: 0 success, 1 input, output or runtime error, 2 usage error.)";
 
@@ -372,7 +420,8 @@ void define_options(CLI::App& app, Cli& c) {
       ->check(CLI::IsMember({"obj", "ply", "geojson"}, CLI::ignore_case).description(""))
       ->type_name("obj|ply|geojson")
       ->group(out);
-  app.add_flag("--overwrite", c.overwrite, "Replace an existing output (and stats file)")
+  app.add_flag("--overwrite", c.overwrite,
+               "Replace existing outputs (TIN, stats, lines, diagnostics)")
       ->group(out);
   app.add_flag("--ply-ascii", c.ply_ascii, "Write PLY as text instead of binary")->group(out);
   app.add_option("--offset", c.offset,
@@ -383,7 +432,7 @@ void define_options(CLI::App& app, Cli& c) {
   app.add_option("--t-srs", c.t_srs, "Reproject the GeoJSON output to SRS (e.g. EPSG:4326)")
       ->type_name("SRS")
       ->group(out);
-  app.add_option("--stats", c.stats, "Write counts, timings and memory as JSON")
+  app.add_option("--stats", c.stats, "Write counts, quality, timings and memory as JSON")
       ->type_name("FILE.json")
       ->group(out);
 
@@ -405,28 +454,40 @@ void define_options(CLI::App& app, Cli& c) {
   app.add_flag("--first-only", c.first_only, "Keep only first returns (LAS)")->group(in);
   app.add_flag("--last-only", c.last_only, "Keep only last returns (LAS)")->group(in);
 
-  const char* lines = "Contours and breaklines (any OGR source; FILE or FILE:LAYER)";
-  app.add_option("--contours", c.contours, "Contour lines: every segment becomes a TIN edge")
-      ->type_name("LINES")
-      ->expected(1)
-      ->allow_extra_args(false)
-      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
-      ->group(lines);
-  app.add_option("--breaklines", c.breaklines, "Breaklines: every segment becomes a TIN edge")
-      ->type_name("LINES")
-      ->expected(1)
-      ->allow_extra_args(false)
-      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
-      ->group(lines);
-  app.add_option("--layer", c.layer, "Layer to read from each line source")
+  const char* lines = "Surface features (any OGR source: FILE or FILE:LAYER; repeatable)";
+  // Repeatable, one value each, so that "--clip a.shp tile.las" leaves tile.las an INPUT.
+  const auto vector_option = [&app](const char* name, std::vector<std::string>& target,
+                                    const char* help, const char* type, const char* group) {
+    app.add_option(name, target, help)
+        ->type_name(type)
+        ->expected(1)
+        ->allow_extra_args(false)
+        ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
+        ->group(group);
+  };
+  vector_option("--contours", c.contours,
+                "Contour lines: hard edges; their flats are what --fix-flats fixes", "LINES",
+                lines);
+  vector_option("--hard-lines", c.hard_lines,
+                "Hard lines (breaklines): every segment is a TIN edge", "LINES", lines);
+  vector_option("--breaklines", c.breaklines, "The same as --hard-lines", "LINES", lines);
+  vector_option("--soft-lines", c.soft_lines,
+                "Soft lines: TIN edges with z draped from the TIN (own z ignored)", "LINES", lines);
+  vector_option("--replace", c.replace,
+                "Replace polygons: vertices on or inside get the polygon's one z\n"
+                "(--z-field, --z-from-m or 3D z); rings become TIN edges",
+                "POLYGONS", lines);
+  app.add_option("--layer", c.layer, "Layer to read from each vector source")
       ->type_name("NAME")
       ->group(lines);
-  app.add_option("--z-field", c.z_field, "Take z from this attribute (2D lines)")
+  app.add_option("--z-field", c.z_field, "Take z from this attribute (contours, lines, replace)")
       ->type_name("NAME")
       ->group(lines);
-  app.add_flag("--z-from-m", c.z_from_m, "Take z from the lines' M values")->group(lines);
+  app.add_flag("--z-from-m", c.z_from_m, "Take z from the M values (contours, lines, replace)")
+      ->group(lines);
   app.add_option("--on-crossing", c.on_crossing,
-                 "Crossing lines: join them at a new vertex, or stop with an error")
+                 "Crossing contours / hard lines: join them at a new vertex, or stop\n"
+                 "with an error (surface features always join)")
       ->check(CLI::IsMember({"split", "error"}, CLI::ignore_case).description(""))
       ->type_name("split|error")
       ->capture_default_str()
@@ -439,6 +500,34 @@ void define_options(CLI::App& app, Cli& c) {
       ->capture_default_str()
       ->group(lines);
 
+  const char* boundary = "TIN boundary (after --fix-flats and --replace, in this order)";
+  app.add_option("--max-edge", c.max_edge,
+                 "Trim boundary triangles with a longer edge, inward from the hull,\n"
+                 "so concave outlines are not bridged")
+      ->type_name("LENGTH")
+      ->group(boundary);
+  vector_option("--clip", c.clip, "Remove the triangles outside these polygons (2D: draped)",
+                "POLYGONS", boundary);
+  vector_option("--erase", c.erase,
+                "Remove the triangles inside these polygons (holes; wins over --clip)", "POLYGONS",
+                boundary);
+
+  const char* quality = "Quality";
+  app.add_flag("--fix-flats", c.fix_flats,
+               "Remove flat triangles (3 corners on one contour level) by swaps,\n"
+               "then by vertices on the contours' medial axis (needs --contours)")
+      ->group(quality);
+  app.add_option("--diagnostics", c.diagnostics,
+                 "Write crossings, skipped segments and dropped features as\n"
+                 "GeoPackage layers with the input feature ids")
+      ->type_name("FILE.gpkg")
+      ->group(quality);
+  app.add_option("--constraints-out", c.constraints_out,
+                 "Write the TIN's constrained edges as GeoJSON lines with their\n"
+                 "source file and feature id")
+      ->type_name("FILE.geojson")
+      ->group(quality);
+
   const char* tri = "Triangulation";
   app.add_option("--on-duplicate", c.on_duplicate, "z of points with equal x, y")
       ->check(CLI::IsMember({"first", "min", "max", "mean"}, CLI::ignore_case).description(""))
@@ -446,7 +535,7 @@ void define_options(CLI::App& app, Cli& c) {
       ->capture_default_str()
       ->group(tri);
   app.add_flag("--validate", c.validate, "Check the TIN's topology and Delaunay property")
-      ->group(tri);
+      ->group(quality);
 
   const char* msg = "Messages";
   app.add_flag("-q,--quiet", c.quiet, "Only warnings and errors; no progress")->group(msg);
@@ -505,10 +594,36 @@ pipeline::BuildOptions to_build_options(const Cli& c) {
   o.on_duplicate = policies.at(lower(c.on_duplicate));
   o.validate = c.validate;
 
-  if (c.inputs.empty() && c.contours.empty() && c.breaklines.empty())
-    throw UsageError("no input: give point files, --contours or --breaklines");
+  if (c.inputs.empty() && c.contours.empty() && c.breaklines.empty() && c.hard_lines.empty())
+    throw UsageError("no input: give point files, --contours or --hard-lines (--breaklines)");
   o.contours = c.contours;
   o.breaklines = c.breaklines;
+  o.breaklines.insert(o.breaklines.end(), c.hard_lines.begin(), c.hard_lines.end());
+  o.soft_lines = c.soft_lines;
+  o.clip = c.clip;
+  o.erase = c.erase;
+  o.replace = c.replace;
+  if (!c.max_edge.empty()) {
+    const auto v = parse_double(c.max_edge);
+    if (!v || !(*v > 0)) throw UsageError("--max-edge: '" + c.max_edge + "' is not a length > 0");
+    o.max_edge = *v;
+  }
+  if (c.fix_flats && c.contours.empty())
+    throw UsageError("--fix-flats needs --contours: flat triangles are those of one contour level");
+  o.fix_flats = c.fix_flats;
+  if (!c.constraints_out.empty()) {
+    const std::string ext = lower(std::filesystem::path(c.constraints_out).extension().string());
+    if (ext != ".geojson" && ext != ".json")
+      throw UsageError("--constraints-out writes GeoJSON: give a .geojson or .json file, not '" +
+                       c.constraints_out + "'");
+    o.constraints_out = c.constraints_out;
+  }
+  if (!c.diagnostics.empty()) {
+    if (lower(std::filesystem::path(c.diagnostics).extension().string()) != ".gpkg")
+      throw UsageError("--diagnostics writes a GeoPackage: give a .gpkg file, not '" +
+                       c.diagnostics + "'");
+    o.diagnostics = c.diagnostics;
+  }
   o.lines.layer = c.layer;
   o.lines.z_field = c.z_field;
   o.lines.z_from_m = c.z_from_m;

@@ -1,5 +1,6 @@
 // Wavefront OBJ: "v x y z" lines, then "f a b c" faces (1-based, counter-clockwise seen from
-// above). Coordinates are written in their shortest round-trip form, so no bit is lost.
+// above). Coordinates are written in their shortest round-trip form, so no bit is lost. With
+// removed triangles only the vertices of kept faces are written (VertexNumbering).
 #include "io/writer_detail.hpp"
 
 namespace tincdt::io::detail {
@@ -7,8 +8,10 @@ namespace tincdt::io::detail {
 TinWriteStats write_obj(OutputFile& out, const mesh::Triangulation& tin,
                         const TinWriteOptions& options) {
   const std::string& path = out.path();
-  const std::size_t nv = tin.vertex_count();
-  const std::uint64_t nt = count_triangles(tin);
+  const TriangleCounts counts = count_triangles(tin);
+  const std::uint64_t nt = counts.kept;
+  const VertexNumbering number(tin, counts.removed > 0);
+  const std::size_t nv = number.count();
 
   std::string header =
       "# tincdt\n# vertices " + std::to_string(nv) + "\n# faces " + std::to_string(nt) + "\n";
@@ -18,8 +21,8 @@ TinWriteStats write_obj(OutputFile& out, const mesh::Triangulation& tin,
 
   BlockWriter w(out);
   w.put(header);
-  for (std::size_t v = 0; v < nv; ++v) {
-    const Point3 p = shifted_vertex(path, tin, static_cast<VertexId>(v), options.offset);
+  for (std::size_t i = 0; i < nv; ++i) {
+    const Point3 p = shifted_vertex(path, tin, number.vertex(i), options.offset);
     w.put(std::string_view("v "));
     w.put_double(p.x);
     w.put(' ');
@@ -28,15 +31,23 @@ TinWriteStats write_obj(OutputFile& out, const mesh::Triangulation& tin,
     w.put_double(p.z);
     w.put('\n');
   }
-  tin.for_each_triangle([&w](TriangleId, const std::array<VertexId, 3>& c) {
+  const auto face = [&w](VertexId a, VertexId b, VertexId c) {
     w.put(std::string_view("f "));
-    w.put_uint(std::uint64_t{c[0]} + 1);
+    w.put_uint(std::uint64_t{a} + 1);
     w.put(' ');
-    w.put_uint(std::uint64_t{c[1]} + 1);
+    w.put_uint(std::uint64_t{b} + 1);
     w.put(' ');
-    w.put_uint(std::uint64_t{c[2]} + 1);
+    w.put_uint(std::uint64_t{c} + 1);
     w.put('\n');
-  });
+  };
+  if (number.compacted()) {
+    tin.for_each_triangle([&](TriangleId, const std::array<VertexId, 3>& c) {
+      face(number(c[0]), number(c[1]), number(c[2]));
+    });
+  } else {
+    tin.for_each_triangle(
+        [&](TriangleId, const std::array<VertexId, 3>& c) { face(c[0], c[1], c[2]); });
+  }
   w.flush();
   return {nv, nt, 0};
 }

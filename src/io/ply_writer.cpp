@@ -1,5 +1,7 @@
 // Stanford PLY, binary little-endian (default) or ASCII: double x/y/z vertices, uint triangle
 // lists and, when the mesh has constrained edges, an `edge` element with their two vertices.
+// With removed triangles only the vertices of kept faces are written (VertexNumbering), and only
+// the constrained edges with a kept face on a side.
 #include "io/writer_detail.hpp"
 
 namespace tincdt::io::detail {
@@ -32,15 +34,20 @@ TinWriteStats write_ply(OutputFile& out, const mesh::Triangulation& tin,
                         const TinWriteOptions& options) {
   const std::string& path = out.path();
   const bool ascii = options.ply_ascii;
-  const std::size_t nv = tin.vertex_count();
-  const std::uint64_t nt = count_triangles(tin);
-  const std::uint64_t ne = count_constrained_segments(tin);
+  const TriangleCounts counts = count_triangles(tin);
+  const std::uint64_t nt = counts.kept;
+  // With removed triangles: only the vertices of kept faces, renumbered, and only the constrained
+  // edges with a kept face on a side.
+  const bool compact = counts.removed > 0;
+  const VertexNumbering number(tin, compact);
+  const std::size_t nv = number.count();
+  const std::uint64_t ne = count_constrained_segments(tin, compact);
 
   BlockWriter w(out);
   w.put(ply_header(ascii, nv, nt, ne, options));
 
-  for (std::size_t v = 0; v < nv; ++v) {
-    const Point3 p = shifted_vertex(path, tin, static_cast<VertexId>(v), options.offset);
+  for (std::size_t i = 0; i < nv; ++i) {
+    const Point3 p = shifted_vertex(path, tin, number.vertex(i), options.offset);
     if (ascii) {
       w.put_double(p.x);
       w.put(' ');
@@ -56,20 +63,31 @@ TinWriteStats write_ply(OutputFile& out, const mesh::Triangulation& tin,
   }
 
   if (ascii) {
-    tin.for_each_triangle([&w](TriangleId, const std::array<VertexId, 3>& c) {
+    tin.for_each_triangle([&w, &number](TriangleId, const std::array<VertexId, 3>& c) {
       w.put(std::string_view("3 "));
-      w.put_uint(c[0]);
+      w.put_uint(number(c[0]));
       w.put(' ');
-      w.put_uint(c[1]);
+      w.put_uint(number(c[1]));
       w.put(' ');
-      w.put_uint(c[2]);
+      w.put_uint(number(c[2]));
       w.put('\n');
     });
-    for_each_constrained_segment(tin, [&w](VertexId a, VertexId b) {
-      w.put_uint(a);
+    for_each_constrained_segment(tin, compact, [&w, &number](VertexId a, VertexId b) {
+      w.put_uint(number(a));
       w.put(' ');
-      w.put_uint(b);
+      w.put_uint(number(b));
       w.put('\n');
+    });
+  } else if (number.compacted()) {
+    tin.for_each_triangle([&w, &number](TriangleId, const std::array<VertexId, 3>& c) {
+      w.put_le(std::uint8_t{3});
+      w.put_le(number(c[0]));
+      w.put_le(number(c[1]));
+      w.put_le(number(c[2]));
+    });
+    for_each_constrained_segment(tin, true, [&w, &number](VertexId a, VertexId b) {
+      w.put_le(number(a));
+      w.put_le(number(b));
     });
   } else {
     tin.for_each_triangle([&w](TriangleId, const std::array<VertexId, 3>& c) {
@@ -78,7 +96,7 @@ TinWriteStats write_ply(OutputFile& out, const mesh::Triangulation& tin,
       w.put_le(c[1]);
       w.put_le(c[2]);
     });
-    for_each_constrained_segment(tin, [&w](VertexId a, VertexId b) {
+    for_each_constrained_segment(tin, false, [&w](VertexId a, VertexId b) {
       w.put_le(a);
       w.put_le(b);
     });

@@ -4,6 +4,7 @@
 // share.
 #pragma once
 
+#include <array>
 #include <bit>
 #include <charconv>
 #include <cmath>
@@ -118,26 +119,82 @@ inline bool is_zero(const Point3& p) {
 }
 
 // Real triangles, counted from the corner array (the count written in headers must match the
-// records exactly, whatever the state of Triangulation::triangle_count()).
-inline std::uint64_t count_triangles(const mesh::Triangulation& tin) {
-  std::uint64_t n = 0;
-  tin.for_each_triangle([&n](TriangleId, const std::array<VertexId, 3>&) { ++n; });
+// records exactly, whatever the state of Triangulation::triangle_count()): `kept` are written,
+// `removed` (clipped, erased, trimmed) are not. One pass over the slots, as cheap as counting the
+// kept ones alone.
+struct TriangleCounts {
+  std::uint64_t kept = 0;
+  std::uint64_t removed = 0;
+};
+inline TriangleCounts count_triangles(const mesh::Triangulation& tin) {
+  TriangleCounts n;
+  const auto slots = static_cast<TriangleId>(tin.triangle_slots());
+  for (TriangleId t = 0; t < slots; ++t) {
+    if (tin.is_ghost(t)) continue;
+    if (tin.is_removed(t))
+      ++n.removed;
+    else
+      ++n.kept;
+  }
   return n;
 }
 
-// Calls f(origin, dest) once per constrained edge between two real vertices.
+// The vertex numbers a writer uses. With no removed triangle (the common case) every vertex is
+// written under its own id: no table, no extra pass. With removed triangles only the vertices of
+// kept triangles are written, renumbered 0, 1, ... in id order, so a clipped TIN carries no
+// vertex that no face uses.
+class VertexNumbering {
+ public:
+  VertexNumbering(const mesh::Triangulation& tin, bool compact) : count_(tin.vertex_count()) {
+    if (!compact) return;
+    new_id_.assign(tin.vertex_count(), kNoId);
+    tin.for_each_triangle([this](TriangleId, const std::array<VertexId, 3>& c) {
+      for (const VertexId v : c) new_id_[v] = 0;  // used; numbered below
+    });
+    old_id_.reserve(new_id_.size());
+    for (std::size_t v = 0; v < new_id_.size(); ++v) {
+      if (new_id_[v] == kNoId) continue;
+      new_id_[v] = static_cast<VertexId>(old_id_.size());
+      old_id_.push_back(static_cast<VertexId>(v));
+    }
+    count_ = old_id_.size();
+  }
+  // Vertices written.
+  std::size_t count() const { return count_; }
+  bool compacted() const { return !new_id_.empty(); }
+  // The written number of vertex v (v must be a corner of a kept triangle when compacted).
+  VertexId operator()(VertexId v) const { return new_id_.empty() ? v : new_id_[v]; }
+  // The vertex written as number i, for i < count().
+  VertexId vertex(std::size_t i) const {
+    return old_id_.empty() ? static_cast<VertexId>(i) : old_id_[i];
+  }
+  // The written vertices' ids in order (empty when not compacted: every vertex, in order).
+  const std::vector<VertexId>& vertices() const { return old_id_; }
+
+ private:
+  std::size_t count_;
+  std::vector<VertexId> new_id_;  // vertex -> written number; empty when not compacted
+  std::vector<VertexId> old_id_;  // written number -> vertex
+};
+
+// Calls f(origin, dest) once per constrained edge between two real vertices; with `kept_only`,
+// only for edges with a kept triangle on at least one side (the edges of the written TIN).
 template <class F>
-void for_each_constrained_segment(const mesh::Triangulation& tin, F&& f) {
-  tin.for_each_constrained_edge([&tin, &f](EdgeId e) {
+void for_each_constrained_segment(const mesh::Triangulation& tin, bool kept_only, F&& f) {
+  tin.for_each_constrained_edge([&tin, &f, kept_only](EdgeId e) {
     const VertexId a = tin.origin(e);
     const VertexId b = tin.dest(e);
-    if (a < mesh::kInfinite && b < mesh::kInfinite) f(a, b);
+    if (a >= mesh::kInfinite || b >= mesh::kInfinite) return;
+    if (kept_only && !tin.is_kept(mesh::triangle_of(e)) &&
+        !tin.is_kept(mesh::triangle_of(tin.twin(e))))
+      return;
+    f(a, b);
   });
 }
 
-inline std::uint64_t count_constrained_segments(const mesh::Triangulation& tin) {
+inline std::uint64_t count_constrained_segments(const mesh::Triangulation& tin, bool kept_only) {
   std::uint64_t n = 0;
-  for_each_constrained_segment(tin, [&n](VertexId, VertexId) { ++n; });
+  for_each_constrained_segment(tin, kept_only, [&n](VertexId, VertexId) { ++n; });
   return n;
 }
 

@@ -121,6 +121,10 @@ class JsonWriter {
   JsonWriter& field(std::string_view key, const char* v) { return raw(key, quote(v)); }
   JsonWriter& field(std::string_view key, double v) { return raw(key, number(v)); }
   JsonWriter& field(std::string_view key, std::uint64_t v) { return raw(key, number(v)); }
+  JsonWriter& field(std::string_view key, bool v) { return raw(key, v ? "true" : "false"); }
+  JsonWriter& null_field(std::string_view key) { return raw(key, "null"); }
+  // A value that is JSON already (one line).
+  JsonWriter& json_field(std::string_view key, const std::string& json) { return raw(key, json); }
   JsonWriter& value(double v) { return raw({}, number(v)); }
   std::string str() const { return out_ + "\n"; }
 
@@ -189,6 +193,32 @@ std::string BuildReport::to_json() const {
   j.field("constraint_segments_split", constraint_segments_split);
   j.field("crossings", crossings);
   j.field("max_z_disagreement", max_z_disagreement);
+  j.field("surface_features", surface_features);
+  j.field("soft_line_vertices", soft_line_vertices);
+  j.field("draped_vertices", draped_vertices);
+  j.field("reused_vertices", reused_vertices);
+  j.field("replaced_vertices", replaced_vertices);
+  j.field("trimmed_triangles", trimmed_triangles);
+  j.field("clipped_triangles", clipped_triangles);
+  j.field("erased_triangles", erased_triangles);
+  j.begin_object("flats")
+      .field("counted", flats.counted)
+      .field("fixed", flats.fixed)
+      .field("before", flats.before)
+      .field("after_swaps", flats.after_swaps)
+      .field("after", flats.after)
+      .field("swaps", flats.swaps)
+      .field("vertices_added", flats.vertices_added)
+      .field("vertices_interpolated", flats.vertices_interpolated)
+      .field("vertices_extrapolated", flats.vertices_extrapolated)
+      .field("left_no_level", flats.left_no_level)
+      .field("left_unplaced", flats.left_unplaced)
+      .field("non_delaunay_edges", flats.non_delaunay_edges)
+      .end_object();
+  if (quality_measured)
+    j.json_field("quality", quality.to_json());
+  else
+    j.null_field("quality");
   j.begin_object("flips")
       .field("insertion", flips.insertion)
       .field("restoration", flips.restoration);
@@ -197,6 +227,8 @@ std::string BuildReport::to_json() const {
       .field("read", timings_s.read)
       .field("delaunay", timings_s.delaunay)
       .field("constraints", timings_s.constraints)
+      .field("surface", timings_s.surface)
+      .field("terrain", timings_s.terrain)
       .field("validate", timings_s.validate)
       .field("write", timings_s.write)
       .field("total", timings_s.total)
@@ -207,16 +239,37 @@ std::string BuildReport::to_json() const {
   j.field("output", output);
   j.field("output_format", output_format);
   j.field("output_bytes", output_bytes);
+  j.field("constraints_out", constraints_out);
+  j.field("diagnostics", diagnostics);
   j.begin_array("offset").value(offset.x).value(offset.y).value(offset.z).end_array();
+  // Per input: the point files' own keys, the vector sources' own keys, and the common ones
+  // (read, kept, filtered, skipped) for both; merged duplicates are counted for all inputs
+  // together (duplicates_merged), not per file.
   j.begin_array("inputs");
   for (const Input& in : inputs) {
-    j.begin_object()
-        .field("path", in.path)
-        .field("format", in.format)
-        .field("crs", in.crs)
-        .field("points_read", in.points_read)
-        .field("points_kept", in.points_kept)
-        .end_object();
+    j.begin_object().field("path", in.path).field("kind", in.kind).field("crs", in.crs);
+    if (in.kind == "points") {
+      j.field("format", in.format)
+          .field("points_read", in.points_read)
+          .field("points_kept", in.points_kept)
+          .field("read", in.points_read)
+          .field("kept", in.points_kept)
+          .field("filtered", in.points_read - in.points_kept)
+          .field("skipped", std::uint64_t{0});
+    } else {
+      j.field("layer", in.format)
+          .field("features_read", in.features_read)
+          .field("features_used", in.features_used)
+          .field("features_dropped", in.features_dropped)
+          .field("vertices", in.vertices)
+          .field("segments", in.segments)
+          .field("skipped_segments", in.skipped_segments)
+          .field("read", in.features_read)
+          .field("kept", in.features_used)
+          .field("filtered", std::uint64_t{0})
+          .field("skipped", in.features_dropped);
+    }
+    j.end_object();
   }
   j.end_array();
   j.end_object();

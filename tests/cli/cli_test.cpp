@@ -5,17 +5,20 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cpl_json.h>
 #include <gdal_priv.h>
 #include <gtest/gtest.h>
 #include <ogrsf_frmts.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <optional>
 #include <regex>
 #include <set>
@@ -925,4 +928,344 @@ TEST_F(Cli, RestoreModesAreAccepted) {
   const Outcome bad = s.run(
       {"--breaklines", s.path("lines.geojson"), "-o", s.path("x.ply"), "--restore", "sideways"});
   EXPECT_EQ(bad.exit_code, 2) << bad;
+}
+
+// ---- surface features, TIN boundary, quality (issue 5) --------------------------------------
+
+namespace {
+
+// A GeoJSON FeatureCollection of one polygon per ring, in CRS `epsg` (0: none, i.e. WGS 84),
+// each with the property Z when `z` is given (and then as a 3D polygon at that z).
+std::string polygons_geojson(const std::vector<std::vector<std::array<double, 2>>>& rings,
+                             int epsg = 0, std::optional<double> z = std::nullopt) {
+  std::string s = "{\"type\": \"FeatureCollection\",";
+  if (epsg != 0)
+    s += " \"crs\": {\"type\": \"name\", \"properties\": {\"name\": \"urn:ogc:def:crs:EPSG::" +
+         std::to_string(epsg) + "\"}},";
+  s += " \"features\": [";
+  char buf[128];
+  for (std::size_t i = 0; i < rings.size(); ++i) {
+    s += std::string(i ? ", " : "") + "{\"type\": \"Feature\", \"properties\": {}, " +
+         "\"geometry\": {\"type\": \"Polygon\", \"coordinates\": [[";
+    const auto& ring = rings[i];
+    for (std::size_t k = 0; k <= ring.size(); ++k) {
+      const auto& p = ring[k % ring.size()];
+      if (z)
+        std::snprintf(buf, sizeof buf, "%s[%.17g, %.17g, %.17g]", k ? ", " : "", p[0], p[1], *z);
+      else
+        std::snprintf(buf, sizeof buf, "%s[%.17g, %.17g]", k ? ", " : "", p[0], p[1]);
+      s += buf;
+    }
+    s += "]]}}";
+  }
+  return s + "]}\n";
+}
+
+std::vector<std::array<double, 2>> box(double x0, double y0, double x1, double y1) {
+  return {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
+}
+
+// An ASCII PLY or an OBJ: vertices, faces (0-based) and PLY edges.
+struct MeshFile {
+  std::vector<std::array<double, 3>> v;
+  std::vector<std::array<std::size_t, 3>> f;
+  std::vector<std::array<std::size_t, 2>> e;
+};
+
+MeshFile read_mesh(const std::string& path) {
+  MeshFile m;
+  std::istringstream in(slurp(path));
+  if (fs::path(path).extension() == ".obj") {
+    for (std::string line; std::getline(in, line);) {
+      std::istringstream ls(line);
+      std::string tag;
+      ls >> tag;
+      if (tag == "v") {
+        std::array<double, 3> v{};
+        ls >> v[0] >> v[1] >> v[2];
+        m.v.push_back(v);
+      } else if (tag == "f") {
+        std::array<std::size_t, 3> f{};
+        ls >> f[0] >> f[1] >> f[2];
+        for (auto& i : f) --i;
+        m.f.push_back(f);
+      }
+    }
+    return m;
+  }
+  std::size_t nv = 0, nf = 0, ne = 0;
+  for (std::string line; std::getline(in, line) && line != "end_header";) {
+    std::istringstream ls(line);
+    std::string word, element;
+    std::size_t n = 0;
+    ls >> word >> element >> n;
+    if (word != "element") continue;
+    (element == "vertex" ? nv : element == "face" ? nf : ne) = n;
+  }
+  m.v.resize(nv);
+  for (auto& v : m.v) in >> v[0] >> v[1] >> v[2];
+  m.f.resize(nf);
+  for (auto& f : m.f) {
+    int three = 0;
+    in >> three >> f[0] >> f[1] >> f[2];
+  }
+  m.e.resize(ne);
+  for (auto& e : m.e) in >> e[0] >> e[1];
+  return m;
+}
+
+bool in_box(const std::vector<std::array<double, 2>>& b, double x, double y, double margin = 0) {
+  return x > b[0][0] + margin && x < b[2][0] - margin && y > b[0][1] + margin &&
+         y < b[2][1] - margin;
+}
+
+struct Extent {
+  double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  double x(double f) const { return x0 + f * (x1 - x0); }
+  double y(double f) const { return y0 + f * (y1 - y0); }
+};
+
+std::optional<Extent> vector_extent(const std::string& path) {
+  GDALAllRegister();
+  GDALDataset* ds = GDALDataset::Open(path.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY);
+  if (ds == nullptr) return std::nullopt;
+  OGREnvelope env;
+  const bool ok = ds->GetLayer(0)->GetExtent(&env, TRUE) == OGRERR_NONE;
+  GDALClose(ds);
+  if (!ok) return std::nullopt;
+  return Extent{env.MinX, env.MinY, env.MaxX, env.MaxY};
+}
+
+}  // namespace
+
+TEST_F(Cli, HelpShowsSurfaceFeaturesAndTheirOrder) {
+  const Outcome r = s.run({"--help"});
+  EXPECT_EQ(r.exit_code, 0) << r;
+  for (const char* needle :
+       {"Surface features",    "TIN boundary",   "Quality",           "--hard-lines",
+        "--soft-lines",        "--clip",         "--erase",           "--replace",
+        "--max-edge",          "--fix-flats",    "--constraints-out", "--diagnostics",
+        "Order of the stages", "3. --fix-flats", "4. --replace",      "5. --max-edge",
+        "6. --clip",           "7. --erase",     "erase wins over",   "--clip boundary.gpkg",
+        "--erase lakes.shp",   "--fix-flats -o"})
+    EXPECT_NE(r.out.find(needle), std::string::npos) << needle << "\n" << r.out;
+  // The order in the help is the order of the stages.
+  EXPECT_LT(r.out.find("3. --fix-flats"), r.out.find("4. --replace"));
+  EXPECT_LT(r.out.find("4. --replace"), r.out.find("5. --max-edge"));
+  EXPECT_LT(r.out.find("5. --max-edge"), r.out.find("6. --clip"));
+  EXPECT_LT(r.out.find("6. --clip"), r.out.find("7. --erase"));
+}
+
+TEST_F(Cli, SurfaceFeatureUsageErrors) {
+  spit(s.path("a.xyz"), grid_xyz());
+  const std::string a = s.path("a.xyz"), out = s.path("tin.ply");
+  for (const auto& [args, pattern] : std::vector<std::pair<std::vector<std::string>, std::string>>{
+           {{a, "-o", out, "--max-edge", "0"}, "--max-edge.*length > 0"},
+           {{a, "-o", out, "--max-edge", "-3"}, "--max-edge.*length > 0"},
+           {{a, "-o", out, "--max-edge", "ten"}, "--max-edge"},
+           {{a, "-o", out, "--fix-flats"}, "--fix-flats needs --contours"},
+           {{a, "-o", out, "--constraints-out", s.path("c.txt")}, "--constraints-out.*GeoJSON"},
+           {{a, "-o", out, "--diagnostics", s.path("d.geojson")}, "--diagnostics.*GeoPackage"},
+           {{a, "-o", out, "--clip"}, "--clip"}}) {
+    const Outcome r = s.run(args);
+    expect_failure(r, 2, "", pattern, s, {"a.xyz"});
+  }
+}
+
+TEST_F(Cli, ClipEraseAndSoftLinesOnSyntheticPoints) {
+  // The LAS grid covers x 500100..500119, y 4000200..4000219.
+  spit(s.path("a.xyz"), grid_xyz());
+  const auto clip = box(500102.5, 4000202.5, 500116.5, 4000217.5);
+  // No grid point (integer +- 0.3) lies on these sides.
+  const auto hole = box(500105.35, 4000205.35, 500109.65, 4000209.65);
+  spit(s.path("clip.geojson"), polygons_geojson({clip}));
+  spit(s.path("hole.geojson"), polygons_geojson({hole}));
+  const Outcome r =
+      s.run({s.path("a.xyz"), "--clip", s.path("clip.geojson"), "--erase", s.path("hole.geojson"),
+             "-o", s.path("tin.ply"), "--ply-ascii", "--stats", s.path("s.json"), "--validate"});
+  ASSERT_EQ(r.exit_code, 0) << r;
+  EXPECT_NE(r.err.find("removed triangles:"), std::string::npos) << r;
+  const std::string json = slurp(s.path("s.json"));
+  EXPECT_GT(stats_number(json, "clipped_triangles"), 0u) << json;
+  EXPECT_GT(stats_number(json, "erased_triangles"), 0u) << json;
+  const MeshFile m = read_mesh(s.path("tin.ply"));
+  double area = 0;
+  std::set<std::size_t> used;
+  for (const auto& f : m.f) {
+    const auto &p = m.v[f[0]], &q = m.v[f[1]], &t = m.v[f[2]];
+    area += ((q[0] - p[0]) * (t[1] - p[1]) - (q[1] - p[1]) * (t[0] - p[0])) / 2;
+    const double cx = (p[0] + q[0] + t[0]) / 3, cy = (p[1] + q[1] + t[1]) / 3;
+    EXPECT_TRUE(in_box(clip, cx, cy));
+    EXPECT_FALSE(in_box(hole, cx, cy));
+    used.insert(f.begin(), f.end());
+  }
+  EXPECT_NEAR(area, 14.0 * 15.0 - 4.3 * 4.3, 1e-6);
+  EXPECT_EQ(used.size(), m.v.size());  // compacted
+  EXPECT_EQ(m.v.size(), stats_number(json, "vertices"));
+  EXPECT_EQ(m.e.size(), 8u);  // the two rectangles' sides, each a constrained edge
+}
+
+TEST_F(Cli, DiagnosticsAndConstraintLinesOpenWithGdal) {
+  spit(s.path("lines.geojson"), kCrossingLines);
+  const Outcome r = s.run({"--breaklines", s.path("lines.geojson"), "-o", s.path("tin.ply"),
+                           "--diagnostics", s.path("d.gpkg"), "--constraints-out",
+                           s.path("c.geojson"), "--stats", s.path("s.json")});
+  ASSERT_EQ(r.exit_code, 0) << r;
+  EXPECT_NE(r.err.find("wrote " + s.path("d.gpkg")), std::string::npos) << r;
+  const std::string json = slurp(s.path("s.json"));
+  EXPECT_EQ(geojson_feature_count(s.path("c.geojson")), stats_number(json, "constraints"));
+  EXPECT_EQ(stats_number(json, "constraints"), 4u);
+
+  GDALAllRegister();
+  GDALDataset* ds = GDALDataset::Open(s.path("d.gpkg").c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY);
+  ASSERT_NE(ds, nullptr);
+  OGRLayer* crossings = ds->GetLayerByName("crossings");
+  ASSERT_NE(crossings, nullptr);
+  ASSERT_EQ(crossings->GetFeatureCount(), 1);
+  crossings->ResetReading();
+  OGRFeature* f = crossings->GetNextFeature();
+  ASSERT_NE(f, nullptr);
+  const OGRPoint* p = f->GetGeometryRef()->toPoint();
+  EXPECT_NEAR(p->getX(), 5, 1e-12);
+  EXPECT_NEAR(p->getY(), 5, 1e-12);
+  EXPECT_NEAR(p->getZ(), 22.5, 1e-12);
+  EXPECT_EQ(std::set<GIntBig>({f->GetFieldAsInteger64("fid_a"), f->GetFieldAsInteger64("fid_b")}),
+            std::set<GIntBig>({0, 1}));  // GDAL numbers GeoJSON features without "id" from 0
+  EXPECT_NEAR(f->GetFieldAsDouble("z_diff"), 15, 1e-12);
+  EXPECT_NE(std::string(f->GetFieldAsString("file_a")).find("lines.geojson"), std::string::npos);
+  OGRFeature::DestroyFeature(f);
+  for (const char* layer : {"merged_duplicates", "skipped_segments", "dropped_features"})
+    EXPECT_NE(ds->GetLayerByName(layer), nullptr) << layer;
+  GDALClose(ds);
+}
+
+// ---- real data: the pair_topography TIN clipped, holed, padded, trimmed; flats fixed ----------
+
+class RealSurface : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!have_shared_data()) GTEST_SKIP() << "shared data not found at " << shared_data();
+    contours_ = shared_data() + "/pair_topography/Topography_contours_1m_3d.shp";
+    las_ = shared_data() + "/las/Topography.las";
+    const auto e = vector_extent(contours_);
+    ASSERT_TRUE(e.has_value());
+    extent_ = *e;
+  }
+  std::vector<std::string> base() const {
+    return {las_, "--keep-class", "2", "--contours", contours_, "--validate"};
+  }
+  Scratch s;
+  std::string contours_, las_;
+  Extent extent_;
+};
+
+TEST_F(RealSurface, ClipEraseReplaceOnPairTopography) {
+  const Extent& e = extent_;
+  const auto clip = box(e.x(0.15), e.y(0.2), e.x(0.85), e.y(0.8));
+  const auto hole = box(e.x(0.3), e.y(0.3), e.x(0.45), e.y(0.45));
+  const auto pad = box(e.x(0.55), e.y(0.55), e.x(0.7), e.y(0.7));
+  const double pad_z = 123.25;
+  spit(s.path("clip.geojson"), polygons_geojson({clip}, 2949));
+  spit(s.path("hole.geojson"), polygons_geojson({hole}, 2949));
+  spit(s.path("pad.geojson"), polygons_geojson({pad}, 2949, pad_z));  // 3D: one z
+  std::vector<std::string> args = base();
+  args.insert(args.end(),
+              {"--clip", s.path("clip.geojson"), "--erase", s.path("hole.geojson"), "--replace",
+               s.path("pad.geojson"), "-o", s.path("tin.obj"), "--stats", s.path("s.json")});
+  const Outcome r = s.run(args);
+  ASSERT_EQ(r.exit_code, 0) << r;
+  const std::string json = slurp(s.path("s.json"));
+  EXPECT_GT(stats_number(json, "clipped_triangles"), 1000u) << json;
+  EXPECT_GT(stats_number(json, "erased_triangles"), 100u) << json;
+  EXPECT_GT(stats_number(json, "replaced_vertices"), 100u) << json;
+
+  const MeshFile m = read_mesh(s.path("tin.obj"));
+  ASSERT_EQ(m.f.size(), stats_number(json, "triangles"));
+  double area = 0;  // relative to the clip's corner: map coordinates would cancel
+  std::set<std::size_t> used;
+  for (const auto& f : m.f) {
+    const auto &p = m.v[f[0]], &q = m.v[f[1]], &t = m.v[f[2]];
+    const double px = p[0] - clip[0][0], py = p[1] - clip[0][1];
+    area += ((q[0] - clip[0][0] - px) * (t[1] - clip[0][1] - py) -
+             (q[1] - clip[0][1] - py) * (t[0] - clip[0][0] - px)) /
+            2;
+    const double cx = (p[0] + q[0] + t[0]) / 3, cy = (p[1] + q[1] + t[1]) / 3;
+    EXPECT_TRUE(in_box(clip, cx, cy)) << cx << " " << cy;
+    EXPECT_FALSE(in_box(hole, cx, cy)) << cx << " " << cy;
+    used.insert(f.begin(), f.end());
+  }
+  const double side = [&](const std::vector<std::array<double, 2>>& b) {
+    return (b[2][0] - b[0][0]) * (b[2][1] - b[0][1]);
+  }(clip) - (hole[2][0] - hole[0][0]) * (hole[2][1] - hole[0][1]);
+  EXPECT_NEAR(area, side, 1e-6 * side);
+  EXPECT_EQ(used.size(), m.v.size());  // no vertex of a removed triangle is written
+  std::size_t on_pad = 0;
+  for (const auto& v : m.v) {
+    if (v[0] >= pad[0][0] && v[0] <= pad[2][0] && v[1] >= pad[0][1] && v[1] <= pad[2][1]) {
+      EXPECT_EQ(v[2], pad_z) << v[0] << " " << v[1];
+      ++on_pad;
+    }
+  }
+  EXPECT_GT(on_pad, 100u);
+}
+
+TEST_F(RealSurface, MaxEdgeTrimsPairTopography) {
+  std::vector<std::string> args = base();
+  args.insert(args.end(), {"-o", s.path("hull.ply"), "--stats", s.path("hull.json")});
+  const Outcome hull = s.run(args);
+  ASSERT_EQ(hull.exit_code, 0) << hull;
+  const double max_edge = 5;
+  args = base();
+  args.insert(args.end(), {"-o", s.path("tin.ply"), "--ply-ascii", "--stats", s.path("s.json"),
+                           "--max-edge", "5"});
+  const Outcome r = s.run(args);
+  ASSERT_EQ(r.exit_code, 0) << r;
+  const std::string json = slurp(s.path("s.json"));
+  const std::uint64_t trimmed = stats_number(json, "trimmed_triangles");
+  EXPECT_GT(trimmed, 0u) << json;
+  EXPECT_EQ(stats_number(json, "triangles") + trimmed,
+            stats_number(slurp(s.path("hull.json")), "triangles"));
+
+  // Every triangle on the boundary of the trimmed TIN has its unconstrained edges <= 5 m.
+  const MeshFile m = read_mesh(s.path("tin.ply"));
+  std::map<std::pair<std::size_t, std::size_t>, int> uses;
+  const auto key = [](std::size_t a, std::size_t b) {
+    return std::pair<std::size_t, std::size_t>(std::min(a, b), std::max(a, b));
+  };
+  for (const auto& f : m.f)
+    for (int i = 0; i < 3; ++i) ++uses[key(f[i], f[(i + 1) % 3])];
+  std::set<std::pair<std::size_t, std::size_t>> constrained;
+  for (const auto& e : m.e) constrained.insert(key(e[0], e[1]));
+  std::size_t boundary_triangles = 0;
+  for (const auto& f : m.f) {
+    bool on_boundary = false;
+    for (int i = 0; i < 3; ++i) on_boundary |= uses[key(f[i], f[(i + 1) % 3])] == 1;
+    if (!on_boundary) continue;
+    ++boundary_triangles;
+    for (int i = 0; i < 3; ++i) {
+      const auto &p = m.v[f[i]], &q = m.v[f[(i + 1) % 3]];
+      if (constrained.count(key(f[i], f[(i + 1) % 3]))) continue;
+      EXPECT_LE(std::hypot(q[0] - p[0], q[1] - p[1]), max_edge + 1e-9);
+    }
+  }
+  EXPECT_GT(boundary_triangles, 100u);
+}
+
+TEST_F(RealSurface, FixFlatsOnLidrContours) {
+  const std::string contours = shared_data() + "/contours/Topography_lidR2016_contours_2m_3d.shp";
+  const Outcome r = s.run({"--contours", contours, "--fix-flats", "-o", s.path("tin.ply"),
+                           "--stats", s.path("s.json"), "--validate"});
+  ASSERT_EQ(r.exit_code, 0) << r;
+  EXPECT_NE(r.err.find("flat triangles:"), std::string::npos) << r;
+  const std::string json = slurp(s.path("s.json"));
+  CPLJSONDocument doc;
+  ASSERT_TRUE(doc.LoadMemory(json)) << json;
+  const CPLJSONObject root = doc.GetRoot();
+  EXPECT_TRUE(root.GetBool("flats/fixed"));
+  EXPECT_GT(root.GetLong("flats/before"), 1000);
+  EXPECT_EQ(root.GetLong("flats/after", -1), 0) << json;
+  EXPECT_EQ(root.GetLong("quality/flat_triangles", -1), 0) << json;
+  EXPECT_GT(root.GetLong("flats/vertices_added"), 0);
+  EXPECT_EQ(root.GetLong("vertices"),
+            root.GetLong("line_vertices") + root.GetLong("flats/vertices_added"));
 }
