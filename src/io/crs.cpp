@@ -349,6 +349,21 @@ CrsResult crs_from_geotiff(const GeoTiffKeys& keys) {
   return result;
 }
 
+std::string crs_of_layer(OGRSpatialReferenceH srs) {
+  if (srs == nullptr) return {};
+  const char* name = OSRGetName(srs);
+  if (name != nullptr && OSRGetAuthorityName(srs, nullptr) == nullptr &&
+      (std::strcmp(name, "Undefined geographic SRS") == 0 ||
+       std::strcmp(name, "Undefined Cartesian SRS") == 0)) {
+    return {};
+  }
+  for (const char* format : {"FORMAT=WKT2_2019", "FORMAT=WKT1"}) {
+    std::string wkt = export_wkt(srs, format);
+    if (!wkt.empty()) return wkt;
+  }
+  return {};
+}
+
 }  // namespace detail
 
 bool same_crs(const std::string& wkt_a, const std::string& wkt_b) {

@@ -1,6 +1,8 @@
-// Private to src/io: CRS helpers the LAS reader needs from crs.cpp, so that GDAL's OSR stays in
-// one file.
+// Private to src/io: CRS helpers the LAS and OGR readers need from crs.cpp, so that GDAL's OSR
+// stays in one file.
 #pragma once
+
+#include <ogr_srs_api.h>
 
 #include <cstdint>
 #include <string>
@@ -30,5 +32,11 @@ CrsResult crs_check_wkt(const std::string& wkt);
 // user-defined projections, units and datums are honoured, not only EPSG codes). A vertical-only
 // key set gives an empty wkt and a problem text.
 CrsResult crs_from_geotiff(const GeoTiffKeys& keys);
+
+// An OGR layer's CRS as WKT2 (WKT1 when OSR cannot); "" for none (SRS null), including a
+// GeoPackage layer written without a CRS, which reports one of the spec's two placeholder entries
+// (srs_id 0 "Undefined geographic SRS", -1 "Undefined Cartesian SRS"). GDAL's messages go to the
+// caller's error handler.
+std::string crs_of_layer(OGRSpatialReferenceH srs);
 
 }  // namespace tincdt::io::detail

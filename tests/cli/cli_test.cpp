@@ -26,6 +26,9 @@
 #include <string>
 #include <vector>
 
+#include "support/files.hpp"
+#include "support/mesh_files.hpp"
+
 extern char** environ;
 
 namespace {
@@ -34,24 +37,9 @@ namespace fs = std::filesystem;
 
 // ---- files ---------------------------------------------------------------------------------
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-void spit(const fs::path& p, const std::string& bytes) {
-  std::ofstream out(p, std::ios::binary | std::ios::trunc);
-  out << bytes;
-  ASSERT_TRUE(out.good()) << p;
-}
-
-std::set<std::string> listing(const fs::path& dir) {
-  std::set<std::string> names;
-  for (const auto& e : fs::directory_iterator(dir)) names.insert(e.path().filename().string());
-  return names;
-}
+using tincdt::test::names_in;
+using tincdt::test::slurp;
+using tincdt::test::spit;
 
 std::string shared_data() {
   return TINCDT_SHARED_DATA;
@@ -181,12 +169,8 @@ class Scratch {
   Scratch() {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
     const std::string name = sanitize(std::string(info->test_suite_name()) + "." + info->name());
-    dir_ = fs::path(TINCDT_TEST_TMP) / "cli" / name;
-    capture_ = fs::path(TINCDT_TEST_TMP) / "cli-capture" / name;
-    fs::remove_all(dir_);
-    fs::remove_all(capture_);
-    fs::create_directories(dir_);
-    fs::create_directories(capture_);
+    dir_ = tincdt::test::fresh_dir(fs::path(TINCDT_TEST_TMP) / "cli" / name);
+    capture_ = tincdt::test::fresh_dir(fs::path(TINCDT_TEST_TMP) / "cli-capture" / name);
   }
 
   const fs::path& dir() const { return dir_; }
@@ -244,7 +228,7 @@ void expect_failure(const Outcome& r, int code, const std::string& culprit,
     EXPECT_TRUE(std::regex_search(errors[0], std::regex(pattern, std::regex::icase)))
         << "expected /" << pattern << "/ in: " << errors[0];
   }
-  EXPECT_EQ(listing(s.dir()), files);
+  EXPECT_EQ(names_in(s.dir()), files);
 }
 
 class Cli : public ::testing::Test {
@@ -486,7 +470,7 @@ TEST_F(Cli, OutputExistsIsKeptUnlessOverwrite) {
   const Outcome r2 = s.run({s.path("a.xyz"), "-o", s.path("t.obj"), "--overwrite"});
   EXPECT_EQ(r2.exit_code, 0) << r2;
   EXPECT_NE(slurp(s.path("t.obj")), "old content\n");
-  EXPECT_EQ(listing(s.dir()), (std::set<std::string>{"a.xyz", "t.obj"}));
+  EXPECT_EQ(names_in(s.dir()), (std::set<std::string>{"a.xyz", "t.obj"}));
 }
 
 TEST_F(Cli, OutputExistsFailsBeforeReading) {
@@ -546,8 +530,8 @@ TEST_F(Cli, XyzToEveryFormatWithStats) {
     EXPECT_GT(stats_number(json, "peak_rss_bytes"), 0u);
     EXPECT_TRUE(fs::is_regular_file(out));
   }
-  EXPECT_EQ(listing(s.dir()), (std::set<std::string>{"a.xyz", "t.obj", "t.ply", "t.geojson",
-                                                     "obj.json", "ply.json", "geojson.json"}));
+  EXPECT_EQ(names_in(s.dir()), (std::set<std::string>{"a.xyz", "t.obj", "t.ply", "t.geojson",
+                                                      "obj.json", "ply.json", "geojson.json"}));
 }
 
 TEST_F(Cli, ObjCountsMatchStats) {
@@ -730,19 +714,11 @@ std::uint64_t geojson_feature_count(const std::string& path) {
 }
 
 std::optional<std::pair<std::uint64_t, std::uint64_t>> ply_counts(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::uint64_t v = 0, f = 0;
-  bool seen_v = false, seen_f = false;
-  for (std::string line; std::getline(in, line) && line != "end_header";) {
-    std::istringstream ls(line);
-    std::string word, element;
-    std::uint64_t n = 0;
-    ls >> word >> element >> n;
-    if (word == "element" && element == "vertex") v = n, seen_v = true;
-    if (word == "element" && element == "face") f = n, seen_f = true;
-  }
-  if (!seen_v || !seen_f) return std::nullopt;
-  return std::make_pair(v, f);
+  const std::string header = tincdt::test::ply_header(path);
+  const auto v = tincdt::test::ply_element_count(header, "vertex");
+  const auto f = tincdt::test::ply_element_count(header, "face");
+  if (!v || !f) return std::nullopt;
+  return std::make_pair(*v, *f);
 }
 
 TEST_P(RealData, ToObjPlyGeojson) {
@@ -782,7 +758,7 @@ TEST_P(RealData, ToObjPlyGeojson) {
     }
   }
   // Nothing but the outputs, their .prj files and the stats: no temporaries.
-  for (const std::string& name : listing(s.dir()))
+  for (const std::string& name : names_in(s.dir()))
     EXPECT_TRUE(std::regex_match(
         name, std::regex("tin_(obj|ply|geojson)\\.(obj|ply|geojson|prj)|[a-z]+\\.json")))
         << name;
@@ -815,15 +791,7 @@ INSTANTIATE_TEST_SUITE_P(Shared, RealLaz, ::testing::ValuesIn(shared_files("laz"
 namespace {
 
 std::uint64_t ply_edge_count(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  for (std::string line; std::getline(in, line) && line != "end_header";) {
-    std::istringstream ls(line);
-    std::string word, element;
-    std::uint64_t n = 0;
-    ls >> word >> element >> n;
-    if (word == "element" && element == "edge") return n;
-  }
-  return 0;
+  return tincdt::test::ply_element_count(tincdt::test::ply_header(path), "edge").value_or(0);
 }
 
 // Two 3D lines crossing at (5, 5): z 10 -> 20 along one, 30 -> 30 along the other.
@@ -966,53 +934,8 @@ std::vector<std::array<double, 2>> box(double x0, double y0, double x1, double y
 }
 
 // An ASCII PLY or an OBJ: vertices, faces (0-based) and PLY edges.
-struct MeshFile {
-  std::vector<std::array<double, 3>> v;
-  std::vector<std::array<std::size_t, 3>> f;
-  std::vector<std::array<std::size_t, 2>> e;
-};
-
-MeshFile read_mesh(const std::string& path) {
-  MeshFile m;
-  std::istringstream in(slurp(path));
-  if (fs::path(path).extension() == ".obj") {
-    for (std::string line; std::getline(in, line);) {
-      std::istringstream ls(line);
-      std::string tag;
-      ls >> tag;
-      if (tag == "v") {
-        std::array<double, 3> v{};
-        ls >> v[0] >> v[1] >> v[2];
-        m.v.push_back(v);
-      } else if (tag == "f") {
-        std::array<std::size_t, 3> f{};
-        ls >> f[0] >> f[1] >> f[2];
-        for (auto& i : f) --i;
-        m.f.push_back(f);
-      }
-    }
-    return m;
-  }
-  std::size_t nv = 0, nf = 0, ne = 0;
-  for (std::string line; std::getline(in, line) && line != "end_header";) {
-    std::istringstream ls(line);
-    std::string word, element;
-    std::size_t n = 0;
-    ls >> word >> element >> n;
-    if (word != "element") continue;
-    (element == "vertex" ? nv : element == "face" ? nf : ne) = n;
-  }
-  m.v.resize(nv);
-  for (auto& v : m.v) in >> v[0] >> v[1] >> v[2];
-  m.f.resize(nf);
-  for (auto& f : m.f) {
-    int three = 0;
-    in >> three >> f[0] >> f[1] >> f[2];
-  }
-  m.e.resize(ne);
-  for (auto& e : m.e) in >> e[0] >> e[1];
-  return m;
-}
+using tincdt::test::MeshFile;
+using tincdt::test::read_mesh;
 
 bool in_box(const std::vector<std::array<double, 2>>& b, double x, double y, double margin = 0) {
   return x > b[0][0] + margin && x < b[2][0] - margin && y > b[0][1] + margin &&

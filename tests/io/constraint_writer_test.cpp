@@ -11,10 +11,8 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
-#include <fstream>
 #include <limits>
 #include <set>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -25,6 +23,9 @@
 #include "io/crs.hpp"
 #include "io/tin_writer.hpp"
 #include "mesh/triangulation.hpp"
+#include "support/files.hpp"
+#include "support/meshes.hpp"
+#include "support/vector_files.hpp"
 
 namespace tincdt::io {
 namespace {
@@ -32,39 +33,21 @@ namespace {
 namespace fs = std::filesystem;
 using mesh::kInfinite;
 using mesh::Triangulation;
-
-constexpr double kX0 = 500000.123456789;
-constexpr double kY0 = 4000000.987654321;
+using test::kX0;
+using test::kY0;
+using test::names_in;
+using test::slurp;
+using test::spit;
 
 // ---- meshes --------------------------------------------------------------------------------
 
-// A unit square at UTM magnitude, 0 (SW), 1 (SE), 2 (NE), 3 (NW): triangles (0, 1, 2) and
-// (0, 2, 3), closed by four ghosts; the diagonal 0-2 and the hull edges 0-1 and 2-3 constrained.
+// The unit square of test::unit_square (0 SW, 1 SE, 2 NE, 3 NW; triangles (0, 1, 2) and
+// (0, 2, 3), closed by four ghosts) with the diagonal 0-2 and the hull edges 0-1 and 2-3
+// constrained.
 Triangulation unit_square() {
-  Triangulation tin;
-  tin.add_vertex({kX0, kY0}, 123.456789012345);
-  tin.add_vertex({kX0 + 1, kY0}, 124.1);
-  tin.add_vertex({kX0 + 1, kY0 + 1}, 0.1 + 0.2);
-  tin.add_vertex({kX0, kY0 + 1}, -3.0e-7);
-  tin.add_triangle(0, 1, 2);          // half-edges 0: 0->1, 1: 1->2, 2: 2->0
-  tin.add_triangle(0, 2, 3);          // 3: 0->2, 4: 2->3, 5: 3->0
-  tin.add_triangle(1, 0, kInfinite);  // ghosts outside hull edges 0->1, 1->2, 2->3, 3->0
-  tin.add_triangle(2, 1, kInfinite);
-  tin.add_triangle(3, 2, kInfinite);
-  tin.add_triangle(0, 3, kInfinite);
-  tin.link(2, 3);
-  tin.link(0, 6);
-  tin.link(1, 9);
-  tin.link(4, 12);
-  tin.link(5, 15);
-  tin.link(7, 17);   // 0 -> inf with inf -> 0
-  tin.link(10, 8);   // 1
-  tin.link(13, 11);  // 2
-  tin.link(16, 14);  // 3
-  tin.recount();
-  tin.set_constrained(2, true);
-  tin.set_constrained(0, true);
-  tin.set_constrained(4, true);
+  Triangulation tin = test::unit_square(/*constrain_diagonal=*/true);
+  tin.set_constrained(0, true);  // 0 -> 1
+  tin.set_constrained(4, true);  // 2 -> 3
   return tin;
 }
 
@@ -81,30 +64,7 @@ std::vector<ConstraintFeatureInfo> square_features() {
 // ---- files ---------------------------------------------------------------------------------
 
 std::string scratch() {
-  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  const fs::path dir = fs::path(TINCDT_TEST_TMP) / "constraint_writer" /
-                       (std::string(info->test_suite_name()) + "." + info->name());
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir.string();
-}
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-void spit(const std::string& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-}
-
-std::set<std::string> names_in(const std::string& dir) {
-  std::set<std::string> names;
-  for (const auto& entry : fs::directory_iterator(dir)) names.insert(entry.path().filename());
-  return names;
+  return test::scratch_dir("constraint_writer");
 }
 
 std::uint64_t bits(double v) {
@@ -113,19 +73,8 @@ std::uint64_t bits(double v) {
 
 // ---- reading back with GDAL ----------------------------------------------------------------
 
-struct GeoJson {
-  explicit GeoJson(const std::string& path) {
-    GDALAllRegister();
-    const char* const drivers[] = {"GeoJSON", nullptr};
-    ds = GDALOpenEx(path.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY, drivers, nullptr, nullptr);
-  }
-  ~GeoJson() {
-    if (ds != nullptr) GDALClose(ds);
-  }
-  GeoJson(const GeoJson&) = delete;
-  GeoJson& operator=(const GeoJson&) = delete;
-  OGRLayerH layer() const { return GDALDatasetGetLayer(ds, 0); }
-  GDALDatasetH ds = nullptr;
+struct GeoJson : test::VectorFile {
+  explicit GeoJson(const std::string& path) : VectorFile(path, "GeoJSON") {}
 };
 
 struct Line {

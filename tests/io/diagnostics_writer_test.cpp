@@ -13,11 +13,9 @@
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <limits>
 #include <map>
 #include <set>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -28,11 +26,16 @@
 #include "io/crs.hpp"
 #include "io/diagnostics_writer.hpp"
 #include "io/line_reader.hpp"
+#include "support/files.hpp"
+#include "support/vector_files.hpp"
 
 namespace tincdt::io {
 namespace {
 
 namespace fs = std::filesystem;
+using test::names_in;
+using test::slurp;
+using test::spit;
 using ::testing::AnyOf;
 using ::testing::HasSubstr;
 
@@ -40,30 +43,7 @@ constexpr double kX0 = 500000.123456789;
 constexpr double kY0 = 4000000.987654321;
 
 std::string scratch() {
-  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  const fs::path dir = fs::path(TINCDT_TEST_TMP) / "diagnostics_writer" /
-                       (std::string(info->test_suite_name()) + "." + info->name());
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir.string();
-}
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-void spit(const std::string& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-}
-
-std::set<std::string> names_in(const std::string& dir) {
-  std::set<std::string> names;
-  for (const auto& entry : fs::directory_iterator(dir)) names.insert(entry.path().filename());
-  return names;
+  return test::scratch_dir("diagnostics_writer");
 }
 
 // A sample of every kind, at UTM magnitude.
@@ -83,19 +63,8 @@ Diagnostics sample() {
 
 // ---- reading back with GDAL ----------------------------------------------------------------
 
-struct Gpkg {
-  explicit Gpkg(const std::string& path) {
-    GDALAllRegister();
-    const char* const drivers[] = {"GPKG", nullptr};
-    ds = GDALOpenEx(path.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY, drivers, nullptr, nullptr);
-  }
-  ~Gpkg() {
-    if (ds != nullptr) GDALClose(ds);
-  }
-  Gpkg(const Gpkg&) = delete;
-  Gpkg& operator=(const Gpkg&) = delete;
-  OGRLayerH layer(const char* name) const { return GDALDatasetGetLayerByName(ds, name); }
-  GDALDatasetH ds = nullptr;
+struct Gpkg : test::VectorFile {
+  explicit Gpkg(const std::string& path) : VectorFile(path, "GPKG") {}
 };
 
 // A feature as read back: location (if any) and fields as text, by name.

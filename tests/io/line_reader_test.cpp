@@ -1,19 +1,13 @@
 // OGR line reader, against the real contour files of shared/data (see its PROVENANCE.md for the
 // facts checked here) and against small vector sources that the tests write with OGR.
 
-#include <cpl_conv.h>
-#include <cpl_error.h>
-#include <gdal.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-#include <ogr_api.h>
-#include <ogr_srs_api.h>
 
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
-#include <limits>
 #include <optional>
 #include <set>
 #include <string>
@@ -23,6 +17,7 @@
 #include "core/types.hpp"
 #include "io/crs.hpp"
 #include "io/line_reader.hpp"
+#include "support/vector_files.hpp"
 
 namespace tincdt::io {
 namespace {
@@ -47,72 +42,13 @@ std::string data(const char* relative) {
 
 // ---- synthetic sources, written with OGR ----
 
-struct Feat {
-  std::string wkt;             // empty = no geometry
-  std::optional<double> elev;  // nullopt = NULL
-  std::int64_t fid = -1;       // -1 = let the driver choose
-  std::string name = "x";      // a text attribute
-  int nan_vertex = -1;         // set this vertex's x to NaN after parsing the WKT
-};
-
-struct Layer {
-  std::string name;
-  std::vector<Feat> features;
-  int epsg = 0;  // 0 = no CRS
-};
+using Feat = test::VectorFeature;  // the text attribute is NAME
+using Layer = test::VectorLayer;
 
 // Writes LAYERS to a fresh file NAME in the scratch folder with DRIVER; returns its path.
 std::string write_vector(const std::string& name, const std::vector<Layer>& layers,
                          const char* driver_name = "GPKG") {
-  GDALAllRegister();
-  fs::create_directories(kTmp);
-  const fs::path path = kTmp / name;
-  fs::remove(path);
-  GDALDriverH driver = GDALGetDriverByName(driver_name);
-  EXPECT_NE(driver, nullptr) << driver_name;
-  GDALDatasetH ds = GDALCreate(driver, path.c_str(), 0, 0, 0, GDT_Unknown, nullptr);
-  EXPECT_NE(ds, nullptr) << CPLGetLastErrorMsg();
-  if (ds == nullptr) return path.string();
-  for (const Layer& spec : layers) {
-    OGRSpatialReferenceH srs = nullptr;
-    if (spec.epsg != 0) {
-      srs = OSRNewSpatialReference(nullptr);
-      OSRImportFromEPSG(srs, spec.epsg);
-    }
-    OGRLayerH layer = GDALDatasetCreateLayer(ds, spec.name.c_str(), srs, wkbUnknown, nullptr);
-    if (srs != nullptr) OSRRelease(srs);
-    EXPECT_NE(layer, nullptr) << CPLGetLastErrorMsg();
-    if (layer == nullptr) continue;
-    OGRFieldDefnH elev = OGR_Fld_Create("ELEV", OFTReal);
-    OGRFieldDefnH text = OGR_Fld_Create("NAME", OFTString);
-    OGR_L_CreateField(layer, elev, TRUE);
-    OGR_L_CreateField(layer, text, TRUE);
-    OGR_Fld_Destroy(elev);
-    OGR_Fld_Destroy(text);
-    for (const Feat& f : spec.features) {
-      OGRFeatureH feature = OGR_F_Create(OGR_L_GetLayerDefn(layer));
-      if (f.fid >= 0) OGR_F_SetFID(feature, f.fid);
-      if (f.elev) {
-        OGR_F_SetFieldDouble(feature, 0, *f.elev);
-      } else {
-        OGR_F_SetFieldNull(feature, 0);
-      }
-      OGR_F_SetFieldString(feature, 1, f.name.c_str());
-      if (!f.wkt.empty()) {
-        OGRGeometryH g = nullptr;
-        char* wkt = const_cast<char*>(f.wkt.c_str());
-        EXPECT_EQ(OGR_G_CreateFromWkt(&wkt, nullptr, &g), OGRERR_NONE) << f.wkt;
-        if (g != nullptr && f.nan_vertex >= 0) {
-          OGR_G_SetPoint(g, f.nan_vertex, std::numeric_limits<double>::quiet_NaN(), 0.0, 1.0);
-        }
-        OGR_F_SetGeometryDirectly(feature, g);
-      }
-      EXPECT_EQ(OGR_L_CreateFeature(layer, feature), OGRERR_NONE) << CPLGetLastErrorMsg();
-      OGR_F_Destroy(feature);
-    }
-  }
-  GDALClose(ds);
-  return path.string();
+  return test::write_vector(kTmp / name, layers, driver_name, "NAME");
 }
 
 // One layer named "lines" with FEATURES.

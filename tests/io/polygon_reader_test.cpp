@@ -1,18 +1,12 @@
 // Polygon and draped-line reader (--clip, --erase, --replace, --soft-lines) on small vector
 // sources written by the tests with OGR.
-#include <cpl_conv.h>
-#include <cpl_error.h>
-#include <gdal.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-#include <ogr_api.h>
-#include <ogr_srs_api.h>
 
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
-#include <functional>
 #include <optional>
 #include <string>
 #include <utility>
@@ -22,21 +16,22 @@
 #include "core/types.hpp"
 #include "io/crs.hpp"
 #include "io/polygon_reader.hpp"
+#include "support/errors.hpp"
+#include "support/vector_files.hpp"
 
 namespace tincdt::io {
 namespace {
 
 namespace fs = std::filesystem;
+using test::error_of;
 using ::testing::HasSubstr;
 
 const fs::path kTmp = fs::path(TINCDT_TEST_TMP) / "polygon_reader";
 
-struct Feat {
+// A feature with its WKT, ELEV and the text attribute LEVEL.
+struct Feat : test::VectorFeature {
   Feat(std::string w, std::optional<double> e = std::nullopt, std::string l = "")
-      : wkt(std::move(w)), elev(e), level(std::move(l)) {}
-  std::string wkt;             // empty = no geometry
-  std::optional<double> elev;  // nullopt = NULL
-  std::string level;           // a text attribute
+      : VectorFeature{std::move(w), e, -1, std::move(l)} {}
 };
 
 // Options for replace polygons: one z per feature, from FIELD, M values or the geometry.
@@ -56,61 +51,11 @@ struct Layer {
 
 // Writes LAYERS to a fresh GeoPackage NAME in the scratch folder; returns its path.
 std::string write_gpkg(const std::string& name, const std::vector<Layer>& layers) {
-  GDALAllRegister();
-  fs::create_directories(kTmp);
-  const fs::path path = kTmp / name;
-  fs::remove(path);
-  GDALDatasetH ds =
-      GDALCreate(GDALGetDriverByName("GPKG"), path.c_str(), 0, 0, 0, GDT_Unknown, nullptr);
-  EXPECT_NE(ds, nullptr) << CPLGetLastErrorMsg();
-  if (ds == nullptr) return path.string();
-  for (const Layer& spec : layers) {
-    OGRSpatialReferenceH srs = nullptr;
-    if (spec.epsg != 0) {
-      srs = OSRNewSpatialReference(nullptr);
-      OSRImportFromEPSG(srs, spec.epsg);
-    }
-    OGRLayerH layer = GDALDatasetCreateLayer(ds, spec.name.c_str(), srs, wkbUnknown, nullptr);
-    if (srs != nullptr) OSRRelease(srs);
-    EXPECT_NE(layer, nullptr) << CPLGetLastErrorMsg();
-    if (layer == nullptr) continue;
-    for (const auto& [field, type] : {std::pair{"ELEV", OFTReal}, std::pair{"LEVEL", OFTString}}) {
-      OGRFieldDefnH f = OGR_Fld_Create(field, type);
-      OGR_L_CreateField(layer, f, TRUE);
-      OGR_Fld_Destroy(f);
-    }
-    for (const Feat& f : spec.features) {
-      OGRFeatureH feature = OGR_F_Create(OGR_L_GetLayerDefn(layer));
-      if (f.elev)
-        OGR_F_SetFieldDouble(feature, 0, *f.elev);
-      else
-        OGR_F_SetFieldNull(feature, 0);
-      OGR_F_SetFieldString(feature, 1, f.level.c_str());
-      if (!f.wkt.empty()) {
-        OGRGeometryH g = nullptr;
-        char* wkt = const_cast<char*>(f.wkt.c_str());
-        EXPECT_EQ(OGR_G_CreateFromWkt(&wkt, nullptr, &g), OGRERR_NONE) << f.wkt;
-        OGR_F_SetGeometryDirectly(feature, g);
-      }
-      EXPECT_EQ(OGR_L_CreateFeature(layer, feature), OGRERR_NONE) << CPLGetLastErrorMsg();
-      OGR_F_Destroy(feature);
-    }
-  }
-  GDALClose(ds);
-  return path.string();
+  return test::write_vector(kTmp / name, layers, "GPKG", "LEVEL");
 }
 
 std::string one_layer(const std::string& name, const std::vector<Feat>& features, int epsg = 0) {
   return write_gpkg(name, {{"shapes", features, epsg}});
-}
-
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "no error";
 }
 
 TEST(PolygonReader, RingsOfAPolygonWithAHole) {

@@ -6,29 +6,26 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <set>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "delaunay/delaunay.hpp"
 #include "io/tin_writer.hpp"
+#include "support/files.hpp"
+#include "support/mesh_files.hpp"
 
 namespace tincdt::io {
 namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path kTmp = fs::path(TINCDT_TEST_TMP) / "writer_compaction";
+using test::read_obj;
+using test::read_ply_ascii;
+using test::slurp;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+const fs::path kTmp = fs::path(TINCDT_TEST_TMP) / "writer_compaction";
 
 // A 6 x 6 grid (slightly jittered), every interior grid edge on row y = 2 constrained.
 mesh::Triangulation grid_tin() {
@@ -49,56 +46,8 @@ mesh::Triangulation grid_tin() {
   return tin;
 }
 
-struct Written {
-  std::vector<std::array<double, 3>> v;
-  std::vector<std::array<std::uint32_t, 3>> f;
-  std::vector<std::array<std::uint32_t, 2>> e;
-};
-
-Written read_ply_ascii(const fs::path& p) {
-  Written w;
-  std::istringstream in(slurp(p));
-  std::size_t nv = 0, nf = 0, ne = 0;
-  for (std::string line; std::getline(in, line) && line != "end_header";) {
-    std::istringstream ls(line);
-    std::string word, element;
-    std::size_t n = 0;
-    ls >> word >> element >> n;
-    if (word != "element") continue;
-    (element == "vertex" ? nv : element == "face" ? nf : ne) = n;
-  }
-  w.v.resize(nv);
-  for (auto& v : w.v) in >> v[0] >> v[1] >> v[2];
-  w.f.resize(nf);
-  for (auto& f : w.f) {
-    int three = 0;
-    in >> three >> f[0] >> f[1] >> f[2];
-  }
-  w.e.resize(ne);
-  for (auto& e : w.e) in >> e[0] >> e[1];
-  return w;
-}
-
-Written read_obj(const fs::path& p) {
-  Written w;
-  std::istringstream in(slurp(p));
-  for (std::string line; std::getline(in, line);) {
-    std::istringstream ls(line);
-    std::string tag;
-    ls >> tag;
-    if (tag == "v") {
-      std::array<double, 3> v{};
-      ls >> v[0] >> v[1] >> v[2];
-      w.v.push_back(v);
-    } else if (tag == "f") {
-      std::array<std::uint32_t, 3> f{};
-      ls >> f[0] >> f[1] >> f[2];
-      for (auto& i : f) --i;
-      w.f.push_back(f);
-    }
-  }
-  return w;
-}
+// A written PLY or OBJ, read back.
+using Written = test::MeshFile;
 
 // The triangles as sets of corner heights (unique per vertex here), so that two numberings
 // compare.
@@ -171,9 +120,9 @@ TEST_F(Compaction, PlyAndObjCarryOnlyUsedVertices) {
     }
     const Written w = read_ply_ascii(ply);
     ASSERT_EQ(w.v.size(), used.size());
-    std::set<std::uint32_t> referenced;
+    std::set<std::size_t> referenced;
     for (const auto& f : w.f)
-      for (const std::uint32_t i : f) {
+      for (const std::size_t i : f) {
         ASSERT_LT(i, w.v.size());
         referenced.insert(i);
       }

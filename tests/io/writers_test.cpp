@@ -15,14 +15,11 @@
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <limits>
 #include <map>
 #include <memory>
 #include <set>
-#include <sstream>
 #include <string>
-#include <unordered_map>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -32,62 +29,25 @@
 #include "io/output_file.hpp"
 #include "io/tin_writer.hpp"
 #include "mesh/triangulation.hpp"
+#include "support/files.hpp"
+#include "support/mesh_files.hpp"
+#include "support/meshes.hpp"
+#include "support/vector_files.hpp"
 
 namespace tincdt::io {
 namespace {
 
 namespace fs = std::filesystem;
-using mesh::kInfinite;
 using mesh::Triangulation;
-
-constexpr double kX0 = 500000.123456789;
-constexpr double kY0 = 4000000.987654321;
+using test::close_with_ghosts;
+using test::kX0;
+using test::kY0;
+using test::names_in;
+using test::slurp;
+using test::spit;
+using test::unit_square;
 
 // ---- meshes --------------------------------------------------------------------------------
-
-// Links the twins of the real triangles and closes the hull with ghost triangles.
-void close_with_ghosts(Triangulation& tin) {
-  auto key = [](VertexId a, VertexId b) { return (std::uint64_t{a} << 32) | b; };
-  std::unordered_map<std::uint64_t, EdgeId> edge_of;
-  const auto real_slots = static_cast<TriangleId>(tin.triangle_slots());
-  for (TriangleId t = 0; t < real_slots; ++t)
-    for (EdgeId e = 3 * t; e < 3 * t + 3; ++e) edge_of[key(tin.origin(e), tin.dest(e))] = e;
-  std::vector<std::pair<VertexId, VertexId>> boundary;  // a -> b with no twin
-  for (const auto& [k, e] : edge_of) {
-    const auto a = static_cast<VertexId>(k >> 32), b = static_cast<VertexId>(k & 0xffffffffu);
-    const auto it = edge_of.find(key(b, a));
-    if (it != edge_of.end()) {
-      if (a < b) tin.link(e, it->second);
-    } else {
-      boundary.emplace_back(a, b);
-    }
-  }
-  std::unordered_map<VertexId, TriangleId> ghost_from;  // first corner -> ghost
-  for (const auto& [a, b] : boundary) {
-    const TriangleId g = tin.add_triangle(b, a, kInfinite);
-    tin.link(3 * g, edge_of.at(key(a, b)));
-    ghost_from[b] = g;
-  }
-  for (const auto& [first, g] : ghost_from) {
-    const VertexId a = tin.triangle(g)[1];  // ghost (first, a, inf): a -> inf meets inf -> a
-    tin.link(3 * g + 1, 3 * ghost_from.at(a) + 2);
-  }
-}
-
-// A unit square at UTM magnitude: two triangles, four ghosts; optionally its diagonal 0-2
-// constrained.
-Triangulation unit_square(bool constrain_diagonal = false) {
-  Triangulation tin;
-  tin.add_vertex({kX0, kY0}, 123.456789012345);
-  tin.add_vertex({kX0 + 1, kY0}, 124.1);
-  tin.add_vertex({kX0 + 1, kY0 + 1}, 0.1 + 0.2);
-  tin.add_vertex({kX0, kY0 + 1}, -3.0e-7);
-  tin.add_triangle(0, 1, 2);
-  tin.add_triangle(0, 2, 3);
-  close_with_ghosts(tin);
-  if (constrain_diagonal) tin.set_constrained(2, true);  // edge 2 of triangle 0 runs 2 -> 0
-  return tin;
-}
 
 // An nx by ny grid of vertices, half-metre spacing, with irregular heights.
 Triangulation grid(std::uint32_t nx, std::uint32_t ny) {
@@ -117,30 +77,7 @@ std::vector<std::array<VertexId, 3>> faces_of(const Triangulation& tin) {
 
 // A fresh, empty scratch folder for the current test.
 std::string scratch() {
-  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  const fs::path dir = fs::path(TINCDT_TEST_TMP) / "writers" /
-                       (std::string(info->test_suite_name()) + "." + info->name());
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir.string();
-}
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-void spit(const std::string& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-}
-
-std::set<std::string> names_in(const std::string& dir) {
-  std::set<std::string> names;
-  for (const auto& entry : fs::directory_iterator(dir)) names.insert(entry.path().filename());
-  return names;
+  return test::scratch_dir("writers");
 }
 
 std::uint64_t bits(double v) {
@@ -250,12 +187,6 @@ T load_le(const char* p) {
   return v;
 }
 
-std::uint64_t header_count(const std::string& header, const std::string& element) {
-  const auto at = header.find("element " + element + " ");
-  if (at == std::string::npos) return 0;
-  return std::stoull(header.substr(at + element.size() + 9));
-}
-
 PlyFile read_ply(const std::string& path) {
   PlyFile ply;
   const std::string data = slurp(path);
@@ -267,9 +198,9 @@ PlyFile read_ply(const std::string& path) {
   ply.header = data.substr(0, end + 11);
   const std::string body = data.substr(end + 11);
   ply.body_bytes = body.size();
-  const auto nv = header_count(ply.header, "vertex");
-  const auto nf = header_count(ply.header, "face");
-  const auto ne = header_count(ply.header, "edge");
+  const auto nv = test::ply_element_count(ply.header, "vertex").value_or(0);
+  const auto nf = test::ply_element_count(ply.header, "face").value_or(0);
+  const auto ne = test::ply_element_count(ply.header, "edge").value_or(0);
   if (ply.header.find("format binary_little_endian 1.0\n") != std::string::npos) {
     const char* p = body.data();
     const char* const stop = body.data() + body.size();
@@ -313,19 +244,8 @@ PlyFile read_ply(const std::string& path) {
 }
 
 // A GeoJSON file opened by GDAL's vector driver.
-struct GdalVector {
-  explicit GdalVector(const std::string& path) {
-    GDALAllRegister();
-    const char* const drivers[] = {"GeoJSON", nullptr};
-    ds = GDALOpenEx(path.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY, drivers, nullptr, nullptr);
-  }
-  ~GdalVector() {
-    if (ds != nullptr) GDALClose(ds);
-  }
-  GdalVector(const GdalVector&) = delete;
-  GdalVector& operator=(const GdalVector&) = delete;
-  OGRLayerH layer() const { return GDALDatasetGetLayer(ds, 0); }
-  GDALDatasetH ds = nullptr;
+struct GdalVector : test::VectorFile {
+  explicit GdalVector(const std::string& path) : VectorFile(path, "GeoJSON") {}
 };
 
 struct GeoJsonTriangle {

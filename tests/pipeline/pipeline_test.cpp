@@ -9,10 +9,8 @@
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <set>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -20,29 +18,16 @@
 #include "delaunay/delaunay.hpp"
 #include "io/crs.hpp"
 #include "pipeline/build.hpp"
+#include "support/files.hpp"
+#include "support/mesh_files.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 using namespace tincdt;
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-void spit(const fs::path& p, const std::string& bytes) {
-  std::ofstream out(p, std::ios::binary | std::ios::trunc);
-  out << bytes;
-}
-
-std::set<std::string> listing(const fs::path& dir) {
-  std::set<std::string> names;
-  for (const auto& e : fs::directory_iterator(dir)) names.insert(e.path().filename().string());
-  return names;
-}
+using test::names_in;
+using test::slurp;
+using test::spit;
 
 std::string xyz_text(const std::vector<Point3>& points) {
   std::string s;
@@ -78,26 +63,10 @@ struct Obj {
 };
 
 Obj read_obj(const fs::path& p) {
+  const test::MeshFile m = test::read_obj(p);
   Obj obj;
-  std::istringstream in(slurp(p));
-  for (std::string line; std::getline(in, line);) {
-    std::istringstream ls(line);
-    std::string tag;
-    ls >> tag;
-    if (tag == "v") {
-      Point3 v{};
-      ls >> v.x >> v.y >> v.z;
-      obj.vertices.push_back(v);
-    } else if (tag == "f") {
-      std::array<std::size_t, 3> f{};
-      for (auto& i : f) {
-        std::string tok;
-        ls >> tok;
-        i = std::stoul(tok.substr(0, tok.find('/'))) - 1;
-      }
-      obj.faces.push_back(f);
-    }
-  }
+  for (const auto& v : m.v) obj.vertices.push_back({v[0], v[1], v[2]});
+  obj.faces = m.f;
   return obj;
 }
 
@@ -115,9 +84,7 @@ class Pipeline : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::path(TINCDT_TEST_TMP) / "pipeline" / info->name();
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = test::fresh_dir(fs::path(TINCDT_TEST_TMP) / "pipeline" / info->name());
   }
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
 
@@ -185,7 +152,7 @@ TEST_F(Pipeline, JitteredGridCountsAndMeshEqualsRetriangulation) {
     reference.insert(canonical({a.x, a.y}, {b.x, b.y}, {c.x, c.y}));
   });
   EXPECT_EQ(written, reference);
-  EXPECT_EQ(listing(dir_), (std::set<std::string>{"in.xyz", "tin.obj"}));
+  EXPECT_EQ(names_in(dir_), (std::set<std::string>{"in.xyz", "tin.obj"}));
 }
 
 TEST_F(Pipeline, EveryFormat) {
@@ -285,7 +252,7 @@ TEST_F(Pipeline, ReprojectionNeedsGeojson) {
   auto o = options_for(square_with_jittered_grid(3, 0, 0), "t.ply");
   o.write.target_crs_wkt = "GEOGCS[\"WGS 84\"]";
   EXPECT_THROW(pipeline::build(o), OutputError);
-  EXPECT_EQ(listing(dir_), std::set<std::string>{"in.xyz"});
+  EXPECT_EQ(names_in(dir_), std::set<std::string>{"in.xyz"});
 }
 
 TEST_F(Pipeline, EmptyInputNamesTheFile) {
@@ -299,7 +266,7 @@ TEST_F(Pipeline, EmptyInputNamesTheFile) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find(path("empty.xyz")), std::string::npos) << e.what();
   }
-  EXPECT_EQ(listing(dir_), std::set<std::string>{"empty.xyz"});
+  EXPECT_EQ(names_in(dir_), std::set<std::string>{"empty.xyz"});
 }
 
 TEST_F(Pipeline, TooFewPointsNamesTheFile) {
@@ -338,7 +305,7 @@ TEST_F(Pipeline, CancelLeavesNothing) {
     o.stats_path = path("s.json");
     const ProgressFn progress = [&](std::string_view stage, double) { return stage != at; };
     EXPECT_THROW(pipeline::build(o, &progress), Cancelled);
-    EXPECT_EQ(listing(dir_), std::set<std::string>{"in.xyz"});
+    EXPECT_EQ(names_in(dir_), std::set<std::string>{"in.xyz"});
   }
 }
 
@@ -422,7 +389,7 @@ TEST_F(Pipeline, DifferentCrsIsAnErrorNamingBoth) {
     EXPECT_NE(m.find("EPSG:2949"), std::string::npos) << m;
     EXPECT_NE(m.find("EPSG:26919"), std::string::npos) << m;
   }
-  EXPECT_TRUE(listing(dir_).empty());
+  EXPECT_TRUE(names_in(dir_).empty());
 }
 
 TEST_F(Pipeline, FileWithoutCrsTakesTheKnownOneWithAWarning) {

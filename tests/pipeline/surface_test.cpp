@@ -14,39 +14,31 @@
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <functional>
 #include <map>
 #include <numbers>
 #include <set>
-#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "core/error.hpp"
 #include "pipeline/build.hpp"
+#include "support/errors.hpp"
+#include "support/files.hpp"
+#include "support/mesh_files.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 using namespace tincdt;
+using test::error_of;
+using test::slurp;
+using test::spit;
 
 constexpr double kA = 0.37, kB = -0.21, kC = 12.5;
 double plane(double x, double y) {
   return kA * x + kB * y + kC;
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-void spit(const fs::path& p, const std::string& bytes) {
-  std::ofstream out(p, std::ios::binary | std::ios::trunc);
-  out << bytes;
 }
 
 // A jittered (n+1) x (n+1) grid on [0, size]^2 (the border unjittered, so the hull is the
@@ -157,92 +149,15 @@ bool inside(const std::vector<Ring>& rings, double x, double y) {
 
 // ---- reading the outputs ------------------------------------------------------------------------
 
-struct Mesh {
-  std::vector<std::array<double, 3>> v;
-  std::vector<std::array<std::size_t, 3>> f;
-  std::vector<std::array<std::size_t, 2>> e;  // PLY edges
-
-  double area() const {
-    double a = 0;
-    for (const auto& t : f) a += signed_area(t);
-    return a;
-  }
-  double signed_area(const std::array<std::size_t, 3>& t) const {
-    const auto &p = v[t[0]], &q = v[t[1]], &r = v[t[2]];
-    return ((q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0])) / 2;
-  }
-  std::array<double, 2> centroid(const std::array<std::size_t, 3>& t) const {
-    return {(v[t[0]][0] + v[t[1]][0] + v[t[2]][0]) / 3, (v[t[0]][1] + v[t[1]][1] + v[t[2]][1]) / 3};
-  }
-  std::size_t used_vertices() const {
-    std::set<std::size_t> used;
-    for (const auto& t : f) used.insert(t.begin(), t.end());
-    return used.size();
-  }
-  double max_edge_length(const std::array<std::size_t, 3>& t) const {
-    double m = 0;
-    for (int i = 0; i < 3; ++i) {
-      const auto &p = v[t[i]], &q = v[t[(i + 1) % 3]];
-      m = std::max(m, std::hypot(q[0] - p[0], q[1] - p[1]));
-    }
-    return m;
-  }
-};
-
-Mesh read_obj(const fs::path& p) {
-  Mesh m;
-  std::istringstream in(slurp(p));
-  for (std::string text; std::getline(in, text);) {
-    std::istringstream ls(text);
-    std::string tag;
-    ls >> tag;
-    if (tag == "v") {
-      std::array<double, 3> v{};
-      ls >> v[0] >> v[1] >> v[2];
-      m.v.push_back(v);
-    } else if (tag == "f") {
-      std::array<std::size_t, 3> f{};
-      ls >> f[0] >> f[1] >> f[2];
-      for (auto& i : f) --i;
-      m.f.push_back(f);
-    }
-  }
-  return m;
-}
-
-Mesh read_ply_ascii(const fs::path& p) {
-  Mesh m;
-  std::istringstream in(slurp(p));
-  std::size_t nv = 0, nf = 0, ne = 0;
-  for (std::string text; std::getline(in, text) && text != "end_header";) {
-    std::istringstream ls(text);
-    std::string word, element;
-    std::size_t n = 0;
-    ls >> word >> element >> n;
-    if (word != "element") continue;
-    if (element == "vertex") nv = n;
-    if (element == "face") nf = n;
-    if (element == "edge") ne = n;
-  }
-  m.v.resize(nv);
-  for (auto& v : m.v) in >> v[0] >> v[1] >> v[2];
-  m.f.resize(nf);
-  for (auto& f : m.f) {
-    int three = 0;
-    in >> three >> f[0] >> f[1] >> f[2];
-  }
-  m.e.resize(ne);
-  for (auto& e : m.e) in >> e[0] >> e[1];
-  return m;
-}
+using Mesh = test::MeshFile;
+using test::read_obj;
+using test::read_ply_ascii;
 
 class Surface : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::path(TINCDT_TEST_TMP) / "surface" / info->name();
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = test::fresh_dir(fs::path(TINCDT_TEST_TMP) / "surface" / info->name());
   }
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
   std::string write(const std::string& name, const std::string& text) const {
@@ -261,15 +176,6 @@ class Surface : public ::testing::Test {
 
   fs::path dir_;
 };
-
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "no error";
-}
 
 // ---- soft lines ---------------------------------------------------------------------------------
 
