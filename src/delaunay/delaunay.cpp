@@ -5,6 +5,8 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "core/memory.hpp"
+#include "delaunay/parallel_delaunay.hpp"
 #include "delaunay/spatial_order.hpp"
 #include "mesh/point_insertion.hpp"
 #include "predicates/predicates.hpp"
@@ -47,6 +49,9 @@ DelaunayResult triangulate(std::vector<Point3>&& points, const DelaunayOptions& 
   }
 
   DelaunayResult result;
+  if (n >= options.parallel_min_points && triangulate_in_two(input, box, options, progress, result))
+    return result;
+
   Triangulation& tin = result.tin;
   {
     // Vertices in insertion order, equal x, y merged.
@@ -70,7 +75,7 @@ DelaunayResult triangulate(std::vector<Point3>&& points, const DelaunayOptions& 
         result.vertex_of_point[i] = static_cast<VertexId>(tin.vertex_count() - 1);
     }
   }
-  input = {};  // release the input before the triangles take their space
+  release(input);  // before the triangles take its space
 
   const auto nv = static_cast<VertexId>(tin.vertex_count());
   if (nv < 3)

@@ -1,6 +1,7 @@
 // The Delaunay stage: every point in, an exact Delaunay triangulation out.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -16,6 +17,9 @@ enum class DuplicatePolicy { first, min, max, mean };
 struct DelaunayOptions {
   DuplicatePolicy on_duplicate = DuplicatePolicy::mean;
   bool keep_point_map = false;  // fill DelaunayResult::vertex_of_point
+  // From this many points on, split them in two halves triangulated by two threads and merged
+  // (parallel_delaunay.hpp); 0 always tries, SIZE_MAX never.
+  std::size_t parallel_min_points = 50000;
 };
 
 struct DelaunayResult {

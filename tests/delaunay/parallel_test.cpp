@@ -1,0 +1,468 @@
+// Property tests of the two-thread Delaunay path (parallel_delaunay.hpp): the merge of two
+// triangulations on its own, on every kind of split, and triangulate() forced onto the parallel
+// path at small sizes, each result checked by validate(), by the triangle count 2n - 2 - h and
+// against the sequential result.
+#include "delaunay/parallel_delaunay.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <random>
+#include <tuple>
+
+#include "core/error.hpp"
+#include "delaunay/delaunay.hpp"
+#include "predicates/predicates.hpp"
+
+namespace tincdt::delaunay {
+namespace {
+
+using mesh::Triangulation;
+
+constexpr std::size_t kNever = std::numeric_limits<std::size_t>::max();
+
+bool lex_less(Point2 a, Point2 b) {
+  return std::tie(a.x, a.y) < std::tie(b.x, b.y);
+}
+
+// Number of convex hull vertices, collinear ones on the hull included (monotone chain).
+std::size_t hull_vertex_count(std::vector<Point2> p) {
+  std::sort(p.begin(), p.end(), lex_less);
+  p.erase(std::unique(p.begin(), p.end()), p.end());
+  std::vector<Point2> h;
+  auto build = [&](auto first, auto last) {
+    const std::size_t base = h.size();
+    for (auto it = first; it != last; ++it) {
+      while (h.size() >= base + 2 && predicates::orient2d(h[h.size() - 2], h.back(), *it) < 0)
+        h.pop_back();
+      h.push_back(*it);
+    }
+    h.pop_back();
+  };
+  build(p.begin(), p.end());
+  build(p.rbegin(), p.rend());
+  return h.size();
+}
+
+// Brute force: no vertex strictly inside any triangle's circumcircle.
+bool globally_delaunay(const Triangulation& tin) {
+  bool ok = true;
+  tin.for_each_triangle([&](TriangleId, const std::array<VertexId, 3>& t) {
+    for (VertexId v = 0; v < tin.vertex_count() && ok; ++v)
+      if (predicates::incircle(tin.point(t[0]), tin.point(t[1]), tin.point(t[2]), tin.point(v)) > 0)
+        ok = false;
+  });
+  return ok;
+}
+
+std::vector<Point2> xy_of(const std::vector<Point3>& points) {
+  std::vector<Point2> xy;
+  xy.reserve(points.size());
+  for (const Point3& p : points) xy.push_back({p.x, p.y});
+  return xy;
+}
+
+// ---- the merge on its own
+// -------------------------------------------------------------------------
+
+// Triangulates left (all lexicographically smaller) and right separately into one Triangulation,
+// in the given vertex order, merges them and checks the result.
+void expect_merge_valid(const std::vector<Point2>& left, const std::vector<Point2>& right,
+                        bool brute_force) {
+  Triangulation tin;
+  for (Point2 p : left) tin.add_vertex(p, 0);
+  for (Point2 p : right) tin.add_vertex(p, 0);
+  const auto nl = static_cast<VertexId>(left.size());
+  const auto nv = static_cast<VertexId>(tin.vertex_count());
+  for (std::size_t t = 0; t + 2 < 2 * std::size_t{nv}; ++t) tin.add_triangle(kNoId, kNoId, kNoId);
+  const EdgeId gl = triangulate_range(tin, 0, nl, 0);
+  const EdgeId gr = triangulate_range(tin, nl, nv, 2 * nl - 2);
+  merge_triangulations(tin, gl, gr, 2 * nv - 4, 2 * nv - 3);
+  tin.recount();
+  ASSERT_EQ(tin.validate(), "");
+  std::vector<Point2> all = left;
+  all.insert(all.end(), right.begin(), right.end());
+  EXPECT_EQ(tin.triangle_count(), 2 * std::size_t{nv} - 2 - hull_vertex_count(all));
+  if (brute_force) {
+    EXPECT_TRUE(globally_delaunay(tin));
+  }
+}
+
+// Distinct points, sorted, split at `m`; each side shuffled into a random insertion order.
+void expect_split_valid(std::vector<Point2> points, std::size_t m, std::mt19937_64& rng,
+                        bool brute_force) {
+  std::sort(points.begin(), points.end(), lex_less);
+  points.erase(std::unique(points.begin(), points.end()), points.end());
+  ASSERT_GE(points.size(), 4u);
+  m = std::clamp<std::size_t>(m, 2, points.size() - 2);
+  std::vector<Point2> left(points.begin(), points.begin() + static_cast<std::ptrdiff_t>(m));
+  std::vector<Point2> right(points.begin() + static_cast<std::ptrdiff_t>(m), points.end());
+  std::shuffle(left.begin(), left.end(), rng);
+  std::shuffle(right.begin(), right.end(), rng);
+  expect_merge_valid(left, right, brute_force);
+}
+
+bool all_collinear(const std::vector<Point2>& p) {
+  for (std::size_t i = 2; i < p.size(); ++i)
+    if (predicates::orient2d(p[0], p[1], p[i]) != 0) return false;
+  return true;
+}
+
+TEST(Merge, RandomSplitsOfRandomSets) {
+  for (unsigned seed = 0; seed < 500; ++seed) {
+    std::mt19937_64 rng(seed);
+    const std::size_t n = 4 + rng() % 120;
+    std::uniform_real_distribution<double> u(0, 100);
+    std::vector<Point2> pts;
+    for (std::size_t i = 0; i < n; ++i) pts.push_back({u(rng), u(rng)});
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    expect_split_valid(pts, rng() % n, rng, true);
+  }
+}
+
+TEST(Merge, EverySplitOfSmallLattices) {
+  std::mt19937_64 rng(1);
+  for (int w : {2, 3, 4, 7})
+    for (int h : {2, 3, 5, 8})
+      for (double origin : {0.0, 500000.0}) {
+        std::vector<Point2> pts;
+        for (int j = 0; j < h; ++j)
+          for (int i = 0; i < w; ++i) pts.push_back({origin + i, 4000000.0 + j * 0.5});
+        for (std::size_t m = 2; m + 2 <= pts.size(); ++m) {
+          SCOPED_TRACE("lattice " + std::to_string(w) + "x" + std::to_string(h) + " split " +
+                       std::to_string(m));
+          expect_split_valid(pts, m, rng, true);
+        }
+      }
+}
+
+TEST(Merge, CollinearHalvesAndTwoLines) {
+  std::mt19937_64 rng(2);
+  for (int a = 2; a <= 7; ++a)
+    for (int b = 2; b <= 7; ++b) {
+      // Two vertical lines (collinear facing sides), with equal or shifted heights.
+      for (double shift : {0.0, 0.5, 3.0, -10.0}) {
+        std::vector<Point2> left, right;
+        for (int i = 0; i < a; ++i) left.push_back({0, static_cast<double>(i)});
+        for (int i = 0; i < b; ++i) right.push_back({1, shift + i});
+        SCOPED_TRACE(std::to_string(a) + " " + std::to_string(b) + " " + std::to_string(shift));
+        expect_merge_valid(left, right, true);
+        // The same two columns split inside the first one, and along one line through both.
+        std::vector<Point2> all = left;
+        all.insert(all.end(), right.begin(), right.end());
+        for (std::size_t m = 2; m + 2 <= all.size(); ++m) expect_split_valid(all, m, rng, true);
+      }
+      // A horizontal segment left, a blob right: above, below, on both sides of its line.
+      for (double dy : {-50.0, 0.0, 50.0}) {
+        std::vector<Point2> left, right;
+        for (int i = 0; i < a; ++i) left.push_back({static_cast<double>(i), 0});
+        std::uniform_real_distribution<double> u(-20, 20), ux(0, 20);
+        for (int i = 0; i < b + 1; ++i) right.push_back({a + 1 + ux(rng), dy + u(rng)});
+        if (all_collinear(right)) continue;
+        expect_merge_valid(left, right, true);
+        // Mirrored: the blob left, the segment right.
+        std::vector<Point2> ml, mr;
+        for (Point2 p : right) ml.push_back({-p.x, p.y});
+        for (Point2 p : left) mr.push_back({-p.x + 1000, p.y});
+        expect_merge_valid(ml, mr, true);
+      }
+    }
+}
+
+TEST(Merge, HalfInsideTheOthersWedge) {
+  // The left half lies inside the union's hull but for one vertex: its whole hull faces the
+  // right half (the tangents meet at that vertex).
+  std::mt19937_64 rng(3);
+  const std::vector<Point2> tri = {{0, 0}, {1, 1}, {1, -1}};
+  const std::vector<Point2> seg = {{0, 0}, {1, 0}, {2, 0}, {5, 0}};
+  for (double spread : {100.0, 10.0, 2.0}) {
+    std::vector<Point2> right = {{10, -spread}, {10, spread}, {10, 5}, {20, 0}, {15, 3}};
+    expect_merge_valid(tri, right, true);
+    expect_merge_valid(seg, right, true);
+    std::vector<Point2> two = {{0, 0}, {3, 0}};
+    expect_merge_valid(two, right, true);
+    // Mirrored: the right half inside the left one's wedge.
+    std::vector<Point2> ml, mr;
+    for (Point2 p : right) ml.push_back({-p.x, p.y});
+    for (Point2 p : tri) mr.push_back({-p.x + 30, p.y});
+    expect_merge_valid(ml, mr, true);
+  }
+}
+
+TEST(Merge, DifferentSizesAndShapes) {
+  for (unsigned seed = 0; seed < 200; ++seed) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(0, 1);
+    const std::size_t nl = 2 + rng() % (seed % 2 ? 6 : 150);
+    const std::size_t nr = 2 + rng() % (seed % 3 ? 150 : 6);
+    const double lift = std::array<double, 5>{0, 1, -1, 1e3, -1e4}[seed % 5];
+    std::vector<Point2> left, right;
+    for (std::size_t i = 0; i < nl; ++i)  // a thin vertical sliver or a blob
+      left.push_back(
+          {seed % 4 == 0 ? 1e-3 * u(rng) : u(rng), seed % 4 == 0 ? 100 * u(rng) : u(rng)});
+    for (std::size_t i = 0; i < nr; ++i)  // a wide blob, maybe far above or below
+      right.push_back({2 + 50 * u(rng), lift + 50 * (u(rng) - 0.5)});
+    if (all_collinear(left) && all_collinear(right) && all_collinear({left[0], left[1], right[0]}))
+      continue;
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    expect_merge_valid(left, right, nl + nr < 200);
+  }
+}
+
+TEST(Merge, CocircularAcrossTheSplit) {
+  std::mt19937_64 rng(4);
+  // Pythagorean points on circles of radius 5 * 13 * 17 and 5 * 13, centre included or not.
+  for (int r : {1105, 65}) {
+    std::vector<Point2> pts;
+    for (int x = -r; x <= r; ++x) {
+      const int y2 = r * r - x * x;
+      const int y = static_cast<int>(std::lround(std::sqrt(static_cast<double>(y2))));
+      if (y * y == y2) {
+        pts.push_back({500000.0 + x, 4000000.0 + y});
+        if (y) pts.push_back({500000.0 + x, 4000000.0 - y});
+      }
+    }
+    for (int with_centre = 0; with_centre < 2; ++with_centre) {
+      if (with_centre) pts.push_back({500000.0, 4000000.0});
+      for (std::size_t m = 2; m + 2 <= pts.size(); ++m) {
+        SCOPED_TRACE("r " + std::to_string(r) + " split " + std::to_string(m));
+        expect_split_valid(pts, m, rng, true);
+      }
+    }
+  }
+}
+
+TEST(Merge, OneUlpPerturbedLattices) {
+  for (unsigned seed = 0; seed < 60; ++seed) {
+    std::mt19937_64 rng(seed);
+    std::vector<Point2> pts;
+    for (int j = 0; j < 9; ++j)
+      for (int i = 0; i < 9; ++i) {
+        double x = 500000.0 + i, y = 4000000.0 + j;
+        const int dx = static_cast<int>(rng() % 3) - 1, dy = static_cast<int>(rng() % 3) - 1;
+        if (dx) x = std::nextafter(x, dx > 0 ? 1e300 : -1e300);
+        if (dy) y = std::nextafter(y, dy > 0 ? 1e300 : -1e300);
+        pts.push_back({x, y});
+      }
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    expect_split_valid(pts, 2 + rng() % 77, rng, true);
+  }
+}
+
+// ---- triangulate() on the parallel path
+// -------------------------------------------------------------
+
+DelaunayResult run(std::vector<Point3> points, std::size_t parallel_min_points,
+                   DuplicatePolicy policy = DuplicatePolicy::mean) {
+  DelaunayOptions options;
+  options.on_duplicate = policy;
+  options.keep_point_map = true;
+  options.parallel_min_points = parallel_min_points;
+  return triangulate(std::move(points), options);
+}
+
+bool takes_parallel_path(std::vector<Point3> points) {
+  BBox box;
+  for (const Point3& p : points) box.add(p.x, p.y);
+  DelaunayResult result;
+  return triangulate_in_two(points, box, {}, nullptr, result);
+}
+
+void expect_parallel_valid(const std::vector<Point3>& points, bool brute_force,
+                           DuplicatePolicy policy = DuplicatePolicy::mean) {
+  EXPECT_TRUE(takes_parallel_path(points));
+  const DelaunayResult par = run(points, 0, policy);
+  const DelaunayResult seq = run(points, kNever, policy);
+  const Triangulation& tin = par.tin;
+  ASSERT_EQ(tin.validate(), "");
+  const std::size_t nv = tin.vertex_count();
+  EXPECT_EQ(nv, seq.tin.vertex_count());
+  EXPECT_EQ(par.duplicates_merged, seq.duplicates_merged);
+  EXPECT_EQ(nv + par.duplicates_merged, points.size());
+  EXPECT_EQ(tin.triangle_count(), 2 * nv - 2 - hull_vertex_count(xy_of(points)));
+  EXPECT_EQ(tin.triangle_count(), seq.tin.triangle_count());
+  ASSERT_EQ(par.vertex_of_point.size(), points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    ASSERT_EQ(tin.point(par.vertex_of_point[i]), (Point2{points[i].x, points[i].y}));
+    ASSERT_EQ(tin.z(par.vertex_of_point[i]), seq.tin.z(seq.vertex_of_point[i]));
+  }
+  if (brute_force) {
+    EXPECT_TRUE(globally_delaunay(tin));
+  }
+}
+
+TEST(ParallelDelaunay, RandomUniformManySeeds) {
+  for (unsigned seed = 0; seed < 400; ++seed) {
+    std::mt19937_64 rng(seed);
+    const std::size_t n = 8 + rng() % 400;
+    std::uniform_real_distribution<double> u(0, 100);
+    std::vector<Point3> pts;
+    for (std::size_t i = 0; i < n; ++i) pts.push_back({u(rng), u(rng), u(rng)});
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    expect_parallel_valid(pts, n < 150);
+  }
+}
+
+TEST(ParallelDelaunay, UtmOffsetsAndLargeRandom) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(0, 10000);
+  std::vector<Point3> pts;
+  for (int i = 0; i < 60000; ++i) pts.push_back({500000 + u(rng), 4000000 + u(rng), u(rng)});
+  expect_parallel_valid(pts, false);
+  // At the default threshold triangulate() takes the parallel path by itself.
+  const DelaunayResult r = triangulate(std::move(pts));
+  EXPECT_EQ(r.tin.validate(), "");
+}
+
+TEST(ParallelDelaunay, RowMajorLattices) {
+  for (int k : {3, 5, 17, 64, 150}) {
+    for (double origin_x : {0.0, 500000.0}) {
+      for (int extra : {0, 1, 7}) {
+        std::vector<Point3> pts;  // row-major, like a raster export
+        for (int j = 0; j < k; ++j)
+          for (int i = 0; i < k + extra; ++i)
+            pts.push_back({origin_x + i * 0.5, 4000000.0 + j * 0.5, 1.0});
+        SCOPED_TRACE("k " + std::to_string(k) + " extra " + std::to_string(extra));
+        expect_parallel_valid(pts, k <= 17);
+      }
+    }
+  }
+}
+
+TEST(ParallelDelaunay, TallLatticesSplitInsideAColumn) {
+  // Three or five columns: no split between two columns is near the middle, so the halves meet
+  // inside the middle column and each hull has a long slanted edge facing the other half.
+  for (int columns : {2, 3, 5}) {
+    for (int rows : {40, 301}) {
+      std::vector<Point3> pts;
+      for (int j = 0; j < rows; ++j)
+        for (int i = 0; i < columns; ++i) pts.push_back({500000.0 + i, 4000000.0 + j, 0});
+      SCOPED_TRACE(std::to_string(columns) + " x " + std::to_string(rows));
+      expect_parallel_valid(pts, rows < 50);
+    }
+  }
+}
+
+TEST(ParallelDelaunay, CollinearRunsAndHullCollinearPoints) {
+  for (unsigned seed = 0; seed < 100; ++seed) {
+    std::mt19937_64 rng(seed);
+    std::vector<Point3> pts;
+    const int m = 2 + static_cast<int>(rng() % 20);
+    for (int i = 0; i <= m; ++i) {
+      const double s = 10.0 * i / m;
+      pts.push_back({s, 0, 0});
+      pts.push_back({s, 10, 0});
+      pts.push_back({0, s, 0});
+      pts.push_back({10, s, 0});
+      pts.push_back({s, s, 0});
+      pts.push_back({s, 10 - s, 0});
+      pts.push_back({s, 5 + 1e-9 * i, 0});
+    }
+    std::shuffle(pts.begin(), pts.end(), rng);
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    expect_parallel_valid(pts, true);
+  }
+}
+
+TEST(ParallelDelaunay, PointsOnTwoVerticalLines) {
+  for (int a : {2, 3, 10, 101}) {
+    for (int b : {2, 5, 100}) {
+      for (double shift : {0.0, 0.25, 1000.0}) {
+        std::vector<Point3> pts;
+        for (int i = 0; i < a; ++i) pts.push_back({500000.0, 4000000.0 + i, 0});
+        for (int i = 0; i < b; ++i) pts.push_back({500001.0, 4000000.0 + shift + i, 0});
+        SCOPED_TRACE(std::to_string(a) + " " + std::to_string(b) + " " + std::to_string(shift));
+        expect_parallel_valid(pts, a + b < 150);
+      }
+    }
+  }
+}
+
+TEST(ParallelDelaunay, HalvesOfDifferentShapes) {
+  for (unsigned seed = 0; seed < 60; ++seed) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(0, 1);
+    std::vector<Point3> pts;
+    const int n = 50 + static_cast<int>(rng() % 300);
+    const double lift = seed % 2 ? 1e4 : -300;
+    for (int i = 0; i < n; ++i) {
+      pts.push_back({1e-3 * u(rng), 100 * u(rng), 0});               // thin vertical sliver
+      pts.push_back({10 + 1000 * u(rng), lift + 1000 * u(rng), 0});  // a wide blob, higher or lower
+    }
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    expect_parallel_valid(pts, n < 70);
+  }
+}
+
+TEST(ParallelDelaunay, HalvesOfDifferentSizesThroughDuplicates) {
+  // The pivot splits the points, not the distinct ones: a few heavily repeated points on one side.
+  for (unsigned seed = 0; seed < 40; ++seed) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(0, 1);
+    std::vector<Point3> pts;
+    const int few = 2 + static_cast<int>(seed % 4);
+    for (int k = 0; k < few; ++k) {
+      const Point3 p{u(rng), u(rng), u(rng)};
+      for (int r = 0; r < 20; ++r) pts.push_back({p.x, p.y, p.z + r});
+    }
+    for (int i = 0; i < 300; ++i) pts.push_back({2 + u(rng), 10 * u(rng) - 5, u(rng)});
+    std::shuffle(pts.begin(), pts.end(), rng);
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    for (DuplicatePolicy policy : {DuplicatePolicy::first, DuplicatePolicy::min,
+                                   DuplicatePolicy::max, DuplicatePolicy::mean})
+      expect_parallel_valid(pts, false, policy);
+  }
+}
+
+TEST(ParallelDelaunay, CocircularPoints) {
+  std::vector<Point3> pts;
+  const int r = 1105;
+  for (int x = -r; x <= r; ++x) {
+    const int y2 = r * r - x * x;
+    const int y = static_cast<int>(std::lround(std::sqrt(static_cast<double>(y2))));
+    if (y * y == y2) {
+      pts.push_back({500000.0 + x, 4000000.0 + y, 0});
+      if (y) pts.push_back({500000.0 + x, 4000000.0 - y, 0});
+    }
+  }
+  expect_parallel_valid(pts, true);
+  pts.push_back({500000.0, 4000000.0, 0});
+  expect_parallel_valid(pts, true);
+}
+
+TEST(ParallelDelaunay, FallsBackWhenTheSplitIsUseless) {
+  // All collinear: the sequential path's error.
+  std::vector<Point3> line;
+  for (int i = 0; i < 100; ++i) line.push_back({static_cast<double>(i), 2.0 * i, 0});
+  EXPECT_FALSE(takes_parallel_path(line));
+  EXPECT_THROW(run(line, 0), GeometryError);
+  // One side with a single distinct point: sequential, still correct.
+  std::vector<Point3> pts;
+  for (int i = 0; i < 100; ++i) pts.push_back({0, 0, static_cast<double>(i)});
+  for (int i = 0; i < 100; ++i) pts.push_back({1.0 + i % 10, static_cast<double>(i / 10), 0});
+  const DelaunayResult r = run(pts, 0);
+  EXPECT_EQ(r.tin.validate(), "");
+  EXPECT_EQ(r.tin.vertex_count(), 101u);
+  EXPECT_THROW(run({{0, 0, 0}, {1, 1, 1}, {0, 0, 5}, {1, 1, 2}}, 0), GeometryError);
+  EXPECT_THROW(run({}, 0), GeometryError);
+}
+
+TEST(ParallelDelaunay, ProgressCanCancel) {
+  std::vector<Point3> pts;
+  for (int i = 0; i < 60000; ++i) pts.push_back({std::sin(i) * 100, std::cos(i * 1.3) * 100, 0});
+  int calls = 0;
+  ProgressFn fn = [&](std::string_view stage, double) {
+    EXPECT_EQ(stage, "delaunay");
+    return ++calls < 3;
+  };
+  DelaunayOptions options;
+  options.parallel_min_points = 0;
+  EXPECT_THROW(triangulate(std::move(pts), options, &fn), Cancelled);
+  EXPECT_EQ(calls, 3);
+}
+
+}  // namespace
+}  // namespace tincdt::delaunay
