@@ -30,4 +30,11 @@ void advise_huge_pages(std::vector<T>& v) {
 #endif
 }
 
+// Frees a vector's memory now. (`v = {}` would not: it assigns an empty initializer list and
+// keeps the capacity.)
+template <typename T>
+void release(std::vector<T>& v) {
+  std::vector<T>().swap(v);
+}
+
 }  // namespace tincdt

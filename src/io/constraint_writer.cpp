@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/memory.hpp"
 #include "io/output_file.hpp"
 #include "io/writer_detail.hpp"
 
@@ -71,7 +72,7 @@ TinWriteStats write_constraint_lines(const std::string& path, const mesh::Triang
     }
   }
   const detail::GeoJsonPositions position(path, tin, options, reprojecting ? &ends : nullptr);
-  ends = {};
+  release(ends);
 
   BlockWriter w(out);
   detail::put_feature_collection_start(w, path, options);

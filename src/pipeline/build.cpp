@@ -18,6 +18,7 @@
 #include <utility>
 
 #include "core/error.hpp"
+#include "core/memory.hpp"
 #include "io/constraint_writer.hpp"
 #include "io/crs.hpp"
 #include "io/diagnostics_writer.hpp"
@@ -155,7 +156,7 @@ constraints::ConstraintResult insert_lines(delaunay::DelaunayResult& result, std
   for (const io::LineData::Segment& s : lines.segments)
     segments.push_back({result.vertex_of_point[n_points + s.a],
                         result.vertex_of_point[n_points + s.b], s.feature});
-  result.vertex_of_point = {};
+  release(result.vertex_of_point);
 
   constraints::ConstraintResult c;
   try {
@@ -427,7 +428,7 @@ BuildReport build(const BuildOptions& options, const ProgressFn* progress, const
   report.line_vertices = lines.vertices.size();
   report.constraint_segments = lines.segments.size();
   points.insert(points.end(), lines.vertices.begin(), lines.vertices.end());
-  lines.vertices = {};
+  release(lines.vertices);
 
   // Surface features: soft lines and clip / erase / replace polygons. Source ids follow the
   // lines', kind by kind in this order.
@@ -540,7 +541,7 @@ BuildReport build(const BuildOptions& options, const ProgressFn* progress, const
                           detail);
     }
   }();
-  points = {};  // moved-from; release whatever is left
+  release(points);  // moved-from; free whatever is left
   report.timings_s.delaunay = seconds_since(t0);
   report.duplicates_merged = result.duplicates_merged;
   if (result.duplicates_merged > 0)
