@@ -12,27 +12,8 @@
 #include "predicates/predicates.hpp"
 
 namespace tincdt::delaunay {
-namespace {
 
 using mesh::Triangulation;
-
-void merge_z(double& z, double other, std::uint32_t count, DuplicatePolicy policy) {
-  switch (policy) {
-    case DuplicatePolicy::first:
-      break;
-    case DuplicatePolicy::min:
-      z = std::min(z, other);
-      break;
-    case DuplicatePolicy::max:
-      z = std::max(z, other);
-      break;
-    case DuplicatePolicy::mean:
-      z += (other - z) / count;
-      break;  // running mean, no overflow
-  }
-}
-
-}  // namespace
 
 DelaunayResult triangulate(std::vector<Point3>&& points, const DelaunayOptions& options,
                            const ProgressFn* progress) {
@@ -64,7 +45,7 @@ DelaunayResult triangulate(std::vector<Point3>&& points, const DelaunayOptions& 
       const std::size_t nv = tin.vertex_count();
       if (nv > 0 && tin.point(static_cast<VertexId>(nv - 1)) == Point2{p.x, p.y}) {
         double z = tin.z(static_cast<VertexId>(nv - 1));
-        merge_z(z, p.z, ++run, options.on_duplicate);
+        merge_duplicate_z(z, p.z, ++run, options.on_duplicate);
         tin.set_z(static_cast<VertexId>(nv - 1), z);
         ++result.duplicates_merged;
       } else {

@@ -19,7 +19,9 @@
 #endif
 
 #include "core/error.hpp"
+#include "delaunay/spatial_order.hpp"
 #include "mesh/geometry.hpp"
+#include "mesh/point_insertion.hpp"
 #include "predicates/predicates.hpp"
 
 namespace tincdt::delaunay {
@@ -117,156 +119,10 @@ class Scratch {
   T* data_ = nullptr;
 };
 
-// ---- insertion order of one half ---------------------------------------------------------------
-// The same scheme as insertion_order() (spatial_order.hpp): biased randomized insertion order
-// rounds drawn from a hash of the coordinates, each round sorted along a Hilbert curve of the whole
-// bounding box, so that each half's order is the whole order restricted to that half.
-
-constexpr int kHilbertBits = 14;
-constexpr int kRoundBits = 4;
-constexpr std::uint32_t kMaxRound = (1u << kRoundBits) - 1;
-
-std::uint64_t mix(std::uint64_t h) {
-  h ^= h >> 30;
-  h *= 0xbf58476d1ce4e5b9ULL;
-  h ^= h >> 27;
-  h *= 0x94d049bb133111ebULL;
-  return h ^ (h >> 31);
-}
-
-std::uint32_t brio_round(double x, double y) {
-  std::uint64_t h = mix(std::bit_cast<std::uint64_t>(x) ^ mix(std::bit_cast<std::uint64_t>(y)));
-  std::uint32_t r = 0;
-  while ((h & 7) == 0 && r < kMaxRound) {
-    h >>= 3;
-    ++r;
-  }
-  return r;
-}
-
-// The Hilbert curve of hilbert_index(), two levels per step: a state (bit 0: x and y swapped,
-// bit 1: complemented) and two bits of x and y give two base-4 digits and the next state.
-struct HilbertTable {
-  std::array<std::uint8_t, 64> step{};  // state << 4 | x bits << 2 | y bits -> state << 4 | digits
-  constexpr HilbertTable() {
-    for (unsigned state = 0; state < 4; ++state)
-      for (unsigned xx = 0; xx < 4; ++xx)
-        for (unsigned yy = 0; yy < 4; ++yy) {
-          unsigned swapped = state & 1, complemented = state >> 1, digits = 0;
-          for (int level = 1; level >= 0; --level) {
-            const unsigned bx = (xx >> level) & 1, by = (yy >> level) & 1;
-            const unsigned rx = (swapped ? by : bx) ^ complemented;
-            const unsigned ry = (swapped ? bx : by) ^ complemented;
-            digits = (digits << 2) | ((3 * rx) ^ ry);
-            if (ry == 0) {
-              swapped ^= 1;
-              complemented ^= rx;
-            }
-          }
-          step[state << 4 | xx << 2 | yy] =
-              static_cast<std::uint8_t>((swapped | complemented << 1) << 4 | digits);
-        }
-  }
-};
-constexpr HilbertTable kHilbert;
-static_assert(kHilbertBits % 2 == 0);
-
-std::uint32_t hilbert_key(std::uint32_t x, std::uint32_t y) {
-  std::uint32_t d = 0, state = 0;
-  for (int shift = kHilbertBits - 2; shift >= 0; shift -= 2) {
-    const std::uint32_t v =
-        kHilbert.step[state << 4 | ((x >> shift) & 3) << 2 | ((y >> shift) & 3)];
-    d = d << 4 | (v & 15);
-    state = v >> 4;
-  }
-  return d;
-}
-
-class OrderKey {
- public:
-  explicit OrderKey(const BBox& box) : box_(box) {
-    const double extent = std::max(box.max_x - box.min_x, box.max_y - box.min_y);
-    const double cells = static_cast<double>(1u << kHilbertBits);
-    scale_ = extent > 0 && std::isfinite(extent) ? (cells - 0.5) / extent : 0.0;
-  }
-  // Coarse rounds first, then along the Hilbert curve.
-  std::uint32_t operator()(const Point3& p) const {
-    const std::uint32_t cx = cell((p.x - box_.min_x) * scale_);
-    const std::uint32_t cy = cell((p.y - box_.min_y) * scale_);
-    const std::uint32_t round = kMaxRound - brio_round(p.x, p.y);
-    return (round << (2 * kHilbertBits)) | hilbert_key(cx, cy);
-  }
-
- private:
-  // NaN (an infinite extent times 0) and overflow land in a border cell.
-  static std::uint32_t cell(double c) {
-    constexpr std::uint32_t top = (1u << kHilbertBits) - 1;
-    return c >= top ? top : (c > 0 ? static_cast<std::uint32_t>(c) : 0);
-  }
-
-  BBox box_;
-  double scale_ = 0;
-};
-
-// LSD radix sort of (key << 32 | index) by key.
-void radix_sort_by_key(std::uint64_t* items, std::size_t n) {
-  constexpr int kPasses = 3;
-  constexpr std::array<int, kPasses> kShift = {32, 43, 54};
-  constexpr std::array<int, kPasses> kWidth = {11, 11, 10};
-  Scratch<std::uint64_t> buffer(n);
-  std::array<std::vector<std::size_t>, kPasses> count;
-  for (int p = 0; p < kPasses; ++p) count[p].assign((std::size_t{1} << kWidth[p]) + 1, 0);
-  for (std::size_t i = 0; i < n; ++i)
-    for (int p = 0; p < kPasses; ++p)
-      ++count[p][((items[i] >> kShift[p]) & ((1u << kWidth[p]) - 1)) + 1];
-  std::uint64_t* src = items;
-  std::uint64_t* dst = buffer.data();
-  for (int p = 0; p < kPasses; ++p) {
-    auto& offset = count[p];
-    for (std::size_t i = 1; i < offset.size(); ++i) offset[i] += offset[i - 1];
-    const std::uint64_t mask = (1u << kWidth[p]) - 1;
-    for (std::size_t i = 0; i < n; ++i) {
-      const std::uint64_t v = src[i];
-      dst[offset[(v >> kShift[p]) & mask]++] = v;
-    }
-    std::swap(src, dst);
-  }
-  if (src != items) std::memcpy(items, src, n * sizeof(std::uint64_t));
-}
-
-void merge_z(double& z, double other, std::uint32_t count, DuplicatePolicy policy) {
-  switch (policy) {
-    case DuplicatePolicy::first:
-      break;
-    case DuplicatePolicy::min:
-      z = std::min(z, other);
-      break;
-    case DuplicatePolicy::max:
-      z = std::max(z, other);
-      break;
-    case DuplicatePolicy::mean:
-      z += (other - z) / count;
-      break;
-  }
-}
-
-// Sorts one half's items into insertion order: by key, then within a run of equal keys by x, y,
-// so that equal points are adjacent.
+// Sorts one half's items into insertion order.
 void sort_half(const std::vector<Point3>& input, std::uint64_t* items, std::size_t m) {
-  radix_sort_by_key(items, m);
-  auto by_xy = [&](std::uint64_t a, std::uint64_t b) {
-    const Point3& p = input[static_cast<std::uint32_t>(a)];
-    const Point3& q = input[static_cast<std::uint32_t>(b)];
-    if (p.x != q.x) return p.x < q.x;
-    if (p.y != q.y) return p.y < q.y;
-    return static_cast<std::uint32_t>(a) < static_cast<std::uint32_t>(b);
-  };
-  for (std::size_t i = 0; i < m;) {
-    std::size_t j = i + 1;
-    while (j < m && (items[j] >> 32) == (items[i] >> 32)) ++j;
-    if (j - i > 1) std::sort(items + i, items + j, by_xy);
-    i = j;
-  }
+  Scratch<std::uint64_t> buffer(m);
+  sort_by_key_then_xy(input, items, buffer.data(), m);
 }
 
 // Passes one half's distinct points, in order and with equal x, y merged, to put(k, point);
@@ -289,7 +145,7 @@ HalfPoints gather_half(const std::vector<Point3>& input, const std::uint64_t* it
     const auto i = static_cast<std::uint32_t>(items[k]);
     const Point3& p = input[i];
     if (half.count > 0 && current.x == p.x && current.y == p.y) {
-      merge_z(current.z, p.z, ++run, policy);
+      merge_duplicate_z(current.z, p.z, ++run, policy);
       ++half.duplicates;
     } else {
       if (half.count > 0) put(half.count - 1, current);
@@ -327,179 +183,6 @@ class PointStash {
   Triangulation& tin_;
   std::size_t n_;
   Point3 last_{};
-};
-
-// ---- incremental insertion into a range of slots
-// -------------------------------------------------- The algorithm of mesh::PointInserter
-// (visibility walk, fan split, Lawson flips; ghosts make points outside the hull the same case),
-// but taking its new triangles from a fixed range of pre-allocated slots, so that two of them can
-// fill one Triangulation at once. Inserting k vertices uses exactly 2k - 2 slots.
-class SlotInserter {
- public:
-  SlotInserter(Triangulation& tin, TriangleId first_slot) : tin_(tin), next_slot_(first_slot) {
-    stack_.reserve(64);
-  }
-
-  // The counter-clockwise triangle (a, b, c) and its three ghosts.
-  void start(VertexId a, VertexId b, VertexId c) {
-    const TriangleId t = next_slot_++;
-    const TriangleId g_ab = next_slot_++, g_bc = next_slot_++, g_ca = next_slot_++;
-    set_triangle(t, a, b, c);
-    set_triangle(g_ab, b, a, kInfinite);
-    set_triangle(g_bc, c, b, kInfinite);
-    set_triangle(g_ca, a, c, kInfinite);
-    tin_.link(3 * t, 3 * g_ab);
-    tin_.link(3 * t + 1, 3 * g_bc);
-    tin_.link(3 * t + 2, 3 * g_ca);
-    tin_.link(3 * g_ab + 1, 3 * g_ca + 2);
-    tin_.link(3 * g_bc + 1, 3 * g_ab + 2);
-    tin_.link(3 * g_ca + 1, 3 * g_bc + 2);
-    last_ = t;
-  }
-
-  void insert(VertexId v) {
-    const Point2 p = tin_.point(v);
-    const Where at = locate(p);
-    if (at.kind == Where::on_vertex)
-      throw GeometryError("internal: a point coincides with an existing vertex");
-    if (at.kind == Where::in_triangle) {
-      const EdgeId e = 3 * triangle_of(at.edge);
-      const VertexId ring[3] = {tin_.origin(e), tin_.origin(e + 1), tin_.origin(e + 2)};
-      const EdgeId outer[3] = {tin_.twin(e), tin_.twin(e + 1), tin_.twin(e + 2)};
-      const TriangleId slots[3] = {triangle_of(e), next_slot_, next_slot_ + 1};
-      next_slot_ += 2;
-      make_fan(ring, outer, slots, v);
-    } else {
-      const EdgeId e = at.edge, f = tin_.twin(e);
-      const VertexId ring[4] = {tin_.dest(e), tin_.apex(e), tin_.origin(e), tin_.apex(f)};
-      const EdgeId outer[4] = {tin_.twin(next_edge(e)), tin_.twin(prev_edge(e)),
-                               tin_.twin(next_edge(f)), tin_.twin(prev_edge(f))};
-      const TriangleId slots[4] = {triangle_of(e), next_slot_, triangle_of(f), next_slot_ + 1};
-      next_slot_ += 2;
-      make_fan(ring, outer, slots, v);
-    }
-    restore(p);
-  }
-
-  TriangleId end_slot() const { return next_slot_; }
-  std::uint64_t flips() const { return flips_; }
-
- private:
-  struct Where {
-    enum Kind { in_triangle, on_edge, on_vertex } kind;
-    EdgeId edge;
-  };
-
-  void set_triangle(TriangleId t, VertexId a, VertexId b, VertexId c) {
-    tin_.set_corner(3 * t, a);
-    tin_.set_corner(3 * t + 1, b);
-    tin_.set_corner(3 * t + 2, c);
-  }
-
-  // Visibility walk from the last triangle made; on a Delaunay triangulation it terminates.
-  Where locate(Point2 p) {
-    TriangleId t = last_;
-    if (tin_.is_ghost(t)) {
-      EdgeId e = 3 * t;
-      while (tin_.origin(e) == kInfinite || tin_.dest(e) == kInfinite) e = next_edge(e);
-      t = triangle_of(tin_.twin(e));
-    }
-    EdgeId from = kNoId;
-    for (;;) {
-      int o[3] = {1, 1, 1};
-      EdgeId crossed = kNoId;
-      for (int k = 0; k < 3; ++k) {
-        const EdgeId e = 3 * t + static_cast<EdgeId>(k);
-        if (e == from) {
-          o[k] = 1;
-          continue;
-        }
-        o[k] = predicates::orient2d(tin_.point(tin_.origin(e)), tin_.point(tin_.dest(e)), p);
-        if (o[k] < 0) {
-          crossed = e;
-          break;
-        }
-      }
-      if (crossed != kNoId) {
-        from = tin_.twin(crossed);
-        t = triangle_of(from);
-        if (tin_.apex(from) == kInfinite) return {Where::in_triangle, from};
-        continue;
-      }
-      const int zeros = (o[0] == 0) + (o[1] == 0) + (o[2] == 0);
-      if (zeros == 0) return {Where::in_triangle, 3 * t};
-      if (zeros == 1) {
-        const int k = o[0] == 0 ? 0 : (o[1] == 0 ? 1 : 2);
-        return {Where::on_edge, 3 * t + static_cast<EdgeId>(k)};
-      }
-      const int k = o[0] != 0 ? 1 : (o[1] != 0 ? 2 : 0);
-      return {Where::on_vertex, 3 * t + static_cast<EdgeId>(k)};
-    }
-  }
-
-  template <int K>
-  void make_fan(const VertexId (&ring)[K], const EdgeId (&outer)[K], const TriangleId (&slots)[K],
-                VertexId v) {
-    for (int i = 0; i < K; ++i) set_triangle(slots[i], ring[i], ring[(i + 1) % K], v);
-    for (int i = 0; i < K; ++i) {
-      const EdgeId base = 3 * slots[i];
-      tin_.link(base, outer[i]);
-      tin_.link(base + 1, 3 * slots[(i + 1) % K] + 2);
-      stack_.push_back(base);
-    }
-    last_ = slots[0];
-  }
-
-  // Same as Triangulation::flip() without the constraint flags and the vertex index, which the
-  // Delaunay stage does not have.
-  void flip(EdgeId e) {
-    const EdgeId f = tin_.twin(e);
-    const EdgeId e1 = next_edge(e), e2 = prev_edge(e);
-    const EdgeId f1 = next_edge(f), f2 = prev_edge(f);
-    const VertexId a = tin_.origin(e), b = tin_.origin(e1), c = tin_.origin(e2);
-    const VertexId d = tin_.origin(f2);
-    const EdgeId t_bc = tin_.twin(e1), t_ca = tin_.twin(e2);
-    const EdgeId t_ad = tin_.twin(f1), t_db = tin_.twin(f2);
-    tin_.set_corner(e, d);
-    tin_.set_corner(e1, c);
-    tin_.set_corner(e2, a);
-    tin_.set_corner(f, c);
-    tin_.set_corner(f1, d);
-    tin_.set_corner(f2, b);
-    tin_.link(e1, t_ca);
-    tin_.link(e2, t_ad);
-    tin_.link(f1, t_db);
-    tin_.link(f2, t_bc);
-  }
-
-  // Lawson: every queued edge has the new point p as its apex.
-  void restore(Point2 p) {
-    while (!stack_.empty()) {
-      const EdgeId e = stack_.back();
-      stack_.pop_back();
-      const EdgeId f = tin_.twin(e);
-      const VertexId d = tin_.apex(f);
-      if (d == kInfinite) continue;
-      const VertexId a = tin_.origin(e), b = tin_.dest(e);
-      bool flip_it;
-      if (a == kInfinite || b == kInfinite) {
-        flip_it = mesh::in_circle(tin_, b, a, d, p) > 0;  // p sees that hull edge from outside
-      } else {
-        flip_it = predicates::incircle(tin_.point(a), tin_.point(b), p, tin_.point(d)) > 0;
-      }
-      if (!flip_it) continue;
-      flip(e);
-      ++flips_;
-      stack_.push_back(prev_edge(e));
-      stack_.push_back(next_edge(f));
-    }
-  }
-
-  Triangulation& tin_;
-  TriangleId next_slot_;
-  TriangleId last_ = 0;
-  std::vector<EdgeId> stack_;
-  std::uint64_t flips_ = 0;
 };
 
 // Vertices [first, last), all on one line (at least two): the doubly covered segment, 2k - 2
@@ -555,7 +238,7 @@ EdgeId triangulate_half(Triangulation& tin, VertexId first, VertexId last, Trian
     build_segment(tin, first, last, slot);
     return 3 * slot;
   }
-  SlotInserter inserter(tin, slot);
+  mesh::PointInserter inserter(tin, slot);
   if (turn > 0) {
     inserter.start(first, first + 1, third);
   } else {
@@ -566,7 +249,7 @@ EdgeId triangulate_half(Triangulation& tin, VertexId first, VertexId last, Trian
     inserter.insert(v);
     if (((v - first) & 1023) == 0 && !tick(v - first)) return kNoId;
   }
-  if (inserter.end_slot() != end_slot) throw internal_error("a half used the wrong slot count");
+  if (inserter.next_slot() != end_slot) throw internal_error("a half used the wrong slot count");
   flips += inserter.flips();
   return find_ghost(tin, slot, end_slot);
 }

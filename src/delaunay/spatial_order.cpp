@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <cmath>
 #include <cstring>
 
 #include "core/parallel.hpp"
@@ -10,8 +11,7 @@
 namespace tincdt::delaunay {
 namespace {
 
-constexpr int kHilbertBits = 14;  // per axis: 2^28 cells, far more than points per round
-constexpr int kRoundBits = 4;     // 32-bit keys: round in the top 4 bits, Hilbert index below
+constexpr int kRoundBits = 4;  // 32-bit keys: round in the top 4 bits, Hilbert index below
 constexpr std::uint32_t kMaxRound = (1u << kRoundBits) - 1;
 
 std::uint64_t mix(std::uint64_t h) {  // splitmix64 finalizer: a fast, well-spread hash
@@ -33,29 +33,62 @@ std::uint32_t brio_round(double x, double y) {
   return r;
 }
 
+// hilbert_index()'s curve two levels per step: a state (bit 0: x and y swapped, bit 1:
+// complemented) and two bits of x and y give two base-4 digits and the next state.
+struct HilbertTable {
+  std::array<std::uint8_t, 64> step{};  // state << 4 | x bits << 2 | y bits -> state << 4 | digits
+  constexpr HilbertTable() {
+    for (unsigned state = 0; state < 4; ++state)
+      for (unsigned xx = 0; xx < 4; ++xx)
+        for (unsigned yy = 0; yy < 4; ++yy) {
+          unsigned swapped = state & 1, complemented = state >> 1, digits = 0;
+          for (int level = 1; level >= 0; --level) {
+            const unsigned bx = (xx >> level) & 1, by = (yy >> level) & 1;
+            const unsigned rx = (swapped ? by : bx) ^ complemented;
+            const unsigned ry = (swapped ? bx : by) ^ complemented;
+            digits = (digits << 2) | ((3 * rx) ^ ry);
+            if (ry == 0) {
+              swapped ^= 1;
+              complemented ^= rx;
+            }
+          }
+          step[state << 4 | xx << 2 | yy] =
+              static_cast<std::uint8_t>((swapped | complemented << 1) << 4 | digits);
+        }
+  }
+};
+constexpr HilbertTable kHilbert;
+static_assert(OrderKey::kHilbertBits % 2 == 0);
+
+// NaN (an infinite extent times 0) and overflow land in a border cell.
+std::uint32_t cell(double c) {
+  constexpr std::uint32_t top = (1u << OrderKey::kHilbertBits) - 1;
+  return c >= top ? top : (c > 0 ? static_cast<std::uint32_t>(c) : 0);
+}
+
 // LSD radix sort of (key << 32 | index) by key: stable, so equal keys keep index order.
-void radix_sort_by_key(std::vector<std::uint64_t>& items) {
+void radix_sort_by_key(std::uint64_t* items, std::uint64_t* buffer, std::size_t n) {
   constexpr int kPasses = 3;
   constexpr std::array<int, kPasses> kShift = {32, 43, 54};
   constexpr std::array<int, kPasses> kWidth = {11, 11, 10};
-  std::vector<std::uint64_t> buffer(items.size());
   std::array<std::vector<std::size_t>, kPasses> count;
   for (int p = 0; p < kPasses; ++p) count[p].assign((std::size_t{1} << kWidth[p]) + 1, 0);
-  for (std::uint64_t v : items)
-    for (int p = 0; p < kPasses; ++p) ++count[p][((v >> kShift[p]) & ((1u << kWidth[p]) - 1)) + 1];
-  std::uint64_t* src = items.data();
-  std::uint64_t* dst = buffer.data();
+  for (std::size_t i = 0; i < n; ++i)
+    for (int p = 0; p < kPasses; ++p)
+      ++count[p][((items[i] >> kShift[p]) & ((1u << kWidth[p]) - 1)) + 1];
+  std::uint64_t* src = items;
+  std::uint64_t* dst = buffer;
   for (int p = 0; p < kPasses; ++p) {
     auto& offset = count[p];
     for (std::size_t i = 1; i < offset.size(); ++i) offset[i] += offset[i - 1];
     const std::uint64_t mask = (1u << kWidth[p]) - 1;
-    for (std::size_t i = 0; i < items.size(); ++i) {
+    for (std::size_t i = 0; i < n; ++i) {
       const std::uint64_t v = src[i];
       dst[offset[(v >> kShift[p]) & mask]++] = v;
     }
     std::swap(src, dst);
   }
-  if (src != items.data()) std::memcpy(items.data(), src, items.size() * sizeof(std::uint64_t));
+  if (src != items) std::memcpy(items, src, n * sizeof(std::uint64_t));
 }
 
 }  // namespace
@@ -77,27 +110,33 @@ std::uint32_t hilbert_index(std::uint32_t x, std::uint32_t y, int bits) {
   return d;
 }
 
-std::vector<std::uint32_t> insertion_order(const std::vector<Point3>& points, const BBox& box) {
-  const std::size_t n = points.size();
+OrderKey::OrderKey(const BBox& box) : box_(box) {
   const double extent = std::max(box.max_x - box.min_x, box.max_y - box.min_y);
   const double cells = static_cast<double>(1u << kHilbertBits);
-  const double scale = extent > 0 ? (cells - 0.5) / extent : 0.0;
-  const std::uint32_t top = (1u << kHilbertBits) - 1;
+  scale_ = extent > 0 && std::isfinite(extent) ? (cells - 0.5) / extent : 0.0;
+}
 
-  std::vector<std::uint64_t> items(n);
-  parallel_chunks(n, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t i = begin; i < end; ++i) {
-      const Point3& p = points[i];
-      const auto cx = std::min(top, static_cast<std::uint32_t>((p.x - box.min_x) * scale));
-      const auto cy = std::min(top, static_cast<std::uint32_t>((p.y - box.min_y) * scale));
-      const std::uint32_t round = kMaxRound - brio_round(p.x, p.y);  // coarse rounds first
-      const std::uint32_t key = (round << (2 * kHilbertBits)) | hilbert_index(cx, cy, kHilbertBits);
-      items[i] = (std::uint64_t{key} << 32) | i;
-    }
-  });
-  radix_sort_by_key(items);
+std::uint32_t OrderKey::hilbert_key(std::uint32_t x, std::uint32_t y) {
+  std::uint32_t d = 0, state = 0;
+  for (int shift = kHilbertBits - 2; shift >= 0; shift -= 2) {
+    const std::uint32_t v =
+        kHilbert.step[state << 4 | ((x >> shift) & 3) << 2 | ((y >> shift) & 3)];
+    d = d << 4 | (v & 15);
+    state = v >> 4;
+  }
+  return d;
+}
 
-  // Within a run of equal keys, order by x, y so that equal points are adjacent.
+std::uint32_t OrderKey::operator()(const Point3& p) const {
+  const std::uint32_t cx = cell((p.x - box_.min_x) * scale_);
+  const std::uint32_t cy = cell((p.y - box_.min_y) * scale_);
+  const std::uint32_t round = kMaxRound - brio_round(p.x, p.y);  // coarse rounds first
+  return (round << (2 * kHilbertBits)) | hilbert_key(cx, cy);
+}
+
+void sort_by_key_then_xy(const std::vector<Point3>& points, std::uint64_t* items,
+                         std::uint64_t* buffer, std::size_t n) {
+  radix_sort_by_key(items, buffer, n);
   auto by_xy = [&](std::uint64_t a, std::uint64_t b) {
     const Point3& p = points[static_cast<std::uint32_t>(a)];
     const Point3& q = points[static_cast<std::uint32_t>(b)];
@@ -108,12 +147,22 @@ std::vector<std::uint32_t> insertion_order(const std::vector<Point3>& points, co
   for (std::size_t i = 0; i < n;) {
     std::size_t j = i + 1;
     while (j < n && (items[j] >> 32) == (items[i] >> 32)) ++j;
-    if (j - i > 1)
-      std::sort(items.begin() + static_cast<std::ptrdiff_t>(i),
-                items.begin() + static_cast<std::ptrdiff_t>(j), by_xy);
+    if (j - i > 1) std::sort(items + i, items + j, by_xy);
     i = j;
   }
+}
 
+std::vector<std::uint32_t> insertion_order(const std::vector<Point3>& points, const BBox& box) {
+  const std::size_t n = points.size();
+  const OrderKey key(box);
+  std::vector<std::uint64_t> items(n);
+  parallel_chunks(n, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) items[i] = std::uint64_t{key(points[i])} << 32 | i;
+  });
+  {
+    std::vector<std::uint64_t> buffer(n);
+    sort_by_key_then_xy(points, items.data(), buffer.data(), n);
+  }
   std::vector<std::uint32_t> order(n);
   for (std::size_t i = 0; i < n; ++i) order[i] = static_cast<std::uint32_t>(items[i]);
   return order;

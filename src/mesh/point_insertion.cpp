@@ -6,11 +6,17 @@
 
 namespace tincdt::mesh {
 
+TriangleId PointInserter::new_slot(VertexId a, VertexId b, VertexId c) {
+  if (next_slot_ == kNoId) return tin_.add_triangle(a, b, c);
+  tin_.set_corners(next_slot_, a, b, c);
+  return next_slot_++;
+}
+
 void PointInserter::start(VertexId a, VertexId b, VertexId c) {
-  const TriangleId t = tin_.add_triangle(a, b, c);
-  const TriangleId g_ab = tin_.add_triangle(b, a, kInfinite);
-  const TriangleId g_bc = tin_.add_triangle(c, b, kInfinite);
-  const TriangleId g_ca = tin_.add_triangle(a, c, kInfinite);
+  const TriangleId t = new_slot(a, b, c);
+  const TriangleId g_ab = new_slot(b, a, kInfinite);
+  const TriangleId g_bc = new_slot(c, b, kInfinite);
+  const TriangleId g_ca = new_slot(a, c, kInfinite);
   tin_.link(3 * t, 3 * g_ab);
   tin_.link(3 * t + 1, 3 * g_bc);
   tin_.link(3 * t + 2, 3 * g_ca);
@@ -97,7 +103,7 @@ void PointInserter::make_fan(const VertexId (&ring)[K], const EdgeId (&outer)[K]
 }
 
 void PointInserter::insert(VertexId v, const Location& at) {
-  const auto new_slot = [this] { return tin_.add_triangle(kNoId, kNoId, kNoId); };
+  const auto new_slot = [this] { return this->new_slot(kNoId, kNoId, kNoId); };
   if (at.kind == Location::on_vertex)
     throw GeometryError("internal: a point coincides with an existing vertex");
   if (at.kind == Location::in_triangle) {

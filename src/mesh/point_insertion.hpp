@@ -21,6 +21,14 @@ struct Location {
 class PointInserter {
  public:
   explicit PointInserter(Triangulation& tin) : tin_(tin) { stack_.reserve(64); }
+  // Takes new triangles from the pre-sized slots first_slot, first_slot + 1, ... instead of
+  // appending them, so that two inserters can fill disjoint ranges of one Triangulation at once.
+  // (Triangle counts are then left to Triangulation::recount().)
+  PointInserter(Triangulation& tin, TriangleId first_slot) : tin_(tin), next_slot_(first_slot) {
+    stack_.reserve(64);
+  }
+  // The slot the next new triangle takes, in the pre-sized mode.
+  TriangleId next_slot() const { return next_slot_; }
 
   // Starts an empty triangulation with the counter-clockwise triangle (a, b, c).
   void start(VertexId a, VertexId b, VertexId c);
@@ -42,12 +50,14 @@ class PointInserter {
   void make_fan(const VertexId (&ring)[K], const EdgeId (&outer)[K], const TriangleId (&slots)[K],
                 VertexId v);
   void restore(Point2 p);
+  TriangleId new_slot(VertexId a, VertexId b, VertexId c);
 
   Triangulation& tin_;
   std::vector<EdgeId> stack_;
   TriangleId last_ = 0;
   std::uint64_t flips_ = 0;
   std::uint64_t random_ = 0x9e3779b97f4a7c15ULL;
+  TriangleId next_slot_ = kNoId;  // kNoId: append
 };
 
 }  // namespace tincdt::mesh

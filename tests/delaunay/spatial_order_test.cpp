@@ -29,6 +29,17 @@ TEST(SpatialOrder, HilbertIndexVisitsEveryCellOnceWithUnitSteps) {
   }
 }
 
+TEST(SpatialOrder, TableHilbertKeyIsTheReferenceCurve) {
+  std::mt19937_64 rng(9);
+  const std::uint32_t side = 1u << OrderKey::kHilbertBits;
+  for (int i = 0; i < 100000; ++i) {
+    const auto x = static_cast<std::uint32_t>(rng() % side),
+               y = static_cast<std::uint32_t>(rng() % side);
+    ASSERT_EQ(OrderKey::hilbert_key(x, y), hilbert_index(x, y, OrderKey::kHilbertBits))
+        << x << ", " << y;
+  }
+}
+
 TEST(SpatialOrder, IsAPermutationWithEqualPointsAdjacent) {
   std::mt19937_64 rng(5);
   std::vector<Point3> pts;
