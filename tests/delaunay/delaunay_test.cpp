@@ -12,42 +12,14 @@
 
 #include "core/error.hpp"
 #include "predicates/predicates.hpp"
+#include "support/delaunay_checks.hpp"
 
 namespace tincdt::delaunay {
 namespace {
 
 using mesh::Triangulation;
-
-// Number of convex hull vertices, collinear ones on the hull included (monotone chain).
-std::size_t hull_vertex_count(std::vector<Point2> p) {
-  std::sort(p.begin(), p.end(),
-            [](Point2 a, Point2 b) { return std::tie(a.x, a.y) < std::tie(b.x, b.y); });
-  p.erase(std::unique(p.begin(), p.end()), p.end());
-  std::vector<Point2> h;
-  auto build = [&](auto first, auto last) {
-    const std::size_t base = h.size();
-    for (auto it = first; it != last; ++it) {
-      while (h.size() >= base + 2 && predicates::orient2d(h[h.size() - 2], h.back(), *it) < 0)
-        h.pop_back();
-      h.push_back(*it);
-    }
-    h.pop_back();
-  };
-  build(p.begin(), p.end());
-  build(p.rbegin(), p.rend());
-  return h.size();
-}
-
-// Brute force: no vertex strictly inside any triangle's circumcircle.
-bool globally_delaunay(const Triangulation& tin) {
-  bool ok = true;
-  tin.for_each_triangle([&](TriangleId, const std::array<VertexId, 3>& t) {
-    for (VertexId v = 0; v < tin.vertex_count() && ok; ++v)
-      if (predicates::incircle(tin.point(t[0]), tin.point(t[1]), tin.point(t[2]), tin.point(v)) > 0)
-        ok = false;
-  });
-  return ok;
-}
+using test::globally_delaunay;
+using test::hull_vertex_count;
 
 void expect_valid(const std::vector<Point3>& points, bool brute_force) {
   std::vector<Point2> xy;

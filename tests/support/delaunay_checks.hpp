@@ -1,0 +1,46 @@
+// Independent references for Delaunay tests: the hull size by monotone chain and the empty-circle
+// property by brute force.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <tuple>
+#include <vector>
+
+#include "mesh/triangulation.hpp"
+#include "predicates/predicates.hpp"
+
+namespace tincdt::test {
+
+// Number of convex hull vertices, collinear ones on the hull included (monotone chain).
+inline std::size_t hull_vertex_count(std::vector<Point2> p) {
+  std::sort(p.begin(), p.end(),
+            [](Point2 a, Point2 b) { return std::tie(a.x, a.y) < std::tie(b.x, b.y); });
+  p.erase(std::unique(p.begin(), p.end()), p.end());
+  std::vector<Point2> h;
+  auto build = [&](auto first, auto last) {
+    const std::size_t base = h.size();
+    for (auto it = first; it != last; ++it) {
+      while (h.size() >= base + 2 && predicates::orient2d(h[h.size() - 2], h.back(), *it) < 0)
+        h.pop_back();
+      h.push_back(*it);
+    }
+    h.pop_back();
+  };
+  build(p.begin(), p.end());
+  build(p.rbegin(), p.rend());
+  return h.size();
+}
+
+// No vertex strictly inside any kept triangle's circumcircle.
+inline bool globally_delaunay(const mesh::Triangulation& tin) {
+  bool ok = true;
+  tin.for_each_triangle([&](TriangleId, const std::array<VertexId, 3>& t) {
+    for (VertexId v = 0; v < tin.vertex_count() && ok; ++v)
+      if (predicates::incircle(tin.point(t[0]), tin.point(t[1]), tin.point(t[2]), tin.point(v)) > 0)
+        ok = false;
+  });
+  return ok;
+}
+
+}  // namespace tincdt::test
