@@ -61,7 +61,28 @@ QualityReport measure_quality(const mesh::Triangulation& tin,
   QualityReport q;
   q.flats_need_contours = on_contour != nullptr;
   std::vector<std::uint8_t> used(tin.vertex_count(), 0);
-  std::vector<double> lengths;  // each edge once
+  // Edge lengths are counted as they come (tens of millions of edges: no list of them), on the
+  // fixed grid 10^(k/4); bin k's edges are tabled once for the whole double range.
+  constexpr int kLowest = -1300, kHighest = 1300;
+  static const std::vector<double> bin_edge = [] {
+    std::vector<double> edges;
+    for (int k = kLowest; k <= kHighest + 1; ++k) edges.push_back(grid_edge(k));
+    return edges;
+  }();
+  std::vector<std::uint64_t> bins(static_cast<std::size_t>(kHighest - kLowest + 1), 0);
+  double min_length = HUGE_VAL, max_length = 0, sum_length = 0;
+  auto count_edge = [&](double l) {
+    ++q.edges;
+    min_length = std::min(min_length, l);
+    max_length = std::max(max_length, l);
+    sum_length += l;
+    // The log can put a length that equals a bin edge on either side of it: settle it with the
+    // tabled edges, so the counts agree with the bins as printed.
+    int k = std::clamp(grid_index(l), kLowest + 1, kHighest - 1);
+    if (l < bin_edge[static_cast<std::size_t>(k - kLowest)]) --k;
+    if (l >= bin_edge[static_cast<std::size_t>(k + 1 - kLowest)]) ++k;
+    ++bins[static_cast<std::size_t>(k - kLowest)];
+  };
   double min_angle = 180, max_angle = 0, max_ratio = 0;
 
   tin.for_each_triangle([&](TriangleId t, const std::array<VertexId, 3>& c) {
@@ -78,8 +99,7 @@ QualityReport measure_quality(const mesh::Triangulation& tin,
       len[i] = std::hypot(b.x - a.x, b.y - a.y);
       // Count an edge from the side with the smaller origin, or from its only kept side.
       const EdgeId e = 3 * t + static_cast<EdgeId>(i);
-      if (c[i] < c[(i + 1) % 3] || !tin.is_kept(mesh::triangle_of(tin.twin(e))))
-        lengths.push_back(len[i]);
+      if (c[i] < c[(i + 1) % 3] || !tin.is_kept(mesh::triangle_of(tin.twin(e)))) count_edge(len[i]);
     }
     // Areas from coordinate differences (large map coordinates stay exact enough).
     const double ux = p[1].x - p[0].x, uy = p[1].y - p[0].y, uz = p[1].z - p[0].z;
@@ -115,26 +135,16 @@ QualityReport measure_quality(const mesh::Triangulation& tin,
     q.max_angle_deg = max_angle;
     q.max_radius_ratio = max_ratio;
   }
-  q.edges = lengths.size();
-  if (!lengths.empty()) {
-    const auto [lo, hi] = std::minmax_element(lengths.begin(), lengths.end());
-    q.min_edge_length = *lo;
-    q.max_edge_length = *hi;
-    double sum = 0;
-    for (double l : lengths) sum += l;
-    q.mean_edge_length = sum / static_cast<double>(lengths.size());
-    const int k_lo = grid_index(*lo);
-    const int k_hi = std::max(grid_index(*hi) + 1, k_lo + 1);
-    for (int k = k_lo; k <= k_hi; ++k) q.edge_length_bin_edges.push_back(grid_edge(k));
-    q.edge_length_histogram.assign(static_cast<std::size_t>(k_hi - k_lo), 0);
-    for (double l : lengths) {
-      // The log can put a length that equals a bin edge on either side of it: settle it with the
-      // reported edges, so the counts agree with the bins as printed.
-      auto i = static_cast<std::size_t>(std::clamp(grid_index(l) - k_lo, 0, k_hi - k_lo - 1));
-      if (l < q.edge_length_bin_edges[i] && i > 0) --i;
-      if (l >= q.edge_length_bin_edges[i + 1] && i + 1 < q.edge_length_histogram.size()) ++i;
-      ++q.edge_length_histogram[i];
-    }
+  if (q.edges) {
+    q.min_edge_length = min_length;
+    q.max_edge_length = max_length;
+    q.mean_edge_length = sum_length / static_cast<double>(q.edges);
+    std::size_t first = 0, last = bins.size() - 1;
+    while (bins[first] == 0) ++first;
+    while (bins[last] == 0) --last;
+    for (std::size_t k = first; k <= last + 1; ++k) q.edge_length_bin_edges.push_back(bin_edge[k]);
+    q.edge_length_histogram.assign(bins.begin() + static_cast<std::ptrdiff_t>(first),
+                                   bins.begin() + static_cast<std::ptrdiff_t>(last) + 1);
   }
   return q;
 }

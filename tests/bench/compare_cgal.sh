@@ -36,7 +36,7 @@ if [ "${NO_PSLG:-0}" != 1 ]; then
 fi
 if [ "${NO_JOB:-0}" != 1 ]; then
   # The whole job, text in and binary PLY out; its RESULT line comes from the --stats file.
-  job_ds="$(echo "$DATASETS" | awk '{print $NF}')"
+  job_ds="${JOB_DATASET:-uniform_4M}"
   printf 'tincdt job xyz->ply\t%s\t%s %s -o /tmp/tincdt_bench_job.ply --overwrite -q --stats /tmp/tincdt_bench_job.json --overwrite && /usr/bin/python3 %s /tmp/tincdt_bench_job.json\n' \
     "$job_ds" "$TINCDT" "$DATA/$job_ds/points.xyz" "$ROOT/tests/bench/stats_result.py" >>"$spec"
 fi
