@@ -361,4 +361,66 @@ ConstraintResult insert_constraints(Triangulation& tin, const std::vector<Segmen
   return result;
 }
 
+std::string check_segments(const Triangulation& tin, const std::vector<Segment>& segments,
+                           const std::vector<Piece>& pieces) {
+  // Any half-edge leaving each vertex, to find an edge by turning around its origin.
+  const std::vector<VertexId>& corners = tin.corners();
+  std::vector<EdgeId> out(tin.vertex_count(), kNoId);
+  for (std::size_t e = 0; e < corners.size(); ++e)
+    if (corners[e] < kInfinite) out[corners[e]] = static_cast<EdgeId>(e);
+  auto find_edge = [&](VertexId u, VertexId v) {
+    EdgeId e = out[u];
+    do {
+      if (tin.dest(e) == v) return e;
+      e = tin.twin(prev_edge(e));
+    } while (e != out[u]);
+    return kNoId;
+  };
+
+  // Pieces grouped by source.
+  std::vector<std::uint32_t> order(pieces.size());
+  for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(),
+            [&](std::uint32_t x, std::uint32_t y) { return pieces[x].source < pieces[y].source; });
+  for (const Piece& p : pieces) {
+    if (p.a >= tin.vertex_count() || p.b >= tin.vertex_count())
+      return "a piece names a vertex that does not exist";
+    const EdgeId e = find_edge(p.a, p.b);
+    if (e == kNoId)
+      return "piece " + std::to_string(p.a) + "-" + std::to_string(p.b) + " is not an edge";
+    if (!tin.is_constrained(e))
+      return "edge " + std::to_string(p.a) + "-" + std::to_string(p.b) + " is not constrained";
+  }
+
+  std::vector<VertexId> reached, todo;
+  for (const Segment& s : segments) {
+    if (s.a == s.b) continue;
+    auto first = std::lower_bound(
+        order.begin(), order.end(), s.source,
+        [&](std::uint32_t i, std::uint32_t src) { return pieces[i].source < src; });
+    auto last = first;
+    while (last != order.end() && pieces[*last].source == s.source) ++last;
+    // a reaches b through the source's pieces (a chain; a crossing can add a harmless spur).
+    reached.assign(1, s.a);
+    todo.assign(1, s.a);
+    bool joined = false;
+    while (!todo.empty() && !joined) {
+      const VertexId v = todo.back();
+      todo.pop_back();
+      for (auto it = first; it != last; ++it) {
+        const Piece& p = pieces[*it];
+        const VertexId w = p.a == v ? p.b : (p.b == v ? p.a : kNoId);
+        if (w == kNoId || std::find(reached.begin(), reached.end(), w) != reached.end()) continue;
+        if (w == s.b) joined = true;
+        reached.push_back(w);
+        todo.push_back(w);
+      }
+    }
+    if (!joined)
+      return "segment " + std::to_string(s.a) + "-" + std::to_string(s.b) + " of source " +
+             std::to_string(s.source) + " is not joined end to end by constrained edges";
+  }
+  return {};
+}
+
 }  // namespace tincdt::constraints

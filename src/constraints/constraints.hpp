@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "core/error.hpp"
@@ -76,5 +77,12 @@ class CrossingError : public GeometryError {
 ConstraintResult insert_constraints(mesh::Triangulation& tin, const std::vector<Segment>& segments,
                                     const ConstraintOptions& options = {},
                                     const ProgressFn* progress = nullptr);
+
+// Empty if every segment with distinct ends is covered: the pieces of its source are constrained
+// edges of `tin` that join its two ends. Otherwise the first problem found. (With
+// Triangulation::validate(), which checks that every other edge is locally Delaunay, this is
+// the whole constrained Delaunay check.)
+std::string check_segments(const mesh::Triangulation& tin, const std::vector<Segment>& segments,
+                           const std::vector<Piece>& pieces);
 
 }  // namespace tincdt::constraints

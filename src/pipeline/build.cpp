@@ -150,7 +150,8 @@ constraints::ConstraintResult insert_lines(delaunay::DelaunayResult& result, std
                                            const detail::SourceTable& sources,
                                            const constraints::ConstraintOptions& options,
                                            const ProgressFn* progress, const LogFn& log,
-                                           BuildReport& report) {
+                                           BuildReport& report,
+                                           std::vector<constraints::Segment>* given) {
   std::vector<constraints::Segment> segments;
   segments.reserve(lines.segments.size());
   for (const io::LineData::Segment& s : lines.segments)
@@ -161,6 +162,7 @@ constraints::ConstraintResult insert_lines(delaunay::DelaunayResult& result, std
   constraints::ConstraintResult c;
   try {
     c = constraints::insert_constraints(result.tin, segments, options, progress);
+    if (given) *given = std::move(segments);
   } catch (const constraints::CrossingError& e) {
     char at[64];
     std::snprintf(at, sizeof at, "(%.3f, %.3f)", e.at.x, e.at.y);
@@ -552,10 +554,12 @@ BuildReport build(const BuildOptions& options, const ProgressFn* progress, const
   // ---- constraint stage: contours and hard lines ----------------------------------------------
   std::vector<constraints::Crossing> crossings;  // all of them, for the diagnostics
   std::vector<constraints::Piece> pieces;
+  std::vector<constraints::Segment> checked_segments;  // kept for --validate
   if (!lines.segments.empty()) {
     t0 = Clock::now();
     constraints::ConstraintResult c =
-        insert_lines(result, n_points, lines, sources, options.constraint, progress, log, report);
+        insert_lines(result, n_points, lines, sources, options.constraint, progress, log, report,
+                     options.validate ? &checked_segments : nullptr);
     crossings = std::move(c.crossings);
     pieces = std::move(c.pieces);
     report.timings_s.constraints = seconds_since(t0);
@@ -581,6 +585,8 @@ BuildReport build(const BuildOptions& options, const ProgressFn* progress, const
     report.flips.restoration += c.flips_restoration;
     crossings.insert(crossings.end(), c.crossings.begin(), c.crossings.end());
     pieces = std::move(sr.constraints.pieces);
+    if (options.validate)
+      checked_segments.insert(checked_segments.end(), sr.given.begin(), sr.given.end());
     emit(log, log_debug,
          std::to_string(report.surface_features) + " surface features: " +
              std::to_string(sr.vertices) + " vertices (" + std::to_string(sr.draped) + " draped, " +
@@ -660,7 +666,8 @@ BuildReport build(const BuildOptions& options, const ProgressFn* progress, const
     // removed triangles leave the plane triangulation as it is.
     const bool delaunay = options.constraint.restore == constraints::Restore::delaunay &&
                           report.flats.non_delaunay_edges == 0;
-    const std::string problem = tin.validate({.delaunay = delaunay});
+    std::string problem = tin.validate({.delaunay = delaunay});
+    if (problem.empty()) problem = constraints::check_segments(tin, checked_segments, pieces);
     report.timings_s.validate = seconds_since(t0);
     if (!problem.empty())
       throw Error("internal error: the TIN failed validation: " + problem +

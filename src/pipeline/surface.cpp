@@ -143,6 +143,8 @@ SurfaceResult insert_surface_features(mesh::Triangulation& tin,
   options.restore = restore;
   options.on_crossing = constraints::OnCrossing::split;  // crossing hard lines is what they do
   result.constraints = constraints::insert_constraints(tin, segments, options, progress);
+  result.given.assign(segments.begin() + static_cast<std::ptrdiff_t>(hard_pieces.size()),
+                      segments.end());
 
   // 4. A draped constraint crossing one with its own z takes that z there.
   for (const constraints::Crossing& x : result.constraints.crossings) {

@@ -70,6 +70,7 @@ struct SurfaceResult {
   std::uint64_t soft_line_vertices = 0;       // draped soft-line vertices
   std::uint64_t segments = 0;                 // surface-feature segments given
   std::uint64_t crossings_with_hard_z = 0;    // crossing vertices given the hard line's z
+  std::vector<constraints::Segment> given;    // the surface-feature segments inserted
 };
 
 // The surface-feature stage on the constrained TIN of points and hard lines:

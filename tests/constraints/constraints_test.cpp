@@ -126,6 +126,7 @@ void expect_brute_force_cdt(const Triangulation& tin) {
 
 void expect_cdt(const Built& b, bool brute_force) {
   ASSERT_EQ(b.tin.validate(), "");
+  EXPECT_EQ(check_segments(b.tin, b.segments, b.result.pieces), "");
   expect_segments_present(b);
   if (brute_force) {
     expect_brute_force_cdt(b.tin);
@@ -283,6 +284,24 @@ TEST(Constraints, AspectAndNoneRestorationKeepAValidTriangulation) {
       }
     }
   }
+}
+
+TEST(Constraints, CheckSegmentsFindsAMissingOrFreedConstraint) {
+  std::mt19937_64 rng(3);
+  Input in = random_points(rng, 200);
+  add_non_crossing_segments(rng, in, 20);
+  Built b = build(in);
+  ASSERT_EQ(check_segments(b.tin, b.segments, b.result.pieces), "");
+  // Drop one piece: its segment is no longer joined end to end.
+  std::vector<Piece> fewer = b.result.pieces;
+  fewer.pop_back();
+  EXPECT_NE(check_segments(b.tin, b.segments, fewer), "");
+  // Unmark one constrained edge: the piece on it is caught.
+  Triangulation copy = b.tin;
+  copy.build_vertex_index();
+  const Piece& p = b.result.pieces.front();
+  copy.set_constrained(copy.find_edge(p.a, p.b), false);
+  EXPECT_NE(check_segments(copy, b.segments, b.result.pieces), "");
 }
 
 TEST(Constraints, ZeroLengthSegmentsAreSkippedAndCounted) {
