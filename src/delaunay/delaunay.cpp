@@ -45,6 +45,8 @@ DelaunayResult triangulate(std::vector<Point3>&& points, const DelaunayOptions& 
       const std::size_t nv = tin.vertex_count();
       if (nv > 0 && tin.point(static_cast<VertexId>(nv - 1)) == Point2{p.x, p.y}) {
         double z = tin.z(static_cast<VertexId>(nv - 1));
+        if (options.keep_duplicates)
+          record_duplicate(result.duplicates, static_cast<VertexId>(nv - 1), z, p.z, run + 1);
         merge_duplicate_z(z, p.z, ++run, options.on_duplicate);
         tin.set_z(static_cast<VertexId>(nv - 1), z);
         ++result.duplicates_merged;

@@ -126,8 +126,9 @@ void sort_half(const std::vector<Point3>& input, std::uint64_t* items, std::size
 }
 
 // Passes one half's distinct points, in order and with equal x, y merged, to put(k, point);
-// vertex_of_point (if not null) gets each point's index k within the half. Now and then calls
-// consumed(k): the items before k are read.
+// vertex_of_point (if not null) gets each point's index k within the half, duplicates (if not
+// null) the merged groups with vertex ids within the half. Now and then calls consumed(k): the
+// items before k are read.
 struct HalfPoints {
   std::size_t count = 0;
   std::uint64_t duplicates = 0;
@@ -135,8 +136,9 @@ struct HalfPoints {
 
 template <class Put, class Consumed>
 HalfPoints gather_half(const std::vector<Point3>& input, const std::uint64_t* items, std::size_t m,
-                       VertexId* vertex_of_point, DuplicatePolicy policy, Put&& put,
-                       Consumed&& consumed) {
+                       VertexId* vertex_of_point,
+                       std::vector<DelaunayResult::Duplicate>* duplicates, DuplicatePolicy policy,
+                       Put&& put, Consumed&& consumed) {
   HalfPoints half;
   Point3 current{};
   std::uint32_t run = 0;
@@ -145,6 +147,9 @@ HalfPoints gather_half(const std::vector<Point3>& input, const std::uint64_t* it
     const auto i = static_cast<std::uint32_t>(items[k]);
     const Point3& p = input[i];
     if (half.count > 0 && current.x == p.x && current.y == p.y) {
+      if (duplicates)
+        record_duplicate(*duplicates, static_cast<VertexId>(half.count - 1), current.z, p.z,
+                         run + 1);
       merge_duplicate_z(current.z, p.z, ++run, policy);
       ++half.duplicates;
     } else {
@@ -607,10 +612,18 @@ bool triangulate_in_two(std::vector<Point3>& input, const BBox& box, const Delau
   VertexId* point_map = options.keep_point_map ? result.vertex_of_point.data() : nullptr;
   PointStash stash(tin, n);
   HalfPoints half[2];
+  // Merged groups: the left half's straight into the result, the right half's (vertex ids within
+  // the half) into a list of their own, appended once both are done.
+  std::vector<DelaunayResult::Duplicate> right_duplicates;
+  std::vector<DelaunayResult::Duplicate>* duplicates[2] = {nullptr, nullptr};
+  if (options.keep_duplicates) {
+    duplicates[0] = &result.duplicates;
+    duplicates[1] = &right_duplicates;
+  }
   run_two(
       [&] {
         half[0] = gather_half(
-            input, items.data(), left_items, point_map, options.on_duplicate,
+            input, items.data(), left_items, point_map, duplicates[0], options.on_duplicate,
             [&](std::size_t, const Point3& p) {
               tin.add_vertex({p.x, p.y}, p.z);
             },
@@ -620,7 +633,8 @@ bool triangulate_in_two(std::vector<Point3>& input, const BBox& box, const Delau
         slot_maker.join();
         if (slot_error) std::rethrow_exception(slot_error);
         half[1] = gather_half(
-            input, items.data() + left_items, n - left_items, point_map, options.on_duplicate,
+            input, items.data() + left_items, n - left_items, point_map, duplicates[1],
+            options.on_duplicate,
             [&](std::size_t k, const Point3& p) { stash.put(left_items + k, p); },
             [&](std::size_t k) {
               if (!point_map) items.release(left_items, left_items + k);  // else read below
@@ -633,6 +647,13 @@ bool triangulate_in_two(std::vector<Point3>& input, const BBox& box, const Delau
     for (std::size_t k = left_items; k < n; ++k)
       point_map[static_cast<std::uint32_t>(items[k])] += nl;
   result.duplicates_merged = half[0].duplicates + half[1].duplicates;
+  if (options.keep_duplicates) {
+    result.duplicates.reserve(result.duplicates.size() + right_duplicates.size());
+    for (DelaunayResult::Duplicate d : right_duplicates) {
+      d.vertex += nl;
+      result.duplicates.push_back(d);
+    }
+  }
   items.release();
   std::vector<Point3>().swap(input);
 

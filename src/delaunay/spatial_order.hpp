@@ -58,4 +58,19 @@ inline void merge_duplicate_z(double& z, double other, std::uint32_t count,
   }
 }
 
+// Notes in `list` (DelaunayOptions::keep_duplicates) that `vertex` takes one more point with equal
+// x, y and height `other`; `count` is its points so far, this one included. Call it before
+// merge_duplicate_z(z, other, count, ...): at count 2, `z` is then still the first point's.
+inline void record_duplicate(std::vector<DelaunayResult::Duplicate>& list, VertexId vertex,
+                             double z, double other, std::uint32_t count) {
+  if (count == 2) {
+    list.push_back({vertex, 2, other < z ? other : z, other > z ? other : z});
+    return;
+  }
+  DelaunayResult::Duplicate& d = list.back();
+  d.points = count;
+  if (other < d.z_min) d.z_min = other;
+  if (other > d.z_max) d.z_max = other;
+}
+
 }  // namespace tincdt::delaunay

@@ -531,6 +531,7 @@ BuildReport build(const BuildOptions& options, const ProgressFn* progress, const
   delaunay::DelaunayOptions dopt;
   dopt.on_duplicate = options.on_duplicate;
   dopt.keep_point_map = !lines.segments.empty();
+  dopt.keep_duplicates = !options.diagnostics.empty();
   delaunay::DelaunayResult result = [&] {
     try {
       return delaunay::triangulate(std::move(points), dopt, progress);
@@ -725,6 +726,10 @@ BuildReport build(const BuildOptions& options, const ProgressFn* progress, const
 
   if (!options.diagnostics.empty()) {
     io::Diagnostics d;
+    for (const delaunay::DelaunayResult::Duplicate& dup : result.duplicates) {
+      const Point2 at = tin.point(dup.vertex);
+      d.duplicates.push_back({{at.x, at.y, tin.z(dup.vertex)}, dup.points, dup.z_min, dup.z_max});
+    }
     d.crossings.reserve(crossings.size());
     for (const constraints::Crossing& x : crossings)
       d.crossings.push_back(crossing_record(tin, x, sources));

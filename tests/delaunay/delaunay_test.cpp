@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <random>
 #include <set>
 #include <tuple>
@@ -173,6 +175,51 @@ TEST(Delaunay, DuplicatesMergedByPolicy) {
     EXPECT_EQ(r.vertex_of_point[3], r.vertex_of_point[4]);
     EXPECT_EQ(r.vertex_of_point[0], r.vertex_of_point[6]);
   }
+}
+
+TEST(Delaunay, KeepDuplicatesListsEachMergedVertex) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0, 100);
+  std::vector<Point3> pts;
+  for (int i = 0; i < 200; ++i) pts.push_back({u(rng), u(rng), 0});
+  for (double z : {5.0, 1.0, 9.0}) pts.push_back({10.5, 20.25, z});
+  for (double z : {-3.0, 4.0}) pts.push_back({90.5, 70.25, z});
+  std::shuffle(pts.begin(), pts.end(), rng);
+  DelaunayOptions options;
+  options.keep_duplicates = true;
+  options.parallel_min_points = std::numeric_limits<std::size_t>::max();
+  for (DuplicatePolicy policy : {DuplicatePolicy::first, DuplicatePolicy::mean}) {
+    options.on_duplicate = policy;
+    std::vector<Point3> copy = pts;
+    const DelaunayResult r = triangulate(std::move(copy), options);
+    ASSERT_EQ(r.tin.validate(), "");
+    EXPECT_EQ(r.duplicates_merged, 3u);
+    ASSERT_EQ(r.duplicates.size(), 2u);
+    std::uint64_t merged = 0;
+    for (const DelaunayResult::Duplicate& d : r.duplicates) merged += d.points - 1;
+    EXPECT_EQ(merged, r.duplicates_merged);
+    auto dups = r.duplicates;  // by x, whatever the vertex order
+    std::sort(dups.begin(), dups.end(), [&](const auto& a, const auto& b) {
+      return r.tin.point(a.vertex).x < r.tin.point(b.vertex).x;
+    });
+    EXPECT_EQ(r.tin.point(dups[0].vertex), (Point2{10.5, 20.25}));
+    EXPECT_EQ(dups[0].points, 3u);
+    EXPECT_EQ(dups[0].z_min, 1.0);
+    EXPECT_EQ(dups[0].z_max, 9.0);
+    EXPECT_EQ(r.tin.point(dups[1].vertex), (Point2{90.5, 70.25}));
+    EXPECT_EQ(dups[1].points, 2u);
+    EXPECT_EQ(dups[1].z_min, -3.0);
+    EXPECT_EQ(dups[1].z_max, 4.0);
+    EXPECT_LT(r.duplicates[0].vertex, r.duplicates[1].vertex);  // in vertex order
+    if (policy == DuplicatePolicy::mean) {
+      EXPECT_DOUBLE_EQ(r.tin.z(dups[0].vertex), 5.0);
+      EXPECT_DOUBLE_EQ(r.tin.z(dups[1].vertex), 0.5);
+    }
+  }
+  // Off by default.
+  const DelaunayResult off = triangulate(std::move(pts));
+  EXPECT_EQ(off.duplicates_merged, 3u);
+  EXPECT_TRUE(off.duplicates.empty());
 }
 
 TEST(Delaunay, ManyDuplicatesInRandomOrder) {

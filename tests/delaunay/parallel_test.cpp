@@ -390,6 +390,89 @@ TEST(ParallelDelaunay, HalvesOfDifferentSizesThroughDuplicates) {
   }
 }
 
+TEST(ParallelDelaunay, KeepDuplicatesInBothHalves) {
+  // One group in each half (the pivot splits near x = 50), so the right one's vertex is offset.
+  for (unsigned seed = 0; seed < 20; ++seed) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(0, 100);
+    std::vector<Point3> pts;
+    for (int i = 0; i < 300; ++i) pts.push_back({u(rng), u(rng), 0});
+    for (double z : {5.0, 1.0, 9.0}) pts.push_back({10.5, 20.25, z});
+    for (double z : {-3.0, 4.0}) pts.push_back({90.5, 70.25, z});
+    std::shuffle(pts.begin(), pts.end(), rng);
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    ASSERT_TRUE(takes_parallel_path(pts));
+    DelaunayOptions options;
+    options.keep_duplicates = true;
+    options.keep_point_map = true;
+    for (std::size_t threshold : {std::size_t{0}, kNever}) {
+      options.parallel_min_points = threshold;
+      std::vector<Point3> copy = pts;
+      const DelaunayResult r = triangulate(std::move(copy), options);
+      ASSERT_EQ(r.tin.validate(), "");
+      EXPECT_EQ(r.duplicates_merged, 3u);
+      ASSERT_EQ(r.duplicates.size(), 2u);
+      std::uint64_t merged = 0;
+      for (const DelaunayResult::Duplicate& d : r.duplicates) merged += d.points - 1;
+      EXPECT_EQ(merged, r.duplicates_merged);
+      const DelaunayResult::Duplicate a = r.duplicates[0], b = r.duplicates[1];  // vertex order
+      EXPECT_EQ(r.tin.point(a.vertex), (Point2{10.5, 20.25}));
+      EXPECT_EQ(a.points, 3u);
+      EXPECT_EQ(a.z_min, 1.0);
+      EXPECT_EQ(a.z_max, 9.0);
+      EXPECT_EQ(r.tin.point(b.vertex), (Point2{90.5, 70.25}));
+      EXPECT_EQ(b.points, 2u);
+      EXPECT_EQ(b.z_min, -3.0);
+      EXPECT_EQ(b.z_max, 4.0);
+      for (std::size_t i = 0; i < pts.size(); ++i) {
+        if (pts[i].x == 10.5 && pts[i].y == 20.25) {
+          EXPECT_EQ(r.vertex_of_point[i], a.vertex);
+        }
+        if (pts[i].x == 90.5 && pts[i].y == 70.25) {
+          EXPECT_EQ(r.vertex_of_point[i], b.vertex);
+        }
+      }
+    }
+  }
+}
+
+TEST(ParallelDelaunay, KeepDuplicatesMatchesTheSequentialPath) {
+  for (unsigned seed = 0; seed < 20; ++seed) {
+    std::mt19937_64 rng(seed);
+    std::vector<Point3> pts;  // many groups of every size, on both sides
+    for (int i = 0; i < 3000; ++i)
+      pts.push_back({static_cast<double>(rng() % 40), static_cast<double>(rng() % 40),
+                     static_cast<double>(rng() % 1000)});
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    ASSERT_TRUE(takes_parallel_path(pts));
+    DelaunayOptions options;
+    options.keep_duplicates = true;
+    options.parallel_min_points = 0;
+    const DelaunayResult par = triangulate(std::vector<Point3>(pts), options);
+    options.parallel_min_points = kNever;
+    const DelaunayResult seq = triangulate(std::vector<Point3>(pts), options);
+    ASSERT_EQ(par.duplicates.size(), seq.duplicates.size());
+    std::uint64_t merged = 0;
+    using Row = std::tuple<double, double, std::uint32_t, double, double>;
+    std::vector<Row> rows_par, rows_seq;
+    for (const DelaunayResult::Duplicate& d : par.duplicates) {
+      merged += d.points - 1;
+      const Point2 p = par.tin.point(d.vertex);
+      rows_par.emplace_back(p.x, p.y, d.points, d.z_min, d.z_max);
+    }
+    for (const DelaunayResult::Duplicate& d : seq.duplicates) {
+      const Point2 p = seq.tin.point(d.vertex);
+      rows_seq.emplace_back(p.x, p.y, d.points, d.z_min, d.z_max);
+    }
+    EXPECT_EQ(merged, par.duplicates_merged);
+    std::sort(rows_par.begin(), rows_par.end());
+    std::sort(rows_seq.begin(), rows_seq.end());
+    EXPECT_EQ(rows_par, rows_seq);
+    for (std::size_t k = 1; k < par.duplicates.size(); ++k)
+      EXPECT_LT(par.duplicates[k - 1].vertex, par.duplicates[k].vertex);
+  }
+}
+
 TEST(ParallelDelaunay, CocircularPoints) {
   std::vector<Point3> pts;
   const int r = 1105;

@@ -616,13 +616,16 @@ TEST_F(Surface, ConstraintLinesOpenWithGdalWithTheirSources) {
 TEST_F(Surface, DiagnosticsListTheCrossingAndTheSkippedAndDropped) {
   pipeline::BuildOptions o;
   // Crossing 3D lines at (5, 5): one with a repeated vertex, and a point feature (dropped).
-  o.breaklines = {write(
-      "lines.geojson",
-      collection({{"{\"type\": \"LineString\", \"coordinates\": [[0, 0, 10], [0, 0, 10], [10, 10, "
-                   "20]]}",
-                   ""},
-                  {"{\"type\": \"LineString\", \"coordinates\": [[0, 10, 30], [10, 0, 30]]}", ""},
-                  {"{\"type\": \"Point\", \"coordinates\": [3, 3, 3]}", ""}}))};
+  o.breaklines = {
+      write("lines.geojson",
+            collection(
+                {{"{\"type\": \"LineString\", \"coordinates\": [[0, 0, 10], [0, 0, 10], [10, 10, "
+                  "20]]}",
+                  ""},
+                 {"{\"type\": \"LineString\", \"coordinates\": [[0, 10, 30], [10, 0, 30]]}", ""},
+                 {"{\"type\": \"Point\", \"coordinates\": [3, 3, 3]}", ""},
+                 // Starts where the first line starts: the two vertices merge into one.
+                 {"{\"type\": \"LineString\", \"coordinates\": [[0, 0, 10], [-5, 3, 12]]}", ""}}))};
   o.output = path("tin.ply");
   o.diagnostics = path("d.gpkg");
   o.validate = true;
@@ -641,7 +644,8 @@ TEST_F(Surface, DiagnosticsListTheCrossingAndTheSkippedAndDropped) {
   EXPECT_EQ(count("crossings"), 1);
   EXPECT_EQ(count("skipped_segments"), 1);
   EXPECT_EQ(count("dropped_features"), 1);
-  EXPECT_EQ(count("merged_duplicates"), 0);
+  EXPECT_EQ(count("merged_duplicates"), 1);
+  EXPECT_EQ(r.duplicates_merged, 1u);
   OGRLayerH crossings = GDALDatasetGetLayerByName(ds, "crossings");
   OGR_L_ResetReading(crossings);
   OGRFeatureH f = OGR_L_GetNextFeature(crossings);
