@@ -199,27 +199,27 @@ class ConstraintInserter {
   // convex; one that still crosses goes back in the queue, as does one that is not convex yet.
   void swap_in(Point2 pa, Point2 pb) {
     created_.clear();
-    for (std::size_t head = 0; head < crossed_.size(); ++head) {
-      const VertexPair q = crossed_[head];
-      const EdgeId e = tin_.find_edge(q.u, q.v);
-      const VertexId c = tin_.apex(e), d = tin_.apex(tin_.twin(e));
-      const Point2 pc = pt(c), pd = pt(d);
-      if (orient2d(pc, pd, pt(q.u)) * orient2d(pc, pd, pt(q.v)) >= 0) {
-        crossed_.push_back(q);  // not strictly convex: wait for a neighbour's swap
-        continue;
+    // In rounds: every edge still crossing goes to the next round, in order, so the whole is
+    // one FIFO queue without a consumed prefix to keep.
+    while (!crossed_.empty()) {
+      waiting_.clear();
+      for (const VertexPair q : crossed_) {
+        const EdgeId e = tin_.find_edge(q.u, q.v);
+        const VertexId c = tin_.apex(e), d = tin_.apex(tin_.twin(e));
+        const Point2 pc = pt(c), pd = pt(d);
+        if (orient2d(pc, pd, pt(q.u)) * orient2d(pc, pd, pt(q.v)) >= 0) {
+          waiting_.push_back(q);  // not strictly convex: wait for a neighbour's swap
+          continue;
+        }
+        tin_.flip(e);
+        ++result_.flips_insertion;
+        if (orient2d(pa, pb, pc) * orient2d(pa, pb, pd) < 0) {
+          waiting_.push_back({c, d});
+        } else {
+          created_.push_back({c, d});
+        }
       }
-      tin_.flip(e);
-      ++result_.flips_insertion;
-      if (orient2d(pa, pb, pc) * orient2d(pa, pb, pd) < 0) {
-        crossed_.push_back({c, d});
-      } else {
-        created_.push_back({c, d});
-      }
-      // Keep the queue from growing without bound: drop the consumed prefix now and then.
-      if (head > 4096 && head * 2 > crossed_.size()) {
-        crossed_.erase(crossed_.begin(), crossed_.begin() + static_cast<std::ptrdiff_t>(head) + 1);
-        head = static_cast<std::size_t>(-1);
-      }
+      crossed_.swap(waiting_);
     }
   }
 
@@ -318,6 +318,7 @@ class ConstraintInserter {
   std::vector<std::uint32_t> next_piece_;  // piece -> the previous piece on the same edge
   std::vector<Segment> work_;
   std::vector<VertexPair> crossed_;
+  std::vector<VertexPair> waiting_;  // crossed edges for the next round of swap_in()
   std::vector<VertexPair> created_;
 };
 
