@@ -411,15 +411,37 @@ void define_options(CLI::App& app, Cli& c) {
   app.add_option("INPUT", c.inputs, "Point files: LAS 1.0-1.4, or XYZ text ('-' = stdin)")
       ->type_name("FILE");
 
+  // Repeatable, one value each, so that "--clip a.shp tile.las" or "--keep-class 2 tile.las"
+  // leave tile.las an INPUT.
+  const auto vector_option = [&app](const char* name, std::vector<std::string>& target,
+                                    const char* help, const char* type, const char* group) {
+    app.add_option(name, target, help)
+        ->type_name(type)
+        ->expected(1)
+        ->allow_extra_args(false)
+        ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
+        ->group(group);
+  };
+  // One of a few words, any case; the help shows them and the default.
+  const auto choice_option = [&app](const char* name, std::string& target, const char* help,
+                                    const std::vector<std::string>& words, const char* group) {
+    std::string type;
+    for (const std::string& w : words) type += (type.empty() ? "" : "|") + w;
+    return app.add_option(name, target, help)
+        ->check(CLI::IsMember(words, CLI::ignore_case).description(""))
+        ->type_name(type)
+        ->capture_default_str()
+        ->group(group);
+  };
+
   const char* out = "Output";
   app.add_option("-o,--output", c.output, "The TIN file: .obj, .ply, .geojson or .json")
       ->required()
       ->type_name("FILE")
       ->group(out);
-  app.add_option("-f,--format", c.format, "Output format, overriding the extension")
-      ->check(CLI::IsMember({"obj", "ply", "geojson"}, CLI::ignore_case).description(""))
-      ->type_name("obj|ply|geojson")
-      ->group(out);
+  choice_option("-f,--format", c.format, "Output format, overriding the extension",
+                {"obj", "ply", "geojson"}, out)
+      ->default_str("");
   app.add_flag("--overwrite", c.overwrite,
                "Replace existing outputs (TIN, stats, lines, diagnostics)")
       ->group(out);
@@ -442,29 +464,14 @@ void define_options(CLI::App& app, Cli& c) {
                  "for files without one; overrides the files' own")
       ->type_name("SRS")
       ->group(in);
-  for (auto [name, target, help] :
-       {std::tuple{"--keep-class", &c.keep_class, "Keep only these LAS classes (e.g. 2,8)"},
-        std::tuple{"--drop-class", &c.drop_class, "Drop these LAS classes (e.g. 7,18: noise)"}})
-    app.add_option(name, *target, help)
-        ->type_name("N[,N...]")
-        ->expected(1)
-        ->allow_extra_args(false)  // "--keep-class 2 tile.las": tile.las is an INPUT
-        ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
-        ->group(in);
+  vector_option("--keep-class", c.keep_class, "Keep only these LAS classes (e.g. 2,8)", "N[,N...]",
+                in);
+  vector_option("--drop-class", c.drop_class, "Drop these LAS classes (e.g. 7,18: noise)",
+                "N[,N...]", in);
   app.add_flag("--first-only", c.first_only, "Keep only first returns (LAS)")->group(in);
   app.add_flag("--last-only", c.last_only, "Keep only last returns (LAS)")->group(in);
 
   const char* lines = "Surface features (any OGR source: FILE or FILE:LAYER; repeatable)";
-  // Repeatable, one value each, so that "--clip a.shp tile.las" leaves tile.las an INPUT.
-  const auto vector_option = [&app](const char* name, std::vector<std::string>& target,
-                                    const char* help, const char* type, const char* group) {
-    app.add_option(name, target, help)
-        ->type_name(type)
-        ->expected(1)
-        ->allow_extra_args(false)
-        ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
-        ->group(group);
-  };
   vector_option("--contours", c.contours,
                 "Contour lines: hard edges; their flats are what --fix-flats fixes", "LINES",
                 lines);
@@ -485,20 +492,14 @@ void define_options(CLI::App& app, Cli& c) {
       ->group(lines);
   app.add_flag("--z-from-m", c.z_from_m, "Take z from the M values (contours, lines, replace)")
       ->group(lines);
-  app.add_option("--on-crossing", c.on_crossing,
-                 "Crossing contours / hard lines: join them at a new vertex, or stop\n"
-                 "with an error (surface features always join)")
-      ->check(CLI::IsMember({"split", "error"}, CLI::ignore_case).description(""))
-      ->type_name("split|error")
-      ->capture_default_str()
-      ->group(lines);
-  app.add_option("--restore", c.restore,
-                 "After each line is in: restore the constrained Delaunay property,\n"
-                 "improve aspect ratios (the paper's criterion), or leave the swaps")
-      ->check(CLI::IsMember({"delaunay", "aspect", "none"}, CLI::ignore_case).description(""))
-      ->type_name("delaunay|aspect|none")
-      ->capture_default_str()
-      ->group(lines);
+  choice_option("--on-crossing", c.on_crossing,
+                "Crossing contours / hard lines: join them at a new vertex, or stop\n"
+                "with an error (surface features always join)",
+                {"split", "error"}, lines);
+  choice_option("--restore", c.restore,
+                "After each line is in: restore the constrained Delaunay property,\n"
+                "improve aspect ratios (the paper's criterion), or leave the swaps",
+                {"delaunay", "aspect", "none"}, lines);
 
   const char* boundary = "TIN boundary (after --fix-flats and --replace, in this order)";
   app.add_option("--max-edge", c.max_edge,
@@ -529,11 +530,8 @@ void define_options(CLI::App& app, Cli& c) {
       ->group(quality);
 
   const char* tri = "Triangulation";
-  app.add_option("--on-duplicate", c.on_duplicate, "z of points with equal x, y")
-      ->check(CLI::IsMember({"first", "min", "max", "mean"}, CLI::ignore_case).description(""))
-      ->type_name("first|min|max|mean")
-      ->capture_default_str()
-      ->group(tri);
+  choice_option("--on-duplicate", c.on_duplicate, "z of points with equal x, y",
+                {"first", "min", "max", "mean"}, tri);
   app.add_flag("--validate", c.validate, "Check the TIN's topology and Delaunay property")
       ->group(quality);
 

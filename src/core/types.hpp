@@ -39,7 +39,6 @@ struct BBox {
     if (y < min_y) min_y = y;
     if (y > max_y) max_y = y;
   }
-  bool empty() const { return !(min_x <= max_x); }
 };
 
 }  // namespace tincdt

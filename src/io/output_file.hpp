@@ -20,7 +20,6 @@ class OutputFile {
 
   void write(const void* data, std::size_t n);  // buffered; throws OutputError on failure
   void write(const std::string& s) { write(s.data(), s.size()); }
-  std::FILE* stream() { return file_; }  // nullptr once closed
   const std::string& path() const { return path_; }
   const std::string& temp_path() const { return temp_path_; }
   std::size_t bytes_written() const { return bytes_; }
