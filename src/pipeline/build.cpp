@@ -19,9 +19,9 @@
 
 #include "core/error.hpp"
 #include "core/memory.hpp"
-#include "io/constraint_writer.hpp"
 #include "io/crs.hpp"
-#include "io/diagnostics_writer.hpp"
+#include "io/mesh/constraint_writer.hpp"
+#include "io/reports/diagnostics_writer.hpp"
 #include "pipeline/surface.hpp"
 #include "terrain/flats.hpp"
 #include "terrain/polygons.hpp"

@@ -13,9 +13,9 @@
 #include "core/progress.hpp"
 #include "core/types.hpp"
 #include "delaunay/delaunay.hpp"
-#include "io/line_reader.hpp"
-#include "io/point_reader.hpp"
-#include "io/tin_writer.hpp"
+#include "io/mesh/tin_writer.hpp"
+#include "io/points/point_reader.hpp"
+#include "io/vector/line_reader.hpp"
 #include "terrain/quality.hpp"
 
 namespace tincdt::pipeline {

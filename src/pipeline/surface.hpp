@@ -9,7 +9,7 @@
 
 #include "constraints/constraints.hpp"
 #include "core/progress.hpp"
-#include "io/polygon_reader.hpp"
+#include "io/vector/polygon_reader.hpp"
 #include "mesh/triangulation.hpp"
 #include "terrain/polygons.hpp"
 

@@ -19,9 +19,9 @@
 #include <gtest/gtest.h>
 
 #include "core/error.hpp"
-#include "io/constraint_writer.hpp"
 #include "io/crs.hpp"
-#include "io/tin_writer.hpp"
+#include "io/mesh/constraint_writer.hpp"
+#include "io/mesh/tin_writer.hpp"
 #include "mesh/triangulation.hpp"
 #include "support/files.hpp"
 #include "support/meshes.hpp"

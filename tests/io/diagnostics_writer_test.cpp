@@ -24,8 +24,8 @@
 
 #include "core/error.hpp"
 #include "io/crs.hpp"
-#include "io/diagnostics_writer.hpp"
-#include "io/line_reader.hpp"
+#include "io/reports/diagnostics_writer.hpp"
+#include "io/vector/line_reader.hpp"
 #include "support/files.hpp"
 #include "support/vector_files.hpp"
 

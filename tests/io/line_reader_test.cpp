@@ -16,7 +16,7 @@
 #include "core/error.hpp"
 #include "core/types.hpp"
 #include "io/crs.hpp"
-#include "io/line_reader.hpp"
+#include "io/vector/line_reader.hpp"
 #include "support/vector_files.hpp"
 
 namespace tincdt::io {

@@ -15,7 +15,7 @@
 #include "core/error.hpp"
 #include "core/types.hpp"
 #include "io/crs.hpp"
-#include "io/polygon_reader.hpp"
+#include "io/vector/polygon_reader.hpp"
 #include "support/errors.hpp"
 #include "support/vector_files.hpp"
 

@@ -23,7 +23,7 @@
 #include "core/error.hpp"
 #include "core/types.hpp"
 #include "io/crs.hpp"
-#include "io/point_reader.hpp"
+#include "io/points/point_reader.hpp"
 
 namespace tincdt::io {
 namespace {

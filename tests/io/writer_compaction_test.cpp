@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "delaunay/delaunay.hpp"
-#include "io/tin_writer.hpp"
+#include "io/mesh/tin_writer.hpp"
 #include "support/files.hpp"
 #include "support/mesh_files.hpp"
 

@@ -26,8 +26,8 @@
 
 #include "core/error.hpp"
 #include "io/crs.hpp"
+#include "io/mesh/tin_writer.hpp"
 #include "io/output_file.hpp"
-#include "io/tin_writer.hpp"
 #include "mesh/triangulation.hpp"
 #include "support/files.hpp"
 #include "support/mesh_files.hpp"

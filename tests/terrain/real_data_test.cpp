@@ -12,7 +12,7 @@
 
 #include "constraints/constraints.hpp"
 #include "delaunay/delaunay.hpp"
-#include "io/line_reader.hpp"
+#include "io/vector/line_reader.hpp"
 #include "terrain/flats.hpp"
 #include "terrain/interpolate.hpp"
 #include "terrain/polygons.hpp"

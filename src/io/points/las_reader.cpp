@@ -15,7 +15,7 @@
 #include "core/error.hpp"
 #include "io/crs_detail.hpp"
 #include "io/mapped_file.hpp"
-#include "io/point_reader.hpp"
+#include "io/points/point_reader.hpp"
 
 namespace tincdt::io {
 namespace {

@@ -1,7 +1,7 @@
 // Wavefront OBJ: "v x y z" lines, then "f a b c" faces (1-based, counter-clockwise seen from
 // above). Coordinates are written in their shortest round-trip form, so no bit is lost. With
 // removed triangles only the vertices of kept faces are written (VertexNumbering).
-#include "io/writer_detail.hpp"
+#include "io/mesh/writer_detail.hpp"
 
 namespace tincdt::io::detail {
 

@@ -1,4 +1,4 @@
-#include "io/tin_writer.hpp"
+#include "io/mesh/tin_writer.hpp"
 
 #include <cctype>
 #include <charconv>
@@ -7,8 +7,8 @@
 
 #include "core/error.hpp"
 #include "io/crs.hpp"
+#include "io/mesh/writer_detail.hpp"
 #include "io/output_file.hpp"
-#include "io/writer_detail.hpp"
 
 namespace tincdt::io {
 namespace detail {

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "core/types.hpp"
-#include "io/tin_writer.hpp"
+#include "io/mesh/tin_writer.hpp"
 #include "mesh/triangulation.hpp"
 
 namespace tincdt::io {

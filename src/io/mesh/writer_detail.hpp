@@ -18,8 +18,8 @@
 
 #include "core/error.hpp"
 #include "core/types.hpp"
+#include "io/mesh/tin_writer.hpp"
 #include "io/output_file.hpp"
-#include "io/tin_writer.hpp"
 #include "mesh/triangulation.hpp"
 
 class OGRSpatialReference;  // GDAL's (ogr_spatialref.h), for parse_crs()

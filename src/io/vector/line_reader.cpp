@@ -1,5 +1,5 @@
 // OGR line reader: see line_reader.hpp.
-#include "io/line_reader.hpp"
+#include "io/vector/line_reader.hpp"
 
 #include <ogr_api.h>
 
@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "io/ogr_source.hpp"
+#include "io/vector/ogr_source.hpp"
 
 namespace tincdt::io {
 namespace {

@@ -1,7 +1,7 @@
 // Polygon and draped-line reader: see polygon_reader.hpp. Opening the source, choosing the layer
 // and walking the geometries are shared with the contour reader (ogr_source.hpp), so that both
 // accept the same specs and say the same things about them.
-#include "io/polygon_reader.hpp"
+#include "io/vector/polygon_reader.hpp"
 
 #include <ogr_api.h>
 
@@ -16,7 +16,7 @@
 #include <utility>
 #include <vector>
 
-#include "io/ogr_source.hpp"
+#include "io/vector/ogr_source.hpp"
 
 namespace tincdt::io {
 namespace {

@@ -1,7 +1,7 @@
 // Constraint lines as GeoJSON: see constraint_writer.hpp. Written directly with to_chars through
 // the TIN writer's BlockWriter, header and positions (writer_detail.hpp), so both GeoJSON
 // outputs agree to the bit.
-#include "io/constraint_writer.hpp"
+#include "io/mesh/constraint_writer.hpp"
 
 #include <cmath>
 #include <cstdint>
@@ -11,8 +11,8 @@
 
 #include "core/error.hpp"
 #include "core/memory.hpp"
+#include "io/mesh/writer_detail.hpp"
 #include "io/output_file.hpp"
-#include "io/writer_detail.hpp"
 
 namespace tincdt::io {
 namespace {

@@ -25,7 +25,7 @@
 
 #include "core/error.hpp"
 #include "io/mapped_file.hpp"
-#include "io/point_reader.hpp"
+#include "io/points/point_reader.hpp"
 
 namespace tincdt::io {
 namespace {

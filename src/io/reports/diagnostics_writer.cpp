@@ -6,7 +6,7 @@
 // built at T + ".gpkg" (the extension the GPKG driver expects), closed, given T's permissions,
 // renamed over T, and OutputFile::commit() renames T over the target. On failure the .gpkg and
 // any SQLite side file are removed here and T by OutputFile.
-#include "io/diagnostics_writer.hpp"
+#include "io/reports/diagnostics_writer.hpp"
 
 #include <cpl_error.h>
 #include <fcntl.h>
@@ -26,8 +26,8 @@
 #include <utility>
 
 #include "core/error.hpp"
+#include "io/mesh/writer_detail.hpp"
 #include "io/output_file.hpp"
-#include "io/writer_detail.hpp"
 
 namespace tincdt::io {
 namespace {

@@ -1,5 +1,5 @@
 // Shared parts of the OGR readers: see ogr_source.hpp.
-#include "io/ogr_source.hpp"
+#include "io/vector/ogr_source.hpp"
 
 #include <cpl_conv.h>
 #include <cpl_vsi.h>

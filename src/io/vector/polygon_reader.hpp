@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "core/types.hpp"
-#include "io/line_reader.hpp"
+#include "io/vector/line_reader.hpp"
 
 namespace tincdt::io {
 

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "io/crs.hpp"
-#include "io/writer_detail.hpp"
+#include "io/mesh/writer_detail.hpp"
 
 namespace tincdt::io::detail {
 namespace {

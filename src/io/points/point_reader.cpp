@@ -1,4 +1,4 @@
-#include "io/point_reader.hpp"
+#include "io/points/point_reader.hpp"
 
 #include <fcntl.h>
 #include <sys/stat.h>
