@@ -1,10 +1,6 @@
 #include "io/crs.hpp"
 
-#include <cpl_error.h>
-#include <cpl_string.h>
 #include <cpl_vsi.h>
-#include <gdal.h>
-#include <ogr_srs_api.h>
 
 #include <algorithm>
 #include <atomic>
@@ -12,73 +8,31 @@
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
-#include <mutex>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "core/error.hpp"
 #include "io/crs_detail.hpp"
+#include "io/gdal_support.hpp"
 
 namespace tincdt::io {
 namespace {
 
-// Silences GDAL's own error printing for the scope and remembers the last message, so that it can
-// be put in an exception or a warning instead.
-class QuietGdal {
- public:
-  QuietGdal() {
-    CPLPushErrorHandler(CPLQuietErrorHandler);
-    CPLErrorReset();
-  }
-  QuietGdal(const QuietGdal&) = delete;
-  QuietGdal& operator=(const QuietGdal&) = delete;
-  ~QuietGdal() { CPLPopErrorHandler(); }
-
-  // GDAL's last message, or FALLBACK when it said nothing.
-  static std::string message(const char* fallback) {
-    const char* msg = CPLGetLastErrorMsg();
-    return (msg != nullptr && *msg != '\0') ? std::string(msg) : std::string(fallback);
-  }
-};
-
-// An OGRSpatialReferenceH owned for the scope, in traditional GIS (x = easting / longitude) order.
-class Srs {
- public:
-  Srs() : h_(OSRNewSpatialReference(nullptr)) {
-    if (h_ != nullptr) OSRSetAxisMappingStrategy(h_, OAMS_TRADITIONAL_GIS_ORDER);
-  }
-  explicit Srs(OGRSpatialReferenceH owned) : h_(owned) {
-    if (h_ != nullptr) OSRSetAxisMappingStrategy(h_, OAMS_TRADITIONAL_GIS_ORDER);
-  }
-  Srs(const Srs&) = delete;
-  Srs& operator=(const Srs&) = delete;
-  ~Srs() {
-    if (h_ != nullptr) OSRRelease(h_);
-  }
-  OGRSpatialReferenceH get() const { return h_; }
-
-  // Reads WKT (1 or 2); false when OSR refuses it.
-  bool import_wkt(const std::string& wkt) {
-    if (h_ == nullptr) return false;
-    char* text = const_cast<char*>(wkt.c_str());  // OSRImportFromWkt only advances the pointer
-    return OSRImportFromWkt(h_, &text) == OGRERR_NONE;
-  }
-
- private:
-  OGRSpatialReferenceH h_;
-};
+// CPL-allocated string to std::string.
+std::string take_cpl_string(char* s) {
+  std::string out = s != nullptr ? s : "";
+  CPLFree(s);
+  return out;
+}
 
 // "+proj=lcc +lat_0=41.75 ..." as sorted (key, value) pairs.
-std::vector<std::pair<std::string, std::string>> proj_parameters(OGRSpatialReferenceH srs) {
+std::vector<std::pair<std::string, std::string>> proj_parameters(const OGRSpatialReference& srs) {
   char* text = nullptr;
   std::vector<std::pair<std::string, std::string>> out;
-  if (OSRExportToProj4(srs, &text) != OGRERR_NONE || text == nullptr) {
-    CPLFree(text);
-    return out;
-  }
-  const std::string proj = text;
-  CPLFree(text);
+  const bool exported = srs.exportToProj4(&text) == OGRERR_NONE && text != nullptr;
+  const std::string proj = take_cpl_string(text);
+  if (!exported) return out;
   std::size_t i = 0;
   while (i < proj.size()) {
     while (i < proj.size() && (proj[i] == ' ' || proj[i] == '+')) ++i;
@@ -94,7 +48,7 @@ std::vector<std::pair<std::string, std::string>> proj_parameters(OGRSpatialRefer
   return out;
 }
 
-bool same_proj_parameters(OGRSpatialReferenceH a, OGRSpatialReferenceH b) {
+bool same_proj_parameters(const OGRSpatialReference& a, const OGRSpatialReference& b) {
   const auto pa = proj_parameters(a), pb = proj_parameters(b);
   if (pa.empty() || pa.size() != pb.size()) return false;
   for (std::size_t i = 0; i < pa.size(); ++i) {
@@ -110,21 +64,12 @@ bool same_proj_parameters(OGRSpatialReferenceH a, OGRSpatialReferenceH b) {
   return true;
 }
 
-// CPL-allocated string to std::string.
-std::string take_cpl_string(char* s) {
-  std::string out = s != nullptr ? s : "";
-  CPLFree(s);
-  return out;
-}
-
-std::string export_wkt(OGRSpatialReferenceH h, const char* format) {
+std::string export_wkt(const OGRSpatialReference& srs, const char* format) {
   const char* const options[] = {format, nullptr};
   char* text = nullptr;
-  if (OSRExportToWktEx(h, &text, options) != OGRERR_NONE) {
-    CPLFree(text);
-    return {};
-  }
-  return take_cpl_string(text);
+  const bool exported = srs.exportToWkt(&text, options) == OGRERR_NONE;
+  std::string wkt = take_cpl_string(text);
+  return exported ? wkt : std::string();
 }
 
 std::string shorten(const std::string& s, std::size_t max_len = 80) {
@@ -133,9 +78,9 @@ std::string shorten(const std::string& s, std::size_t max_len = 80) {
 }
 
 // "EPSG:NNNN" when the CRS object itself carries an authority code, else "".
-std::string authority_label(OGRSpatialReferenceH h) {
-  const char* name = OSRGetAuthorityName(h, nullptr);
-  const char* code = OSRGetAuthorityCode(h, nullptr);
+std::string authority_label(const OGRSpatialReference& srs) {
+  const char* name = srs.GetAuthorityName(nullptr);
+  const char* code = srs.GetAuthorityCode(nullptr);
   if (name == nullptr || code == nullptr) return {};
   return std::string(name) + ":" + code;
 }
@@ -216,13 +161,6 @@ class TiffBuilder {
   std::vector<Entry> entries_;
 };
 
-void ensure_gtiff_driver() {
-  static std::once_flag once;
-  std::call_once(once, [] {
-    if (GDALGetDriverByName("GTiff") == nullptr) GDALAllRegister();
-  });
-}
-
 // The value of KEY in a GeoTIFF key directory when stored inline, 0 when absent.
 std::uint16_t key_value(const std::vector<std::uint16_t>& dir, std::uint16_t key) {
   const std::size_t n = dir.size() >= 4 ? dir[3] : 0;
@@ -243,9 +181,9 @@ bool has_horizontal_keys(const std::vector<std::uint16_t>& dir) {
   return false;
 }
 
-std::string linear_unit_name(OGRSpatialReferenceH h) {
-  char* name = nullptr;  // owned by the SRS
-  OSRGetLinearUnits(h, &name);
+std::string linear_unit_name(const OGRSpatialReference& srs) {
+  const char* name = nullptr;  // owned by the SRS
+  srs.GetLinearUnits(&name);
   return name != nullptr ? std::string(name) : std::string("?");
 }
 
@@ -253,22 +191,22 @@ std::string linear_unit_name(OGRSpatialReferenceH h) {
 // definition (mvk-thin.las: EPSG:26995, in metres, with ProjLinearUnits = US survey foot). Such
 // a CRS is not EPSG:NNNN any more: drop the id so that nobody takes it for the registry entry,
 // and say what happened.
-void drop_misleading_id(OGRSpatialReferenceH h, detail::CrsResult& result) {
-  const char* authority = OSRGetAuthorityName(h, nullptr);
-  const char* code = OSRGetAuthorityCode(h, nullptr);
+void drop_misleading_id(const OGRSpatialReference& srs, detail::CrsResult& result) {
+  const char* authority = srs.GetAuthorityName(nullptr);
+  const char* code = srs.GetAuthorityCode(nullptr);
   if (authority == nullptr || code == nullptr || std::strcmp(authority, "EPSG") != 0) return;
-  Srs registry;
-  if (OSRImportFromEPSG(registry.get(), std::atoi(code)) != OGRERR_NONE) return;
+  OGRSpatialReference registry = detail::gis_order_srs();
+  if (registry.importFromEPSG(std::atoi(code)) != OGRERR_NONE) return;
   const char* const options[] = {"IGNORE_DATA_AXIS_TO_SRS_AXIS_MAPPING=YES", nullptr};
-  if (OSRIsSameEx(h, registry.get(), options) != 0) return;
+  if (srs.IsSame(&registry, options) != 0) return;
   const std::string id = std::string(",ID[\"EPSG\",") + code + "]]";
   std::string& wkt = result.wkt;
   if (wkt.size() > id.size() && wkt.compare(wkt.size() - id.size(), id.size(), id) == 0) {
     wkt.resize(wkt.size() - id.size());
     wkt += "]";
   }
-  const std::string unit = linear_unit_name(h);
-  const std::string registry_unit = linear_unit_name(registry.get());
+  const std::string unit = linear_unit_name(srs);
+  const std::string registry_unit = linear_unit_name(registry);
   result.problem =
       "the GeoTIFF keys name EPSG:" + std::string(code) + " but override part of its definition" +
       (unit != registry_unit ? " (linear unit " + unit + " instead of " + registry_unit + ")"
@@ -281,9 +219,9 @@ void drop_misleading_id(OGRSpatialReferenceH h, detail::CrsResult& result) {
 namespace detail {
 
 CrsResult crs_check_wkt(const std::string& wkt) {
-  QuietGdal quiet;
-  Srs srs;
-  if (!srs.import_wkt(wkt)) return {{}, QuietGdal::message("not a valid WKT CRS")};
+  const GdalQuiet quiet;
+  OGRSpatialReference srs = gis_order_srs();
+  if (!import_wkt(srs, wkt)) return {{}, last_gdal_message("not a valid WKT CRS")};
   return {wkt, {}};
 }
 
@@ -318,47 +256,46 @@ CrsResult crs_from_geotiff(const GeoTiffKeys& keys) {
   }
   std::vector<std::uint8_t> bytes = tiff.build();
 
-  ensure_gtiff_driver();
-  QuietGdal quiet;
+  register_gdal_drivers();
+  const GdalQuiet quiet;
   static std::atomic<unsigned> counter{0};
   const std::string name = "/vsimem/tincdt_geokeys_" + std::to_string(counter++) + ".tif";
   VSILFILE* f = VSIFileFromMemBuffer(name.c_str(), bytes.data(), bytes.size(), FALSE);
-  if (f == nullptr) return {{}, QuietGdal::message("cannot decode the GeoTIFF keys")};
+  if (f == nullptr) return {{}, last_gdal_message("cannot decode the GeoTIFF keys")};
   VSIFCloseL(f);
   const char* const drivers[] = {"GTiff", nullptr};
-  GDALDatasetH ds =
-      GDALOpenEx(name.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY, drivers, nullptr, nullptr);
   CrsResult result;
-  if (ds == nullptr) {
-    result.problem = QuietGdal::message("cannot decode the GeoTIFF keys");
-  } else {
-    OGRSpatialReferenceH h = GDALGetSpatialRef(ds);
-    if (h != nullptr && (OSRIsProjected(h) || OSRIsGeographic(h))) {
-      result.wkt = export_wkt(h, "FORMAT=WKT2_2019");
+  {
+    const GdalDataset ds(
+        GDALDataset::Open(name.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY, drivers));
+    const OGRSpatialReference* srs = ds ? ds->GetSpatialRef() : nullptr;
+    if (!ds) {
+      result.problem = last_gdal_message("cannot decode the GeoTIFF keys");
+    } else if (srs != nullptr && (srs->IsProjected() || srs->IsGeographic())) {
+      result.wkt = export_wkt(*srs, "FORMAT=WKT2_2019");
       if (result.wkt.empty()) {
-        result.problem = QuietGdal::message("cannot export the CRS");
+        result.problem = last_gdal_message("cannot export the CRS");
       } else {
-        drop_misleading_id(h, result);
+        drop_misleading_id(*srs, result);
       }
     } else {
       result.problem = "GDAL finds no horizontal CRS in the GeoTIFF keys";
     }
-    GDALClose(ds);
   }
   VSIUnlink(name.c_str());
   return result;
 }
 
-std::string crs_of_layer(OGRSpatialReferenceH srs) {
+std::string crs_of_layer(const OGRSpatialReference* srs) {
   if (srs == nullptr) return {};
-  const char* name = OSRGetName(srs);
-  if (name != nullptr && OSRGetAuthorityName(srs, nullptr) == nullptr &&
+  const char* name = srs->GetName();
+  if (name != nullptr && srs->GetAuthorityName(nullptr) == nullptr &&
       (std::strcmp(name, "Undefined geographic SRS") == 0 ||
        std::strcmp(name, "Undefined Cartesian SRS") == 0)) {
     return {};
   }
   for (const char* format : {"FORMAT=WKT2_2019", "FORMAT=WKT1"}) {
-    std::string wkt = export_wkt(srs, format);
+    std::string wkt = export_wkt(*srs, format);
     if (!wkt.empty()) return wkt;
   }
   return {};
@@ -369,35 +306,38 @@ std::string crs_of_layer(OGRSpatialReferenceH srs) {
 bool same_crs(const std::string& wkt_a, const std::string& wkt_b) {
   if (wkt_a.empty() || wkt_b.empty()) return wkt_a.empty() && wkt_b.empty();
   if (wkt_a == wkt_b) return true;
-  QuietGdal quiet;
-  Srs a;
-  Srs b;
-  if (!a.import_wkt(wkt_a) || !b.import_wkt(wkt_b)) return false;
+  const detail::GdalQuiet quiet;
+  OGRSpatialReference a = detail::gis_order_srs();
+  OGRSpatialReference b = detail::gis_order_srs();
+  if (!detail::import_wkt(a, wkt_a) || !detail::import_wkt(b, wkt_b)) return false;
   const char* const options[] = {"IGNORE_DATA_AXIS_TO_SRS_AXIS_MAPPING=YES", nullptr};
-  if (OSRIsSameEx(a.get(), b.get(), options) != 0) return true;
+  if (a.IsSame(&b, options) != 0) return true;
   // ESRI-style WKT in LAS files often names the datum differently and carries parameters
   // converted between units (a false easting of 399999.9999984 ft for 400000 m): the same
   // projection if the PROJ definitions agree key by key, numbers to a relative 1e-9.
-  return same_proj_parameters(a.get(), b.get());
+  return same_proj_parameters(a, b);
 }
 
 std::string crs_label(const std::string& wkt) {
   if (wkt.empty()) return {};
-  QuietGdal quiet;
-  Srs srs;
-  if (!srs.import_wkt(wkt)) return {};
-  std::string label = authority_label(srs.get());
+  const detail::GdalQuiet quiet;
+  OGRSpatialReference srs = detail::gis_order_srs();
+  if (!detail::import_wkt(srs, wkt)) return {};
+  std::string label = authority_label(srs);
   if (!label.empty()) return label;
   // An EPSG entry that PROJ finds equivalent (confidence 70 = same datum and coordinate
   // system, 90 = also a similar name, 100 = identical). Only an unambiguous best EPSG match
   // counts; entries of other registries (IGNF, ESRI) are ignored.
   int count = 0;
   int* confidence = nullptr;
-  OGRSpatialReferenceH* matches = OSRFindMatches(srs.get(), nullptr, &count, &confidence);
+  OGRSpatialReferenceH* matches = srs.FindMatches(nullptr, &count, &confidence);
+  const auto match = [matches](int i) -> const OGRSpatialReference& {
+    return *OGRSpatialReference::FromHandle(matches[i]);
+  };
   int best = -1;
   bool tie = false;
   for (int i = 0; i < count; ++i) {
-    const char* authority = OSRGetAuthorityName(matches[i], nullptr);
+    const char* authority = match(i).GetAuthorityName(nullptr);
     if (authority == nullptr || std::strcmp(authority, "EPSG") != 0 || confidence[i] < 70) continue;
     if (best < 0 || confidence[i] > confidence[best]) {
       best = i;
@@ -406,50 +346,50 @@ std::string crs_label(const std::string& wkt) {
       tie = true;
     }
   }
-  if (best >= 0 && !tie) label = authority_label(matches[best]);
-  if (matches != nullptr) OSRFreeSRSArray(matches);
+  if (best >= 0 && !tie) label = authority_label(match(best));
+  if (matches != nullptr) OSRFreeSRSArray(matches);  // FindMatches' own release function
   CPLFree(confidence);
   if (!label.empty()) return label;
-  const char* name = OSRGetName(srs.get());
+  const char* name = srs.GetName();
   return name != nullptr ? std::string(name) : std::string();
 }
 
 std::string crs_from_user(const std::string& text) {
-  QuietGdal quiet;
-  Srs srs;
-  if (srs.get() == nullptr || OSRSetFromUserInput(srs.get(), text.c_str()) != OGRERR_NONE) {
-    throw InputError(
-        "", "",
-        "cannot interpret '" + shorten(text) + "' as a CRS: " + QuietGdal::message("unknown CRS"));
+  const detail::GdalQuiet quiet;
+  OGRSpatialReference srs = detail::gis_order_srs();
+  if (srs.SetFromUserInput(text.c_str()) != OGRERR_NONE) {
+    throw InputError("", "",
+                     "cannot interpret '" + shorten(text) +
+                         "' as a CRS: " + detail::last_gdal_message("unknown CRS"));
   }
-  std::string wkt = export_wkt(srs.get(), "FORMAT=WKT2_2019");
+  std::string wkt = export_wkt(srs, "FORMAT=WKT2_2019");
   if (wkt.empty()) {
     throw InputError("", "",
                      "cannot express the CRS '" + shorten(text) +
-                         "' as WKT: " + QuietGdal::message("export failed"));
+                         "' as WKT: " + detail::last_gdal_message("export failed"));
   }
   return wkt;
 }
 
 std::string crs_to_prj(const std::string& wkt) {
   if (wkt.empty()) return {};
-  QuietGdal quiet;
-  Srs srs;
-  if (!srs.import_wkt(wkt)) {
-    throw InputError(
-        "", "",
-        "cannot read the CRS WKT '" + shorten(wkt) + "': " + QuietGdal::message("invalid WKT"));
+  const detail::GdalQuiet quiet;
+  OGRSpatialReference srs = detail::gis_order_srs();
+  if (!detail::import_wkt(srs, wkt)) {
+    throw InputError("", "",
+                     "cannot read the CRS WKT '" + shorten(wkt) +
+                         "': " + detail::last_gdal_message("invalid WKT"));
   }
-  std::string prj = export_wkt(srs.get(), "FORMAT=WKT1_ESRI");
-  if (prj.empty() && OSRIsCompound(srs.get())) {
+  std::string prj = export_wkt(srs, "FORMAT=WKT1_ESRI");
+  if (prj.empty() && srs.IsCompound()) {
     // ESRI WKT1 has no compound CRS in some PROJ versions: keep the horizontal part.
     CPLErrorReset();
-    if (OSRStripVertical(srs.get()) == OGRERR_NONE) prj = export_wkt(srs.get(), "FORMAT=WKT1_ESRI");
+    if (srs.StripVertical() == OGRERR_NONE) prj = export_wkt(srs, "FORMAT=WKT1_ESRI");
   }
   if (prj.empty()) {
-    throw InputError(
-        "", "",
-        "cannot express the CRS as ESRI WKT for a .prj: " + QuietGdal::message("export failed"));
+    throw InputError("", "",
+                     "cannot express the CRS as ESRI WKT for a .prj: " +
+                         detail::last_gdal_message("export failed"));
   }
   return prj;
 }

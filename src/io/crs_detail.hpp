@@ -2,11 +2,11 @@
 // stays in one file.
 #pragma once
 
-#include <ogr_srs_api.h>
-
 #include <cstdint>
 #include <string>
 #include <vector>
+
+class OGRSpatialReference;  // GDAL's (ogr_spatialref.h)
 
 namespace tincdt::io::detail {
 
@@ -37,6 +37,6 @@ CrsResult crs_from_geotiff(const GeoTiffKeys& keys);
 // GeoPackage layer written without a CRS, which reports one of the spec's two placeholder entries
 // (srs_id 0 "Undefined geographic SRS", -1 "Undefined Cartesian SRS"). GDAL's messages go to the
 // caller's error handler.
-std::string crs_of_layer(OGRSpatialReferenceH srs);
+std::string crs_of_layer(const OGRSpatialReference* srs);
 
 }  // namespace tincdt::io::detail

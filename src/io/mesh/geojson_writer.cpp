@@ -6,14 +6,11 @@
 //   "crs": { "type": "name", "properties": { "name": "urn:ogc:def:crs:EPSG::2949" } }
 // and left out for WGS 84 (EPSG:4326 / CRS84), RFC 7946's only CRS. A CRS without an EPSG code,
 // which GDAL would drop, is written as one-line WKT in the same member; GDAL reads it back.
-#include <cpl_conv.h>
-#include <cpl_error.h>
-#include <ogr_spatialref.h>
-
 #include <algorithm>
 #include <vector>
 
 #include "io/crs.hpp"
+#include "io/gdal_support.hpp"
 #include "io/mesh/writer_detail.hpp"
 
 namespace tincdt::io::detail {
@@ -30,7 +27,7 @@ bool is_wgs84(const OGRSpatialReference& srs) {
 // The top-level "crs" member (with its trailing ",\n"), or "" for WGS 84 and an unknown CRS.
 std::string crs_member(const std::string& path, const std::string& wkt) {
   if (wkt.empty()) return {};
-  CPLErrorHandlerPusher quiet(CPLQuietErrorHandler, nullptr);
+  const GdalQuiet quiet;
   if (is_wgs84(parse_crs(path, wkt, "the output CRS"))) return {};
   const std::string code = crs_code(wkt);
   const std::string name =
@@ -39,25 +36,14 @@ std::string crs_member(const std::string& path, const std::string& wkt) {
          " } },\n";
 }
 
-struct CtDeleter {
-  void operator()(OGRCoordinateTransformation* ct) const {
-    OGRCoordinateTransformation::DestroyCT(ct);
-  }
-};
-
 }  // namespace
-
-std::string gdal_message(const char* fallback) {
-  const char* msg = CPLGetLastErrorMsg();
-  return msg != nullptr && *msg != '\0' ? std::string(msg) : std::string(fallback);
-}
 
 OGRSpatialReference parse_crs(const std::string& path, const std::string& wkt, const char* what) {
   OGRSpatialReference srs;
   if (srs.SetFromUserInput(wkt.c_str()) != OGRERR_NONE)
     throw OutputError(
         path, "",
-        std::string("cannot read ") + what + ": " + gdal_message("not a CRS OSR understands"));
+        std::string("cannot read ") + what + ": " + last_gdal_message("not a CRS OSR understands"));
   srs.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
   return srs;
 }
@@ -117,16 +103,16 @@ GeoJsonPositions::GeoJsonPositions(const std::string& path, const mesh::Triangul
   if (options.crs_wkt.empty())
     throw OutputError(path, "",
                       "cannot reproject to " + target_name + ": the CRS of the TIN is unknown");
-  CPLErrorHandlerPusher quiet(CPLQuietErrorHandler, nullptr);
+  const GdalQuiet quiet;
   const OGRSpatialReference source = parse_crs(path, options.crs_wkt, "the CRS of the TIN");
   const OGRSpatialReference target = parse_crs(path, target_wkt, "the target CRS");
   if (source.IsSame(&target)) return;
   CPLErrorReset();
-  std::unique_ptr<OGRCoordinateTransformation, CtDeleter> ct(
-      OGRCreateCoordinateTransformation(&source, &target));
+  const OgrTransform ct(OGRCreateCoordinateTransformation(&source, &target));
   if (!ct)
     throw OutputError(
-        path, "", "no transformation to " + target_name + ": " + gdal_message("unknown reason"));
+        path, "",
+        "no transformation to " + target_name + ": " + last_gdal_message("unknown reason"));
 
   // The vertices to transform, in separate x, y, z arrays as OSR wants them; ids[i] is the
   // vertex of entry i.

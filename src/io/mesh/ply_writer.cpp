@@ -2,6 +2,7 @@
 // lists and, when the mesh has constrained edges, an `edge` element with their two vertices.
 // With removed triangles only the vertices of kept faces are written (VertexNumbering), and only
 // the constrained edges with a kept face on a side.
+#include "io/gdal_support.hpp"
 #include "io/mesh/writer_detail.hpp"
 
 namespace tincdt::io::detail {

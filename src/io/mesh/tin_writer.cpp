@@ -24,21 +24,6 @@ std::string format_point(const Point3& p) {
   return std::string(buf, q);
 }
 
-std::string one_line(std::string_view text) {
-  std::string s;
-  s.reserve(text.size());
-  for (const char c : text) {
-    const bool blank = c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f';
-    if (blank) {
-      if (!s.empty() && s.back() != ' ') s += ' ';
-    } else {
-      s += c;
-    }
-  }
-  if (!s.empty() && s.back() == ' ') s.pop_back();
-  return s;
-}
-
 std::string crs_code(const std::string& wkt) {
   std::string label = crs_label(wkt);
   const bool is_code = label.find(':') != std::string::npos && label.find(' ') == std::string::npos;

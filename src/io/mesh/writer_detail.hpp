@@ -200,15 +200,11 @@ inline std::uint64_t count_constrained_segments(const mesh::Triangulation& tin, 
 
 // "X Y Z" in shortest round-trip form, for the offset lines of the headers.
 std::string format_point(const Point3& p);
-// The text on one line: newlines and runs of blanks become one space.
-std::string one_line(std::string_view text);
 // "EPSG:2949" (any AUTHORITY:CODE) when crs_label() identifies the CRS, else "".
 std::string crs_code(const std::string& wkt);
 
 // ---- GDAL and GeoJSON helpers (geojson_writer.cpp) ------------------------------------------
 
-// GDAL's last error message, or FALLBACK when it said nothing.
-std::string gdal_message(const char* fallback);
 // Any CRS text OSR reads (WKT, "EPSG:n", ...) as an OSR object in traditional GIS axis order
 // (x = easting / longitude); throws OutputError naming PATH and WHAT when OSR cannot read it.
 OGRSpatialReference parse_crs(const std::string& path, const std::string& wkt, const char* what);

@@ -8,38 +8,27 @@
 // any SQLite side file are removed here and T by OutputFile.
 #include "io/reports/diagnostics_writer.hpp"
 
-#include <cpl_error.h>
 #include <fcntl.h>
-#include <gdal.h>
-#include <ogr_api.h>
-#include <ogr_spatialref.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
-#include <mutex>
 #include <optional>
 #include <string>
 #include <system_error>
 #include <utility>
 
 #include "core/error.hpp"
+#include "io/gdal_support.hpp"
 #include "io/mesh/writer_detail.hpp"
 #include "io/output_file.hpp"
 
 namespace tincdt::io {
 namespace {
 
-using detail::gdal_message;
-
-void ensure_gpkg_driver() {
-  static std::once_flag once;
-  std::call_once(once, [] {
-    if (GDALGetDriverByName("GPKG") == nullptr) GDALAllRegister();
-  });
-}
+using detail::last_gdal_message;
 
 std::string error_text(int err) {
   return std::generic_category().message(err);
@@ -68,52 +57,6 @@ class TempGpkg {
  private:
   std::string path_;
   bool owned_ = false;
-};
-
-class Dataset {
- public:
-  explicit Dataset(GDALDatasetH h) : h_(h) {}
-  Dataset(const Dataset&) = delete;
-  Dataset& operator=(const Dataset&) = delete;
-  ~Dataset() { close(); }
-  GDALDatasetH get() const { return h_; }
-  void close() {
-    if (h_ != nullptr) GDALClose(std::exchange(h_, nullptr));
-  }
-
- private:
-  GDALDatasetH h_;
-};
-
-class Feature {
- public:
-  explicit Feature(OGRLayerH layer) : h_(OGR_F_Create(OGR_L_GetLayerDefn(layer))) {}
-  Feature(const Feature&) = delete;
-  Feature& operator=(const Feature&) = delete;
-  ~Feature() {
-    if (h_ != nullptr) OGR_F_Destroy(h_);
-  }
-  OGRFeatureH get() const { return h_; }
-
- private:
-  OGRFeatureH h_;
-};
-
-class PointGeometry {
- public:
-  PointGeometry() : h_(OGR_G_CreateGeometry(wkbPoint25D)) {}
-  PointGeometry(const PointGeometry&) = delete;
-  PointGeometry& operator=(const PointGeometry&) = delete;
-  ~PointGeometry() {
-    if (h_ != nullptr) OGR_G_DestroyGeometry(h_);
-  }
-  OGRGeometryH at(const Point3& p) {
-    OGR_G_SetPoint(h_, 0, p.x, p.y, p.z);
-    return h_;
-  }
-
- private:
-  OGRGeometryH h_;
 };
 
 struct Field {
@@ -152,76 +95,90 @@ class GpkgBuilder {
   GpkgBuilder(const std::string& path, TempGpkg& gpkg, const OGRSpatialReference* srs)
       : path_(path), srs_(srs), ds_(create(path, gpkg)) {}
 
-  OGRLayerH layer(const char* name, const char* description, std::initializer_list<Field> fields) {
+  OGRLayer& layer(const char* name, const char* description, std::initializer_list<Field> fields) {
     const std::string desc = std::string("DESCRIPTION=") + description;
     // No R-tree: GDAL 3.6 builds it at close one point at a time, 2 s per 100,000 points, four
     // times the rest of the work, for layers a GIS draws whole anyway.
     const char* const options[] = {desc.c_str(), "SPATIAL_INDEX=NO", nullptr};
-    OGRLayerH layer = GDALDatasetCreateLayer(
-        ds_.get(), name, OGRSpatialReference::ToHandle(const_cast<OGRSpatialReference*>(srs_)),
-        wkbPoint25D, const_cast<char**>(options));
+    // CreateLayer clones the CRS; GDAL 3.6 takes it non-const all the same.
+    OGRLayer* layer = ds_->CreateLayer(name, const_cast<OGRSpatialReference*>(srs_), wkbPoint25D,
+                                       const_cast<char**>(options));
     if (layer == nullptr) fail(std::string("layer ") + name, "cannot create the layer");
     for (const Field& f : fields) {
-      OGRFieldDefnH defn = OGR_Fld_Create(f.name, f.type);
-      const OGRErr err = OGR_L_CreateField(layer, defn, TRUE);
-      OGR_Fld_Destroy(defn);
-      if (err != OGRERR_NONE)
+      OGRFieldDefn defn(f.name, f.type);
+      if (layer->CreateField(&defn, TRUE) != OGRERR_NONE)
         fail(std::string("layer ") + name, std::string("cannot create the field ") + f.name);
     }
-    return layer;
+    return *layer;
   }
 
   void begin() {
-    if (GDALDatasetStartTransaction(ds_.get(), FALSE) != OGRERR_NONE)
-      fail("", "cannot start a transaction");
+    if (ds_->StartTransaction(FALSE) != OGRERR_NONE) fail("", "cannot start a transaction");
   }
   void commit() {
-    if (GDALDatasetCommitTransaction(ds_.get()) != OGRERR_NONE)
-      fail("", "cannot commit the transaction");
+    if (ds_->CommitTransaction() != OGRERR_NONE) fail("", "cannot commit the transaction");
   }
 
   // Adds F to LAYER as a new feature (entry I of the input, for the error message).
-  void add(OGRLayerH layer, OGRFeatureH f, std::size_t i) {
-    OGR_F_SetFID(f, OGRNullFID);
-    if (OGR_L_CreateFeature(layer, f) != OGRERR_NONE)
-      fail(std::string("layer ") + OGR_L_GetName(layer) + ", entry " + std::to_string(i),
+  void add(OGRLayer& layer, OGRFeature& f, std::size_t i) {
+    f.SetFID(OGRNullFID);
+    if (layer.CreateFeature(&f) != OGRERR_NONE)
+      fail(std::string("layer ") + layer.GetName() + ", entry " + std::to_string(i),
            "cannot write the feature");
   }
 
   void close() {
     CPLErrorReset();
-    ds_.close();
+    ds_.reset();
     if (CPLGetLastErrorType() == CE_Failure || CPLGetLastErrorType() == CE_Fatal)
       fail("", "cannot complete the GeoPackage");
   }
 
  private:
-  static GDALDatasetH create(const std::string& path, TempGpkg& gpkg) {
-    ensure_gpkg_driver();
-    GDALDriverH driver = GDALGetDriverByName("GPKG");
+  static detail::GdalDataset create(const std::string& path, TempGpkg& gpkg) {
+    detail::register_gdal_drivers();
+    GDALDriver* driver = GetGDALDriverManager()->GetDriverByName("GPKG");
     if (driver == nullptr) throw OutputError(path, "", "GDAL has no GeoPackage driver");
     if (exists(gpkg.path()))
       throw OutputError(path, "", "the temporary file '" + gpkg.path() + "' exists already");
     gpkg.own();  // whatever GDAL leaves there from now on is ours to remove
     CPLErrorReset();
-    GDALDatasetH ds = GDALCreate(driver, gpkg.path().c_str(), 0, 0, 0, GDT_Unknown, nullptr);
-    if (ds == nullptr)
-      throw OutputError(path, "",
-                        "cannot create the GeoPackage: " + gdal_message("GDAL gave no reason"));
+    detail::GdalDataset ds(driver->Create(gpkg.path().c_str(), 0, 0, 0, GDT_Unknown, nullptr));
+    if (!ds)
+      throw OutputError(
+          path, "", "cannot create the GeoPackage: " + last_gdal_message("GDAL gave no reason"));
     return ds;
   }
 
   [[noreturn]] void fail(const std::string& where, const std::string& what) const {
-    throw OutputError(path_, where, what + ": " + gdal_message("GDAL gave no reason"));
+    throw OutputError(path_, where, what + ": " + last_gdal_message("GDAL gave no reason"));
   }
 
   const std::string& path_;
   const OGRSpatialReference* srs_;
-  Dataset ds_;
+  detail::GdalDataset ds_;
 };
 
+// A 3D point moved to each location in turn (SetGeometry copies it).
+class Location {
+ public:
+  const OGRGeometry* operator()(const Point3& p) {
+    point_.setX(p.x);
+    point_.setY(p.y);
+    point_.setZ(p.z);
+    return &point_;
+  }
+
+ private:
+  OGRPoint point_{0, 0, 0};
+};
+
+detail::OgrFeature new_feature(OGRLayer& layer) {
+  return detail::OgrFeature(OGRFeature::CreateFeature(layer.GetLayerDefn()));
+}
+
 void write_layers(GpkgBuilder& b, const Diagnostics& d) {
-  OGRLayerH crossings =
+  OGRLayer& crossings =
       b.layer(kCrossings, "Crossing points of two constraint lines, inserted as TIN vertices",
               {{"file_a", OFTString},
                {"fid_a", OFTInteger64},
@@ -230,63 +187,64 @@ void write_layers(GpkgBuilder& b, const Diagnostics& d) {
                {"z_a", OFTReal},
                {"z_b", OFTReal},
                {"z_diff", OFTReal}});
-  OGRLayerH duplicates =
+  OGRLayer& duplicates =
       b.layer(kDuplicates, "Input points with the same x, y merged into one TIN vertex",
               {{"points", OFTInteger64}, {"z_min", OFTReal}, {"z_max", OFTReal}});
-  OGRLayerH skipped =
+  OGRLayer& skipped =
       b.layer(kSkipped, "Zero-length segments (repeated vertices) skipped in input lines",
               {{"source_file", OFTString}, {"source_fid", OFTInteger64}});
-  OGRLayerH dropped =
+  OGRLayer& dropped =
       b.layer(kDropped, "Input features that gave nothing to the TIN, and why",
               {{"source_file", OFTString}, {"source_fid", OFTInteger64}, {"reason", OFTString}});
 
-  PointGeometry point;
+  Location location;
   b.begin();
   {
-    const Feature f(crossings);
+    const detail::OgrFeature f = new_feature(crossings);
     for (std::size_t i = 0; i < d.crossings.size(); ++i) {
       const Diagnostics::Crossing& c = d.crossings[i];
-      OGR_F_SetGeometry(f.get(), point.at(c.at));
-      OGR_F_SetFieldString(f.get(), 0, c.file_a.c_str());
-      OGR_F_SetFieldInteger64(f.get(), 1, c.fid_a);
-      OGR_F_SetFieldString(f.get(), 2, c.file_b.c_str());
-      OGR_F_SetFieldInteger64(f.get(), 3, c.fid_b);
-      OGR_F_SetFieldDouble(f.get(), 4, c.z_a);
-      OGR_F_SetFieldDouble(f.get(), 5, c.z_b);
-      OGR_F_SetFieldDouble(f.get(), 6, std::fabs(c.z_a - c.z_b));
-      b.add(crossings, f.get(), i);
+      f->SetGeometry(location(c.at));
+      f->SetField(0, c.file_a.c_str());
+      f->SetField(1, static_cast<GIntBig>(c.fid_a));
+      f->SetField(2, c.file_b.c_str());
+      f->SetField(3, static_cast<GIntBig>(c.fid_b));
+      f->SetField(4, c.z_a);
+      f->SetField(5, c.z_b);
+      f->SetField(6, std::fabs(c.z_a - c.z_b));
+      b.add(crossings, *f, i);
     }
   }
   {
-    const Feature f(duplicates);
+    const detail::OgrFeature f = new_feature(duplicates);
     for (std::size_t i = 0; i < d.duplicates.size(); ++i) {
       const Diagnostics::Duplicate& m = d.duplicates[i];
-      OGR_F_SetGeometry(f.get(), point.at(m.at));
-      OGR_F_SetFieldInteger64(f.get(), 0, m.points);
-      OGR_F_SetFieldDouble(f.get(), 1, m.z_min);
-      OGR_F_SetFieldDouble(f.get(), 2, m.z_max);
-      b.add(duplicates, f.get(), i);
+      f->SetGeometry(location(m.at));
+      f->SetField(0, static_cast<GIntBig>(m.points));
+      f->SetField(1, m.z_min);
+      f->SetField(2, m.z_max);
+      b.add(duplicates, *f, i);
     }
   }
   {
-    const Feature f(skipped);
+    const detail::OgrFeature f = new_feature(skipped);
     for (std::size_t i = 0; i < d.skipped_segments.size(); ++i) {
       const Diagnostics::SkippedSegment& s = d.skipped_segments[i];
-      OGR_F_SetGeometry(f.get(), point.at(s.at));
-      OGR_F_SetFieldString(f.get(), 0, s.file.c_str());
-      OGR_F_SetFieldInteger64(f.get(), 1, s.fid);
-      b.add(skipped, f.get(), i);
+      f->SetGeometry(location(s.at));
+      f->SetField(0, s.file.c_str());
+      f->SetField(1, static_cast<GIntBig>(s.fid));
+      b.add(skipped, *f, i);
     }
   }
   {
-    const Feature f(dropped);
+    const detail::OgrFeature f = new_feature(dropped);
     for (std::size_t i = 0; i < d.dropped_features.size(); ++i) {
       const Diagnostics::DroppedFeature& x = d.dropped_features[i];
-      OGR_F_SetGeometry(f.get(), x.has_at ? point.at(x.at) : nullptr);
-      OGR_F_SetFieldString(f.get(), 0, x.file.c_str());
-      OGR_F_SetFieldInteger64(f.get(), 1, x.fid);
-      OGR_F_SetFieldString(f.get(), 2, x.reason.c_str());
-      b.add(dropped, f.get(), i);
+      const OGRGeometry* at = x.has_at ? location(x.at) : nullptr;
+      f->SetGeometry(at);
+      f->SetField(0, x.file.c_str());
+      f->SetField(1, static_cast<GIntBig>(x.fid));
+      f->SetField(2, x.reason.c_str());
+      b.add(dropped, *f, i);
     }
   }
   b.commit();
@@ -318,7 +276,7 @@ void write_diagnostics(const std::string& path, const Diagnostics& d, const std:
     throw OutputError(path, "", "the temporary file vanished: " + error_text(err));
   }
 
-  CPLErrorHandlerPusher quiet(CPLQuietErrorHandler, nullptr);
+  const detail::GdalQuiet quiet;
   std::optional<OGRSpatialReference> srs;
   if (!crs_wkt.empty()) srs.emplace(detail::parse_crs(path, crs_wkt, "the CRS"));
 

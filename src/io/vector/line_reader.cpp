@@ -1,8 +1,6 @@
 // OGR line reader: see line_reader.hpp.
 #include "io/vector/line_reader.hpp"
 
-#include <ogr_api.h>
-
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -32,12 +30,12 @@ class LayerReader : public detail::FeatureReader {
         out_(out),
         stats_(stats) {}
 
-  void read_feature(OGRFeatureH feature, std::int64_t fid) {
+  void read_feature(const OGRFeature& feature, std::int64_t fid) {
     ++stats_.features;
-    feature_ = feature;
+    feature_ = &feature;
     have_z_ = false;
     const std::size_t segments_before = out_.segments.size();
-    OGRGeometryH geometry = walk(feature, fid);
+    const OGRGeometry* geometry = walk(feature, fid);
     if (out_.segments.size() == segments_before) {
       ++stats_.empty_features;
       drop(geometry);
@@ -53,7 +51,7 @@ class LayerReader : public detail::FeatureReader {
   // The feature's z attribute, read once per feature and only when a line needs it.
   double feature_z() {
     if (!have_z_) {
-      z_ = field_z(feature_);
+      z_ = field_z(*feature_);
       have_z_ = true;
     }
     return z_;
@@ -71,8 +69,7 @@ class LayerReader : public detail::FeatureReader {
     constexpr int kStride = static_cast<int>(sizeof(Point3));
     void* z_target = z_source_ == ZSource::kGeometry ? &p->z : nullptr;
     void* m_target = z_source_ == ZSource::kMeasure ? &p->z : nullptr;
-    OGR_G_GetPointsZM(part.geometry, &p->x, kStride, &p->y, kStride, z_target, kStride, m_target,
-                      kStride);
+    part.line.getPoints(&p->x, kStride, &p->y, kStride, z_target, kStride, m_target, kStride);
     if (z_source_ == ZSource::kField) {
       for (std::size_t i = 0; i < n; ++i) p[i].z = z;
     }
@@ -109,7 +106,7 @@ class LayerReader : public detail::FeatureReader {
   LineData& out_;
   LineReadStats& stats_;
 
-  OGRFeatureH feature_ = nullptr;
+  const OGRFeature* feature_ = nullptr;
   bool have_z_ = false;
   double z_ = 0.0;
 };
@@ -126,14 +123,15 @@ LineReadStats read_layer(const std::string& spec, const LineReadOptions& options
   layer.ignore_fields_except(z_field);
 
   const auto file_index = static_cast<std::uint32_t>(out.files.size());
-  const GIntBig expected = OGR_L_GetFeatureCount(layer.get(), FALSE);
+  const GIntBig expected = layer.get().GetFeatureCount(FALSE);
   if (expected > 0 && static_cast<std::uint64_t>(expected) < kMaxIndex) {
     out.features.reserve(out.features.size() + static_cast<std::size_t>(expected));
   }
 
   LayerReader reader(layer, z_source, z_field, file_index, out, stats);
-  layer.read_features(
-      [&reader](OGRFeatureH feature, std::int64_t fid) { reader.read_feature(feature, fid); });
+  layer.read_features([&reader](const OGRFeature& feature, std::int64_t fid) {
+    reader.read_feature(feature, fid);
+  });
 
   out.files.push_back(layer.spec());
   layer.add_warnings(reader.curves(), stats.warnings);

@@ -5,7 +5,6 @@
 #include <cpl_vsi.h>
 
 #include <cmath>
-#include <mutex>
 #include <string>
 #include <utility>
 #include <vector>
@@ -15,13 +14,6 @@
 
 namespace tincdt::io::detail {
 namespace {
-
-constexpr std::size_t kMaxWarnings = 20;
-
-void ensure_drivers() {
-  static std::once_flag once;
-  std::call_once(once, [] { GDALAllRegister(); });
-}
 
 bool exists(const std::string& path) {
   VSIStatBufL st;
@@ -38,51 +30,36 @@ std::string join(const std::vector<std::string>& items) {
   return out.empty() ? std::string("none") : out;
 }
 
-bool first_vertex(OGRGeometryH g, Point3& p) {
-  if (OGR_G_IsEmpty(g)) return false;
-  if (OGR_G_GetPointCount(g) > 0) {
-    OGR_G_GetPoint(g, 0, &p.x, &p.y, &p.z);
-    return true;
+// The first vertex of any geometry: a point, a curve, or the first of the parts of a surface or
+// collection that has one (z 0 when 2D).
+bool first_vertex(const OGRGeometry& g, Point3& p) {
+  if (g.IsEmpty()) return false;
+  const OGRwkbGeometryType type = wkbFlatten(g.getGeometryType());
+  OGRPoint q;
+  if (type == wkbPoint) {
+    q = *g.toPoint();
+  } else if (OGR_GT_IsCurve(type)) {
+    g.toCurve()->StartPoint(&q);
+  } else if (OGR_GT_IsSubClassOf(type, wkbCurvePolygon)) {
+    for (const OGRCurve* ring : *g.toCurvePolygon())
+      if (first_vertex(*ring, p)) return true;
+    return false;
+  } else if (OGR_GT_IsSubClassOf(type, wkbGeometryCollection)) {
+    for (const OGRGeometry* part : *g.toGeometryCollection())
+      if (first_vertex(*part, p)) return true;
+    return false;
+  } else if (OGR_GT_IsSubClassOf(type, wkbPolyhedralSurface)) {
+    for (const OGRPolygon* part : *g.toPolyhedralSurface())
+      if (first_vertex(*part, p)) return true;
+    return false;
+  } else {
+    return false;
   }
-  const int n = OGR_G_GetGeometryCount(g);
-  for (int i = 0; i < n; ++i)
-    if (first_vertex(OGR_G_GetGeometryRef(g, i), p)) return true;
-  return false;
+  p = {q.getX(), q.getY(), q.getZ()};
+  return true;
 }
 
 }  // namespace
-
-// ---- GdalErrors, handles ----
-
-GdalErrors::GdalErrors() {
-  CPLPushErrorHandlerEx(&GdalErrors::handle, this);
-  CPLErrorReset();
-}
-
-GdalErrors::~GdalErrors() {
-  CPLPopErrorHandler();
-}
-
-std::string GdalErrors::last(const char* fallback) {
-  const char* msg = CPLGetLastErrorMsg();
-  return (msg != nullptr && *msg != '\0') ? std::string(msg) : std::string(fallback);
-}
-
-void CPL_STDCALL GdalErrors::handle(CPLErr level, CPLErrorNum, const char* msg) {
-  auto* self = static_cast<GdalErrors*>(CPLGetErrorHandlerUserData());
-  if (self == nullptr) return;
-  const std::string text = msg != nullptr ? msg : "";
-  if (level == CE_Failure || level == CE_Fatal) {
-    if (!self->failed_) self->failure_ = text;
-    self->failed_ = true;
-  } else if (level == CE_Warning && self->warnings_.size() < kMaxWarnings) {
-    self->warnings_.push_back(text);
-  }
-}
-
-void close_dataset(GDALDatasetH h) {
-  GDALClose(h);
-}
 
 void check_z_options(const std::string& spec, const std::string& z_field, bool z_from_m) {
   if (!z_field.empty() && z_from_m) {
@@ -104,34 +81,32 @@ OgrLayer::Spec OgrLayer::prepare(const std::string& spec, const std::string& lay
   }
   if (!layer_option.empty()) out.layer = layer_option;
   if (files_read >= kMaxIndex) throw InputError(out.file, "", "too many input files");
-  ensure_drivers();
+  register_gdal_drivers();
   return out;
 }
 
-GDALDatasetH OgrLayer::open(const std::string& file) {
-  GDALDatasetH ds =
-      GDALOpenEx(file.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY, nullptr, nullptr, nullptr);
-  if (ds != nullptr) return ds;
+GdalDataset OgrLayer::open(const std::string& file) {
+  GdalDataset ds(GDALDataset::Open(file.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
+  if (ds) return ds;
   if (file.rfind("/vsi", 0) != 0 && !exists(file)) {
     const bool maybe_connection = file.find(':') != std::string::npos;
     throw InputError(file, "",
                      maybe_connection ? "no such file, and GDAL cannot open it: " +
-                                            GdalErrors::last("not a vector source")
+                                            last_gdal_message("not a vector source")
                                       : std::string("no such file"));
   }
   throw InputError(file, "",
                    "cannot open as a vector source: " +
-                       GdalErrors::last("not a format GDAL can read as vectors"));
+                       last_gdal_message("not a format GDAL can read as vectors"));
 }
 
 OgrLayer::OgrLayer(const std::string& spec, const std::string& layer_option, std::size_t files_read)
     : spec_(prepare(spec, layer_option, files_read)), ds_(open(spec_.file)) {
   const std::string& file = spec_.file;
   std::vector<std::string> layers;
-  const int n = GDALDatasetGetLayerCount(ds_.get());
-  for (int i = 0; i < n; ++i) layers.emplace_back(OGR_L_GetName(GDALDatasetGetLayer(ds_.get(), i)));
+  for (OGRLayer* layer : ds_->GetLayers()) layers.emplace_back(layer->GetName());
   if (!spec_.layer.empty()) {
-    layer_ = GDALDatasetGetLayerByName(ds_.get(), spec_.layer.c_str());
+    layer_ = ds_->GetLayerByName(spec_.layer.c_str());
     if (layer_ == nullptr) {
       throw InputError(file, "", "no layer '" + spec_.layer + "' (layers: " + join(layers) + ")");
     }
@@ -142,15 +117,13 @@ OgrLayer::OgrLayer(const std::string& spec, const std::string& layer_option, std
                      std::to_string(layers.size()) + " layers (" + join(layers) +
                          "): name one as FILE:LAYER or with --layer");
   } else {
-    layer_ = GDALDatasetGetLayer(ds_.get(), 0);
+    layer_ = ds_->GetLayer(0);
   }
-  name_ = OGR_L_GetName(layer_);
-  defn_ = OGR_L_GetLayerDefn(layer_);
+  name_ = layer_->GetName();
+  defn_ = layer_->GetLayerDefn();
   std::vector<std::string> names;
-  const int fields = OGR_FD_GetFieldCount(defn_);
-  for (int i = 0; i < fields; ++i) {
-    names.emplace_back(OGR_Fld_GetNameRef(OGR_FD_GetFieldDefn(defn_, i)));
-  }
+  const int fields = defn_->GetFieldCount();
+  for (int i = 0; i < fields; ++i) names.emplace_back(defn_->GetFieldDefn(i)->GetNameRef());
   fields_ = join(names);
 }
 
@@ -159,48 +132,48 @@ std::string OgrLayer::spec() const {
 }
 
 std::string OgrLayer::crs_wkt() const {
-  return crs_of_layer(OGR_L_GetSpatialRef(layer_));
+  return crs_of_layer(layer_->GetSpatialRef());
 }
 
 ZSource OgrLayer::choose_z(const std::string& z_field, bool z_from_m, int* field) const {
   *field = -1;
   if (z_field.empty()) return z_from_m ? ZSource::kMeasure : ZSource::kGeometry;
-  *field = OGR_FD_GetFieldIndex(defn_, z_field.c_str());
+  *field = defn_->GetFieldIndex(z_field.c_str());
   if (*field < 0) {
     throw InputError(spec_.file, "layer " + name_,
                      "no field '" + z_field + "' (fields: " + fields_ + ")");
   }
-  const OGRFieldType type = OGR_Fld_GetType(OGR_FD_GetFieldDefn(defn_, *field));
+  const OGRFieldType type = defn_->GetFieldDefn(*field)->GetType();
   if (type != OFTInteger && type != OFTInteger64 && type != OFTReal && type != OFTString) {
     throw InputError(spec_.file, "layer " + name_,
-                     "the z field '" + z_field + "' is of type " + OGR_GetFieldTypeName(type) +
-                         ", not a number");
+                     "the z field '" + z_field + "' is of type " +
+                         OGRFieldDefn::GetFieldTypeName(type) + ", not a number");
   }
   return ZSource::kField;
 }
 
 void OgrLayer::ignore_fields_except(int keep) const {
   std::vector<std::string> ignored{"OGR_STYLE"};
-  const int n = OGR_FD_GetFieldCount(defn_);
+  const int n = defn_->GetFieldCount();
   for (int i = 0; i < n; ++i) {
-    if (i != keep) ignored.emplace_back(OGR_Fld_GetNameRef(OGR_FD_GetFieldDefn(defn_, i)));
+    if (i != keep) ignored.emplace_back(defn_->GetFieldDefn(i)->GetNameRef());
   }
   std::vector<const char*> list;
   list.reserve(ignored.size() + 1);
   for (const std::string& name : ignored) list.push_back(name.c_str());
   list.push_back(nullptr);
-  OGR_L_SetIgnoredFields(layer_, list.data());
+  layer_->SetIgnoredFields(list.data());
 }
 
 void OgrLayer::reading_failed(std::int64_t last_fid) const {
   throw InputError(
       spec_.file,
       "layer " + name_ + (last_fid >= 0 ? ", after feature " + std::to_string(last_fid) : ""),
-      "reading failed: " + errors_.failure());
+      "reading failed: " + messages_.failure());
 }
 
 void OgrLayer::add_warnings(std::uint64_t curves, std::vector<std::string>& warnings) const {
-  for (const std::string& w : errors_.warnings()) warnings.push_back(spec_.file + ": " + w);
+  for (const std::string& w : messages_.warnings()) warnings.push_back(spec_.file + ": " + w);
   if (curves > 0) {
     warnings.push_back(spec_.file + ": layer " + name_ + ": " + std::to_string(curves) +
                        " curved geometries approximated by line strings");
@@ -224,63 +197,58 @@ FeatureReader::FeatureReader(const OgrLayer& layer, int z_field, std::uint32_t f
       dropped_(dropped),
       degenerate_parts_(degenerate_parts) {}
 
-OGRGeometryH FeatureReader::walk(OGRFeatureH feature, std::int64_t fid) {
+const OGRGeometry* FeatureReader::walk(const OGRFeature& feature, std::int64_t fid) {
   fid_ = fid;
   unsupported_.clear();
   degenerate_ = false;
   has_at_ = false;
-  OGRGeometryH geometry = OGR_F_GetGeometryRef(feature);
-  if (geometry != nullptr && !OGR_G_IsEmpty(geometry)) {
-    if (OGR_G_HasCurveGeometry(geometry, TRUE)) {
-      const Geometry linear(OGR_G_GetLinearGeometry(geometry, 0.0, nullptr));
-      if (linear.get() == nullptr) fail("cannot approximate the curved geometry by lines");
+  const OGRGeometry* geometry = feature.GetGeometryRef();
+  if (geometry != nullptr && !geometry->IsEmpty()) {
+    if (geometry->hasCurveGeometry(TRUE)) {
+      const OgrGeometry linear(geometry->getLinearGeometry(0.0, nullptr));
+      if (!linear) fail("cannot approximate the curved geometry by lines");
       ++curves_;
-      add_geometry(linear.get());
+      add_geometry(*linear);
     } else {
-      add_geometry(geometry);
+      add_geometry(*geometry);
     }
   }
   return geometry;
 }
 
-void FeatureReader::add_geometry(OGRGeometryH g) {
-  switch (wkbFlatten(OGR_G_GetGeometryType(g))) {
+void FeatureReader::add_geometry(const OGRGeometry& g) {
+  switch (wkbFlatten(g.getGeometryType())) {
     case wkbLineString:
     case wkbLinearRing:
       if (take_lines_) {
-        take_part(g, false);
+        take_part(*g.toSimpleCurve(), false);
       } else {
         note_unsupported(g);
       }
       break;
     case wkbPolygon:
-    case wkbTriangle: {
-      const int n = OGR_G_GetGeometryCount(g);
-      for (int i = 0; i < n; ++i) take_part(OGR_G_GetGeometryRef(g, i), true);
+    case wkbTriangle:
+      for (const OGRLinearRing* ring : *g.toPolygon()) take_part(*ring, true);
       break;
-    }
     case wkbMultiLineString:
     case wkbMultiPolygon:
-    case wkbGeometryCollection: {
-      const int n = OGR_G_GetGeometryCount(g);
-      for (int i = 0; i < n; ++i) add_geometry(OGR_G_GetGeometryRef(g, i));
+    case wkbGeometryCollection:
+      for (const OGRGeometry* part : *g.toGeometryCollection()) add_geometry(*part);
       break;
-    }
     default:  // points, surfaces
       note_unsupported(g);
       break;
   }
 }
 
-void FeatureReader::take_part(OGRGeometryH g, bool ring) {
-  const int count = OGR_G_GetPointCount(g);
+void FeatureReader::take_part(const OGRSimpleCurve& g, bool ring) {
+  const int count = g.getNumPoints();
   if (count <= 0) {
     ++degenerate_parts_;
     degenerate_ = true;
     return;
   }
-  add_part(
-      {g, static_cast<std::size_t>(count), OGR_G_Is3D(g) != 0, OGR_G_IsMeasured(g) != 0, ring});
+  add_part({g, static_cast<std::size_t>(count), g.Is3D() != 0, g.IsMeasured() != 0, ring});
 }
 
 void FeatureReader::note_degenerate(const Point3& at) {
@@ -297,15 +265,15 @@ void FeatureReader::note_location(const Point3& p) {
 }
 
 // A geometry the reader does not use: its name and first vertex.
-void FeatureReader::note_unsupported(OGRGeometryH g) {
-  if (unsupported_.empty()) unsupported_ = OGRGeometryTypeToName(OGR_G_GetGeometryType(g));
+void FeatureReader::note_unsupported(const OGRGeometry& g) {
+  if (unsupported_.empty()) unsupported_ = OGRGeometryTypeToName(g.getGeometryType());
   Point3 p{};
   if (first_vertex(g, p)) note_location(p);
 }
 
-std::string FeatureReader::drop_reason(OGRGeometryH geometry) const {
+std::string FeatureReader::drop_reason(const OGRGeometry* geometry) const {
   if (geometry == nullptr) return "no geometry";
-  if (OGR_G_IsEmpty(geometry)) return "empty geometry";
+  if (geometry->IsEmpty()) return "empty geometry";
   std::string reason;
   if (degenerate_) reason = reasons_.degenerate;
   if (!unsupported_.empty()) {
@@ -315,7 +283,7 @@ std::string FeatureReader::drop_reason(OGRGeometryH geometry) const {
   return reason.empty() ? std::string(reasons_.none) : reason;
 }
 
-void FeatureReader::drop(OGRGeometryH geometry) {
+void FeatureReader::drop(const OGRGeometry* geometry) {
   dropped_.push_back({file_index_, fid_, drop_reason(geometry), at_, has_at_});
 }
 
@@ -331,15 +299,16 @@ void FeatureReader::check_z(ZSource source, bool has_z, bool has_m, const char* 
   }
 }
 
-double FeatureReader::field_z(OGRFeatureH feature) const {
-  const std::string name = OGR_Fld_GetNameRef(OGR_F_GetFieldDefnRef(feature, z_field_));
-  if (!OGR_F_IsFieldSetAndNotNull(feature, z_field_)) fail("the z field " + name + " is NULL");
-  const OGRFieldType type = OGR_Fld_GetType(OGR_F_GetFieldDefnRef(feature, z_field_));
+double FeatureReader::field_z(const OGRFeature& feature) const {
+  const OGRFieldDefn& field = *feature.GetFieldDefnRef(z_field_);
+  const std::string name = field.GetNameRef();
+  if (!feature.IsFieldSetAndNotNull(z_field_)) fail("the z field " + name + " is NULL");
+  const OGRFieldType type = field.GetType();
   double z = 0;
   if (type == OFTInteger || type == OFTInteger64 || type == OFTReal) {
-    z = OGR_F_GetFieldAsDouble(feature, z_field_);
+    z = feature.GetFieldAsDouble(z_field_);
   } else {  // text: only a complete number counts, never a silent 0
-    const char* text = OGR_F_GetFieldAsString(feature, z_field_);
+    const char* text = feature.GetFieldAsString(z_field_);
     char* end = nullptr;
     z = CPLStrtod(text, &end);  // "." as the decimal mark whatever the locale
     while (end != nullptr && (*end == ' ' || *end == '\t')) ++end;

@@ -4,10 +4,6 @@
 // readers go through here so that they accept the same specs and say the same things about them.
 #pragma once
 
-#include <cpl_error.h>
-#include <gdal.h>
-#include <ogr_api.h>
-
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -15,60 +11,13 @@
 #include <vector>
 
 #include "core/types.hpp"
+#include "io/gdal_support.hpp"
 #include "io/vector/line_reader.hpp"
 
 namespace tincdt::io::detail {
 
 // Most files, features and vertices one LineData / ShapeData can index.
 constexpr std::uint64_t kMaxIndex = std::numeric_limits<std::uint32_t>::max();
-
-// For the scope: GDAL prints nothing; warnings are kept for the stats, failures are remembered
-// so that a driver that gives up in the middle of a layer is not mistaken for its end.
-class GdalErrors {
- public:
-  GdalErrors();
-  GdalErrors(const GdalErrors&) = delete;
-  GdalErrors& operator=(const GdalErrors&) = delete;
-  ~GdalErrors();
-
-  // GDAL's last message, or FALLBACK when it said nothing.
-  static std::string last(const char* fallback);
-  void reset_failure() {
-    failed_ = false;
-    failure_.clear();
-  }
-  bool failed() const { return failed_; }
-  const std::string& failure() const { return failure_; }
-  const std::vector<std::string>& warnings() const { return warnings_; }
-
- private:
-  static void CPL_STDCALL handle(CPLErr level, CPLErrorNum number, const char* msg);
-
-  bool failed_ = false;
-  std::string failure_;
-  std::vector<std::string> warnings_;
-};
-
-// Owns a GDAL handle: a dataset, a feature or a geometry.
-template <class H, void (*Free)(H)>
-class Owned {
- public:
-  explicit Owned(H h) : h_(h) {}
-  Owned(const Owned&) = delete;
-  Owned& operator=(const Owned&) = delete;
-  ~Owned() {
-    if (h_ != nullptr) Free(h_);
-  }
-  H get() const { return h_; }
-
- private:
-  H h_;
-};
-
-void close_dataset(GDALDatasetH h);
-using Dataset = Owned<GDALDatasetH, close_dataset>;
-using Feature = Owned<OGRFeatureH, OGR_F_Destroy>;
-using Geometry = Owned<OGRGeometryH, OGR_G_DestroyGeometry>;
 
 // Where a feature's z comes from.
 enum class ZSource { kGeometry, kField, kMeasure };
@@ -90,7 +39,7 @@ class OgrLayer {
   OgrLayer(const OgrLayer&) = delete;
   OgrLayer& operator=(const OgrLayer&) = delete;
 
-  OGRLayerH get() const { return layer_; }
+  OGRLayer& get() const { return *layer_; }
   const std::string& file() const { return spec_.file; }
   const std::string& name() const { return name_; }      // the layer's own name
   const std::string& fields() const { return fields_; }  // "a, b", or "none"
@@ -109,20 +58,20 @@ class OgrLayer {
   // InputError when the driver fails in the middle of the layer.
   template <class Read>
   void read_features(Read&& read) {
-    OGR_L_ResetReading(layer_);
-    errors_.reset_failure();
+    layer_->ResetReading();
+    messages_.reset_failure();
     std::int64_t ordinal = 0;
     std::int64_t last_fid = -1;
     for (;;) {
-      const Feature feature(OGR_L_GetNextFeature(layer_));
-      if (feature.get() == nullptr) break;
-      const GIntBig fid = OGR_F_GetFID(feature.get());
+      const OgrFeature feature(layer_->GetNextFeature());
+      if (!feature) break;
+      const GIntBig fid = feature->GetFID();
       last_fid = fid != OGRNullFID ? static_cast<std::int64_t>(fid) : ordinal;
       ++ordinal;
-      read(feature.get(), last_fid);
-      if (errors_.failed()) break;
+      read(*feature, last_fid);
+      if (messages_.failed()) break;
     }
-    if (errors_.failed()) reading_failed(last_fid);
+    if (messages_.failed()) reading_failed(last_fid);
   }
 
   // GDAL's warnings, each naming the file, and one for CURVES geometries approximated.
@@ -135,17 +84,17 @@ class OgrLayer {
   };
   static Spec prepare(const std::string& spec, const std::string& layer_option,
                       std::size_t files_read);
-  static GDALDatasetH open(const std::string& file);
+  static GdalDataset open(const std::string& file);
   [[noreturn]] void reading_failed(std::int64_t last_fid) const;
 
   // In this order: the spec is split and the drivers registered before GDAL's messages are
   // captured, and the dataset is closed while they still are.
   const Spec spec_;
-  GdalErrors errors_;
-  const Dataset ds_;
-  OGRLayerH layer_ = nullptr;
+  GdalMessages messages_;
+  const GdalDataset ds_;
+  OGRLayer* layer_ = nullptr;
   std::string name_;
-  OGRFeatureDefnH defn_ = nullptr;
+  OGRFeatureDefn* defn_ = nullptr;
   std::string fields_;
 };
 
@@ -177,7 +126,7 @@ class FeatureReader {
 
   // One line (ring false) or polygon ring (ring true) of the feature being read.
   struct Part {
-    OGRGeometryH geometry;
+    const OGRSimpleCurve& line;
     std::size_t count;  // vertices, at least 1 (a part without any is degenerate already)
     bool has_z;
     bool has_m;
@@ -186,9 +135,9 @@ class FeatureReader {
   virtual void add_part(const Part& part) = 0;
 
   // Starts feature FID: calls add_part for each of its lines and rings; returns its geometry.
-  OGRGeometryH walk(OGRFeatureH feature, std::int64_t fid);
+  const OGRGeometry* walk(const OGRFeature& feature, std::int64_t fid);
   // Records the feature as dropped, with why (GEOMETRY: what walk returned).
-  void drop(OGRGeometryH geometry);
+  void drop(const OGRGeometry* geometry);
 
   [[noreturn]] void fail(const std::string& detail) const;
   // Throws unless z can come from SOURCE for a part with(out) Z and M values; NO_Z_WHAT starts
@@ -196,7 +145,7 @@ class FeatureReader {
   void check_z(ZSource source, bool has_z, bool has_m, const char* no_z_what) const;
   // The value of the z field in FEATURE; throws when it is NULL, not a complete number or not
   // finite.
-  double field_z(OGRFeatureH feature) const;
+  double field_z(const OGRFeature& feature) const;
   // Throws for a non-finite x or y, or z when CHECK_Z.
   void check_finite(const Point3* p, std::size_t n, bool check_z) const;
 
@@ -215,11 +164,11 @@ class FeatureReader {
   std::uint32_t file_index() const { return file_index_; }
 
  private:
-  void add_geometry(OGRGeometryH g);
-  void take_part(OGRGeometryH g, bool ring);
+  void add_geometry(const OGRGeometry& g);
+  void take_part(const OGRSimpleCurve& g, bool ring);
   void note_location(const Point3& p);
-  void note_unsupported(OGRGeometryH g);
-  std::string drop_reason(OGRGeometryH geometry) const;
+  void note_unsupported(const OGRGeometry& g);
+  std::string drop_reason(const OGRGeometry* geometry) const;
 
   const std::string file_;
   const std::string layer_;

@@ -3,8 +3,6 @@
 // accept the same specs and say the same things about them.
 #include "io/vector/polygon_reader.hpp"
 
-#include <ogr_api.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -47,12 +45,12 @@ class LayerReader : public detail::FeatureReader {
         out_(out),
         stats_(stats) {}
 
-  void read_feature(OGRFeatureH feature, std::int64_t fid) {
+  void read_feature(const OGRFeature& feature, std::int64_t fid) {
     ++stats_.features;
     current_ = ShapeFeature{file_index(), fid, kNaN, {}};
     z_min_ = std::numeric_limits<double>::infinity();
     z_max_ = -z_min_;
-    OGRGeometryH geometry = walk(feature, fid);
+    const OGRGeometry* geometry = walk(feature, fid);
     if (current_.parts.empty()) {
       ++stats_.empty_features;
       drop(geometry);
@@ -75,8 +73,8 @@ class LayerReader : public detail::FeatureReader {
     std::vector<Point3> p(n, Point3{0, 0, kNaN});
     std::vector<double> m(has_m ? n : 0);
     constexpr int kStride = static_cast<int>(sizeof(Point3));
-    OGR_G_GetPointsZM(part.geometry, &p[0].x, kStride, &p[0].y, kStride, has_z ? &p[0].z : nullptr,
-                      kStride, has_m ? m.data() : nullptr, static_cast<int>(sizeof(double)));
+    part.line.getPoints(&p[0].x, kStride, &p[0].y, kStride, has_z ? &p[0].z : nullptr, kStride,
+                        has_m ? m.data() : nullptr, static_cast<int>(sizeof(double)));
     check_finite(p.data(), n, has_z);
     if (z_source_) note_heights(has_z, has_m, p, m);
 
@@ -109,7 +107,7 @@ class LayerReader : public detail::FeatureReader {
     }
   }
 
-  double feature_z(OGRFeatureH feature) const {
+  double feature_z(const OGRFeature& feature) const {
     if (*z_source_ == ZSource::kField) return field_z(feature);
     if (z_min_ != z_max_) {
       char range[96];
@@ -143,8 +141,9 @@ ShapeReadStats read_layer(Kind kind, const std::string& spec, const ShapeReadOpt
 
   const auto file_index = static_cast<std::uint32_t>(out.files.size());
   LayerReader reader(kind, layer, z_source, z_field, file_index, out, stats);
-  layer.read_features(
-      [&reader](OGRFeatureH feature, std::int64_t fid) { reader.read_feature(feature, fid); });
+  layer.read_features([&reader](const OGRFeature& feature, std::int64_t fid) {
+    reader.read_feature(feature, fid);
+  });
 
   out.files.push_back(layer.spec());
   layer.add_warnings(reader.curves(), stats.warnings);
