@@ -39,6 +39,20 @@ class GeometryError : public Error {
   using Error::Error;
 };
 
+// Options that contradict each other or give no usable value: the caller's mistake, found
+// before any work (the command line maps it to exit code 2).
+class UsageError : public Error {
+  using Error::Error;
+};
+
+// A broken invariant: a bug in tincdt, never the input's fault. what() starts with
+// "internal error, please report: " (the command line maps it to exit code 3).
+class InternalError : public Error {
+ public:
+  explicit InternalError(const std::string& detail)
+      : Error({}, {}, "internal error, please report: " + detail) {}
+};
+
 // A Progress callback asked to stop.
 class Cancelled : public Error {
  public:

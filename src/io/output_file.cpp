@@ -4,14 +4,17 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <system_error>
 #include <utility>
 
 #include "core/error.hpp"
+#include "io/temporary_registry.hpp"
 
 namespace tincdt::io {
 namespace {
@@ -50,7 +53,106 @@ std::string folder_of(const std::string& path) {
   return path.substr(0, slash);
 }
 
+// What SQLite (GeoPackage) may leave beside a database while it is open.
+constexpr const char* kSideSuffixes[] = {"-journal", "-wal", "-shm"};
+
+// ---- the registry of temporaries (temporary_registry.hpp) ---------------------------------------
+//
+// Each slot is written by one thread at a time (a spin lock among writers) and read by a signal
+// handler at any moment: the sequence number is odd while a slot changes, and the handler skips a
+// slot whose number moved while it copied the name.
+
+constexpr int kSlots = 64;
+constexpr std::size_t kMaxPath = 4096;
+
+struct Slot {
+  std::atomic<std::uint32_t> seq{0};
+  std::atomic<bool> used{false};
+  char path[kMaxPath];
+};
+
+Slot g_slots[kSlots];
+std::atomic_flag g_writer = ATOMIC_FLAG_INIT;
+std::atomic<bool> g_committing{false};
+
+class WriterLock {
+ public:
+  WriterLock() noexcept {
+    while (g_writer.test_and_set(std::memory_order_acquire)) {
+    }
+  }
+  ~WriterLock() { g_writer.clear(std::memory_order_release); }
+  WriterLock(const WriterLock&) = delete;
+  WriterLock& operator=(const WriterLock&) = delete;
+};
+
 }  // namespace
+
+namespace detail {
+
+int track_temporary(const std::string& path) noexcept {
+  if (path.empty() || path.size() >= kMaxPath) return -1;
+  const WriterLock lock;
+  for (int i = 0; i < kSlots; ++i) {
+    Slot& s = g_slots[i];
+    if (s.used.load(std::memory_order_relaxed)) continue;
+    s.seq.fetch_add(1, std::memory_order_acq_rel);
+    std::memcpy(s.path, path.c_str(), path.size() + 1);
+    s.used.store(true, std::memory_order_relaxed);
+    s.seq.fetch_add(1, std::memory_order_acq_rel);
+    return i;
+  }
+  return -1;
+}
+
+void untrack_temporary(int& slot) noexcept {
+  if (slot < 0 || slot >= kSlots) return;
+  const WriterLock lock;
+  Slot& s = g_slots[slot];
+  s.seq.fetch_add(1, std::memory_order_acq_rel);
+  s.used.store(false, std::memory_order_relaxed);
+  s.seq.fetch_add(1, std::memory_order_acq_rel);
+  slot = -1;
+}
+
+int move_without_replacing(const std::string& from, const std::string& to) noexcept {
+  if (::renameat2(AT_FDCWD, from.c_str(), AT_FDCWD, to.c_str(), RENAME_NOREPLACE) == 0) return 0;
+  const int err = errno;
+  if (err != EINVAL && err != ENOSYS) return err;
+  // The file system cannot rename without replacing: link() refuses an existing target.
+  if (::link(from.c_str(), to.c_str()) != 0) return errno;
+  (void)::unlink(from.c_str());
+  return 0;
+}
+
+void sync_folder_of(const std::string& path) noexcept {
+  sync_folder(folder_of(path));
+}
+
+void set_committing(bool on) noexcept {
+  g_committing.store(on, std::memory_order_seq_cst);
+}
+
+}  // namespace detail
+
+bool remove_temporaries_for_exit() noexcept {
+  if (g_committing.load(std::memory_order_seq_cst)) return false;
+  char name[kMaxPath];
+  for (Slot& s : g_slots) {
+    const std::uint32_t before = s.seq.load(std::memory_order_acquire);
+    if ((before & 1u) != 0 || !s.used.load(std::memory_order_relaxed)) continue;
+    std::size_t n = 0;
+    while (n + 1 < kMaxPath && s.path[n] != '\0') {
+      name[n] = s.path[n];
+      ++n;
+    }
+    name[n] = '\0';
+    std::atomic_thread_fence(std::memory_order_acquire);
+    if (s.seq.load(std::memory_order_relaxed) != before) continue;
+    (void)::unlink(name);
+  }
+  return true;
+}
 
 OutputFile::OutputFile(std::string path, bool overwrite)
     : path_(std::move(path)), overwrite_(overwrite) {
@@ -76,22 +178,19 @@ OutputFile::OutputFile(std::string path, bool overwrite)
     throw OutputError(path_, "",
                       "cannot create a file in folder '" + dir + "': " + error_text(err));
   }
+  temp_slot_ = detail::track_temporary(temp_path_);
   // mkostemp creates 0600; give the output the mode a plain open(O_CREAT) would.
-  if (::fchmod(fd, static_cast<mode_t>(0666 & ~current_umask())) != 0) {
+  mode_ = static_cast<mode_t>(0666 & ~current_umask());
+  const auto fail = [&](const char* what) {
     const int err = errno;
     (void)::close(fd);
     (void)::unlink(temp_path_.c_str());
-    temp_path_.clear();
-    throw OutputError(path_, "", "cannot set the permissions of the new file: " + error_text(err));
-  }
+    forget_temporary();
+    throw OutputError(path_, "", what + error_text(err));
+  };
+  if (::fchmod(fd, mode_) != 0) fail("cannot set the permissions of the new file: ");
   file_ = ::fdopen(fd, "wb");
-  if (file_ == nullptr) {
-    const int err = errno;
-    (void)::close(fd);
-    (void)::unlink(temp_path_.c_str());
-    temp_path_.clear();
-    throw OutputError(path_, "", "cannot open the new file: " + error_text(err));
-  }
+  if (file_ == nullptr) fail("cannot open the new file: ");
   buffer_ = std::make_unique<char[]>(kStreamBuffer);
   if (std::setvbuf(file_, buffer_.get(), _IOFBF, kStreamBuffer) != 0) {
     // Not fatal: the stream keeps its default buffer, which it owns.
@@ -101,7 +200,19 @@ OutputFile::OutputFile(std::string path, bool overwrite)
 
 OutputFile::~OutputFile() {
   if (file_ != nullptr) (void)std::fclose(file_);
-  if (!committed_ && !temp_path_.empty()) (void)::unlink(temp_path_.c_str());
+  if (!committed_) {
+    if (!temp_path_.empty()) (void)::unlink(temp_path_.c_str());
+    if (!taken_path_.empty()) {
+      (void)::unlink(taken_path_.c_str());
+      for (const char* suffix : kSideSuffixes) (void)::unlink((taken_path_ + suffix).c_str());
+    }
+  }
+  forget_temporary();
+}
+
+void OutputFile::forget_temporary() {
+  detail::untrack_temporary(temp_slot_);
+  for (int& slot : taken_slots_) detail::untrack_temporary(slot);
 }
 
 void OutputFile::write(const void* data, std::size_t n) {
@@ -114,8 +225,52 @@ void OutputFile::write(const void* data, std::size_t n) {
   bytes_ += n;
 }
 
+const std::string& OutputFile::take_path() {
+  if (!taken_path_.empty() || closed_ || file_ == nullptr || bytes_ != 0)
+    throw OutputError(path_, "", "the new file cannot be handed to another writer");
+  (void)std::fclose(std::exchange(file_, nullptr));
+  const std::string name = path_.substr(path_.rfind('/') + 1);
+  const auto dot = name.rfind('.');
+  taken_path_ = temp_path_ + (dot == std::string::npos || dot == 0 ? ".tmp" : name.substr(dot));
+  taken_slots_[0] = detail::track_temporary(taken_path_);
+  for (int i = 0; i < 3; ++i)
+    taken_slots_[i + 1] = detail::track_temporary(taken_path_ + kSideSuffixes[i]);
+  struct stat st {};
+  if (::lstat(taken_path_.c_str(), &st) == 0)
+    throw OutputError(path_, "", "the temporary file '" + taken_path_ + "' exists already");
+  return taken_path_;
+}
+
+// The file a library made at taken_path_: given the usual mode, flushed to disk and moved over
+// the reserved temporary.
+void OutputFile::finish_taken() {
+  const int fd = ::open(taken_path_.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) {
+    const int err = errno;
+    throw OutputError(path_, "", "cannot reopen the new file: " + error_text(err));
+  }
+  struct stat st {};
+  const bool ok = ::fchmod(fd, mode_) == 0 && ::fsync(fd) == 0 && ::fstat(fd, &st) == 0;
+  const int err = errno;
+  (void)::close(fd);
+  if (!ok) throw OutputError(path_, "", "cannot flush the new file to disk: " + error_text(err));
+  bytes_ = static_cast<std::size_t>(st.st_size);
+  if (std::rename(taken_path_.c_str(), temp_path_.c_str()) != 0) {
+    const int rename_err = errno;
+    throw OutputError(path_, "", "cannot move the new file into place: " + error_text(rename_err));
+  }
+  for (const char* suffix : kSideSuffixes) (void)::unlink((taken_path_ + suffix).c_str());
+  taken_path_.clear();
+  for (int& slot : taken_slots_) detail::untrack_temporary(slot);
+}
+
 void OutputFile::close() {
   if (closed_) return;
+  if (!taken_path_.empty()) {
+    finish_taken();
+    closed_ = true;
+    return;
+  }
   if (file_ == nullptr) throw OutputError(path_, "", "the file is not open");
   if (std::fflush(file_) != 0) {
     const int err = errno;
@@ -141,26 +296,15 @@ void OutputFile::commit() {
       const int err = errno;
       throw OutputError(path_, "", "cannot replace the file: " + error_text(err));
     }
-  } else {
+  } else if (const int err = detail::move_without_replacing(temp_path_, path_); err != 0) {
     // Never replace a file that appeared since the constructor looked.
-    if (::renameat2(AT_FDCWD, temp_path_.c_str(), AT_FDCWD, path_.c_str(), RENAME_NOREPLACE) != 0) {
-      const int err = errno;
-      if (err == EEXIST)
-        throw OutputError(path_, "", "already exists (use --overwrite to replace it)");
-      if (err != EINVAL && err != ENOSYS)
-        throw OutputError(path_, "", "cannot create the file: " + error_text(err));
-      // The file system cannot rename without replacing: link() refuses an existing target.
-      if (::link(temp_path_.c_str(), path_.c_str()) != 0) {
-        const int link_err = errno;
-        if (link_err == EEXIST)
-          throw OutputError(path_, "", "already exists (use --overwrite to replace it)");
-        throw OutputError(path_, "", "cannot create the file: " + error_text(link_err));
-      }
-      (void)::unlink(temp_path_.c_str());
-    }
+    if (err == EEXIST)
+      throw OutputError(path_, "", "already exists (use --overwrite to replace it)");
+    throw OutputError(path_, "", "cannot create the file: " + error_text(err));
   }
   committed_ = true;
-  sync_folder(folder_of(path_));
+  forget_temporary();
+  detail::sync_folder_of(path_);
 }
 
 }  // namespace tincdt::io

@@ -1,7 +1,10 @@
 // Safe output: write to "<dir>/.<name>.tmp-XXXXXX" beside the target, rename over it on commit().
 // Destroyed without commit() the temporary is removed, so a failed run leaves nothing behind and
-// the target is always either its old content or the complete new one.
+// the target is always either its old content or the complete new one. Several outputs that must
+// appear together go through an OutputSet (output_set.hpp) instead of commit().
 #pragma once
+
+#include <sys/types.h>
 
 #include <cstddef>
 #include <cstdio>
@@ -22,21 +25,45 @@ class OutputFile {
   void write(const std::string& s) { write(s.data(), s.size()); }
   const std::string& path() const { return path_; }
   const std::string& temp_path() const { return temp_path_; }
+  // Bytes written through write(), or the size of the file a library made at take_path().
   std::size_t bytes_written() const { return bytes_; }
+
+  // For a writer that must create the file itself (GDAL refuses to open an existing GeoPackage):
+  // returns a fresh name beside the temporary, ending in the target's extension, at which the
+  // caller creates the file, once. close() moves it over the temporary; until then it and its
+  // SQLite side files ("-journal", "-wal", "-shm") are removed with the temporary. write() is
+  // not allowed afterwards.
+  const std::string& take_path();
+
   // Flush, fsync and close the temporary without renaming it yet, so several outputs (a mesh
   // and its .prj) can all be complete on disk before the first rename. Optional.
   void close();
   void commit();  // close() if not done yet, then rename over the target
 
  private:
+  friend class OutputSet;
+  void finish_taken();
+  void forget_temporary();  // the temporary is gone (renamed or removed): stop tracking it
+
   std::string path_;
   std::string temp_path_;
+  std::string taken_path_;  // take_path(): where the library writes
+  int temp_slot_ = -1;      // temporary_registry slots (signal-safe clean-up)
+  int taken_slots_[4] = {-1, -1, -1, -1};
   std::FILE* file_ = nullptr;
   std::unique_ptr<char[]> buffer_;  // the stream's buffer (setvbuf)
   std::size_t bytes_ = 0;
+  mode_t mode_ = 0644;
   bool overwrite_ = false;
   bool closed_ = false;
   bool committed_ = false;
 };
+
+// Removes every temporary file of the outputs this process has under way, for a signal handler
+// that is about to end the process (a second Ctrl-C): async-signal-safe, no allocation, no lock.
+// Returns false, and removes nothing, while an OutputSet is renaming its files into place; the
+// handler should then let the few renames finish (they run with the usual termination signals
+// blocked, so the signal is delivered right after).
+bool remove_temporaries_for_exit() noexcept;
 
 }  // namespace tincdt::io

@@ -7,6 +7,7 @@
 
 #include "io/output_file.hpp"
 #include "pipeline/build.hpp"
+#include "pipeline/report.hpp"
 
 #ifndef TINCDT_VERSION
 #error "TINCDT_VERSION must be defined by the build (the CMake project version)"
@@ -175,32 +176,27 @@ std::string_view version() {
   return TINCDT_VERSION;
 }
 
-std::string BuildReport::to_json() const {
-  JsonWriter j;
-  j.begin_object();
-  j.field("tincdt_version", version());
-  j.field("points_read", points_read);
-  j.field("points_kept", points_kept);
-  j.field("duplicates_merged", duplicates_merged);
-  j.field("vertices", vertices);
-  j.field("triangles", triangles);
-  j.field("constraints", constraints);
-  j.field("steiner_vertices", steiner_vertices);
-  j.field("line_features", line_features);
-  j.field("line_vertices", line_vertices);
-  j.field("constraint_segments", constraint_segments);
-  j.field("zero_length_segments", zero_length_segments);
-  j.field("constraint_segments_split", constraint_segments_split);
-  j.field("crossings", crossings);
-  j.field("max_z_disagreement", max_z_disagreement);
-  j.field("surface_features", surface_features);
-  j.field("soft_line_vertices", soft_line_vertices);
-  j.field("draped_vertices", draped_vertices);
-  j.field("reused_vertices", reused_vertices);
-  j.field("replaced_vertices", replaced_vertices);
-  j.field("trimmed_triangles", trimmed_triangles);
-  j.field("clipped_triangles", clipped_triangles);
-  j.field("erased_triangles", erased_triangles);
+void BuildReport::Timings::add(std::string_view key, double seconds) {
+  const std::pair<std::string_view, double*> fields[] = {
+      {"read", &read},       {"delaunay", &delaunay}, {"constraints", &constraints},
+      {"surface", &surface}, {"terrain", &terrain},   {"validate", &validate},
+      {"quality", &quality}, {"write", &write},       {"total", &total}};
+  for (const auto& [name, field] : fields) {
+    if (name != key) continue;
+    *field += seconds;
+    return;
+  }
+  for (auto& [name, sum] : more) {
+    if (name != key) continue;
+    sum += seconds;
+    return;
+  }
+  more.emplace_back(key, seconds);
+}
+
+namespace {
+
+void put_flats(JsonWriter& j, const BuildReport::Flats& flats) {
   j.begin_object("flats")
       .field("counted", flats.counted)
       .field("fixed", flats.fixed)
@@ -215,38 +211,34 @@ std::string BuildReport::to_json() const {
       .field("left_unplaced", flats.left_unplaced)
       .field("non_delaunay_edges", flats.non_delaunay_edges)
       .end_object();
-  if (quality_measured)
-    j.json_field("quality", quality.to_json());
-  else
-    j.null_field("quality");
-  j.begin_object("flips")
-      .field("insertion", flips.insertion)
-      .field("restoration", flips.restoration);
-  j.end_object();
+}
+
+// timings_s, then every stage's own entry.
+void put_timings(JsonWriter& j, const BuildReport& r) {
+  const BuildReport::Timings& t = r.timings_s;
   j.begin_object("timings_s")
-      .field("read", timings_s.read)
-      .field("delaunay", timings_s.delaunay)
-      .field("constraints", timings_s.constraints)
-      .field("surface", timings_s.surface)
-      .field("terrain", timings_s.terrain)
-      .field("validate", timings_s.validate)
-      .field("write", timings_s.write)
-      .field("total", timings_s.total)
-      .end_object();
-  j.field("peak_rss_bytes", peak_rss_bytes);
-  j.field("crs", crs);
-  j.field("crs_wkt", crs_wkt);
-  j.field("output", output);
-  j.field("output_format", output_format);
-  j.field("output_bytes", output_bytes);
-  j.field("constraints_out", constraints_out);
-  j.field("diagnostics", diagnostics);
-  j.begin_array("offset").value(offset.x).value(offset.y).value(offset.z).end_array();
-  // Per input: the point files' own keys, the vector sources' own keys, and the common ones
-  // (read, kept, filtered, skipped) for both; merged duplicates are counted for all inputs
-  // together (duplicates_merged), not per file.
+      .field("read", t.read)
+      .field("delaunay", t.delaunay)
+      .field("constraints", t.constraints)
+      .field("surface", t.surface)
+      .field("terrain", t.terrain)
+      .field("validate", t.validate)
+      .field("quality", t.quality)
+      .field("write", t.write);
+  for (const auto& [key, seconds] : t.more) j.field(key, seconds);
+  j.field("total", t.total).end_object();
+  j.begin_array("stages");
+  for (const BuildReport::StageTime& s : r.stages)
+    j.begin_object().field("name", s.name).field("seconds", s.seconds).end_object();
+  j.end_array();
+}
+
+// Per input: the point files' own keys, the vector sources' own keys, and the common ones
+// (read, kept, filtered, skipped) for both; merged duplicates are counted for all inputs
+// together (duplicates_merged), not per file.
+void put_inputs(JsonWriter& j, const std::vector<BuildReport::Input>& inputs) {
   j.begin_array("inputs");
-  for (const Input& in : inputs) {
+  for (const BuildReport::Input& in : inputs) {
     j.begin_object().field("path", in.path).field("kind", in.kind).field("crs", in.crs);
     if (in.kind == "points") {
       j.field("format", in.format)
@@ -272,6 +264,68 @@ std::string BuildReport::to_json() const {
     j.end_object();
   }
   j.end_array();
+}
+
+void put_outputs(JsonWriter& j, const BuildReport& r) {
+  j.field("output", r.output);
+  j.field("output_format", r.output_format);
+  j.field("output_bytes", r.output_bytes);
+  j.field("constraints_out", r.constraints_out);
+  j.field("diagnostics", r.diagnostics);
+  j.begin_array("outputs");
+  for (const BuildReport::Output& o : r.outputs)
+    j.begin_object()
+        .field("path", o.path)
+        .field("kind", o.kind)
+        .field("bytes", o.bytes)
+        .end_object();
+  j.end_array();
+}
+
+}  // namespace
+
+std::string BuildReport::to_json() const {
+  JsonWriter j;
+  j.begin_object();
+  j.field("tincdt_version", version());
+  const std::pair<const char*, std::uint64_t> counts[] = {
+      {"points_read", points_read},
+      {"points_kept", points_kept},
+      {"duplicates_merged", duplicates_merged},
+      {"vertices", vertices},
+      {"triangles", triangles},
+      {"constraints", constraints},
+      {"steiner_vertices", steiner_vertices},
+      {"line_features", line_features},
+      {"line_vertices", line_vertices},
+      {"constraint_segments", constraint_segments},
+      {"zero_length_segments", zero_length_segments},
+      {"constraint_segments_split", constraint_segments_split},
+      {"crossings", crossings}};
+  for (const auto& [key, n] : counts) j.field(key, n);
+  j.field("max_z_disagreement", max_z_disagreement);
+  const std::pair<const char*, std::uint64_t> surface[] = {
+      {"surface_features", surface_features},   {"soft_line_vertices", soft_line_vertices},
+      {"draped_vertices", draped_vertices},     {"reused_vertices", reused_vertices},
+      {"replaced_vertices", replaced_vertices}, {"trimmed_triangles", trimmed_triangles},
+      {"clipped_triangles", clipped_triangles}, {"erased_triangles", erased_triangles}};
+  for (const auto& [key, n] : surface) j.field(key, n);
+  put_flats(j, flats);
+  if (quality_measured)
+    j.json_field("quality", quality.to_json());
+  else
+    j.null_field("quality");
+  j.begin_object("flips")
+      .field("insertion", flips.insertion)
+      .field("restoration", flips.restoration);
+  j.end_object();
+  put_timings(j, *this);
+  j.field("peak_rss_bytes", peak_rss_bytes);
+  j.field("crs", crs);
+  j.field("crs_wkt", crs_wkt);
+  put_outputs(j, *this);
+  j.begin_array("offset").value(offset.x).value(offset.y).value(offset.z).end_array();
+  put_inputs(j, inputs);
   j.end_object();
   return j.str();
 }

@@ -49,20 +49,25 @@ std::uint64_t check_edges(const std::string& path, const mesh::Triangulation& ti
   return distinct;
 }
 
-}  // namespace
-
-TinWriteStats write_constraint_lines(const std::string& path, const mesh::Triangulation& tin,
-                                     const std::vector<ConstraintEdge>& edges,
-                                     const std::vector<ConstraintFeatureInfo>& features,
-                                     const TinWriteOptions& options) {
-  using detail::BlockWriter;
-  const bool reprojecting = !options.target_crs_wkt.empty();
+// Everything write_constraint_lines() refuses before writing; returns the distinct vertices.
+std::uint64_t check_lines(const std::string& path, const mesh::Triangulation& tin,
+                          const std::vector<ConstraintEdge>& edges,
+                          const std::vector<ConstraintFeatureInfo>& features,
+                          const TinWriteOptions& options) {
   // The offset is in the units of the TIN's CRS; after reprojection it would mean nothing.
-  if (reprojecting && !detail::is_zero(options.offset))
+  if (!options.target_crs_wkt.empty() && !detail::is_zero(options.offset))
     throw OutputError(path, "", "an offset cannot be combined with reprojection");
-  const std::uint64_t distinct = check_edges(path, tin, edges, features);
+  return check_edges(path, tin, edges, features);
+}
 
-  OutputFile out(path, options.overwrite);
+// The GeoJSON document into OUT (checked by check_lines()), not committed.
+void write_lines(OutputFile& out, const mesh::Triangulation& tin,
+                 const std::vector<ConstraintEdge>& edges,
+                 const std::vector<ConstraintFeatureInfo>& features,
+                 const TinWriteOptions& options) {
+  using detail::BlockWriter;
+  const std::string& path = out.path();
+  const bool reprojecting = !options.target_crs_wkt.empty();
   std::vector<VertexId> ends;
   if (reprojecting) {
     ends.reserve(2 * edges.size());
@@ -115,6 +120,26 @@ TinWriteStats write_constraint_lines(const std::string& path, const mesh::Triang
   }
   w.put(std::string_view("\n]\n}\n"));
   w.flush();
+}
+
+}  // namespace
+
+TinWriteStats write_constraint_lines(OutputFile& out, const mesh::Triangulation& tin,
+                                     const std::vector<ConstraintEdge>& edges,
+                                     const std::vector<ConstraintFeatureInfo>& features,
+                                     const TinWriteOptions& options) {
+  const std::uint64_t distinct = check_lines(out.path(), tin, edges, features, options);
+  write_lines(out, tin, edges, features, options);
+  return {distinct, 0, out.bytes_written()};
+}
+
+TinWriteStats write_constraint_lines(const std::string& path, const mesh::Triangulation& tin,
+                                     const std::vector<ConstraintEdge>& edges,
+                                     const std::vector<ConstraintFeatureInfo>& features,
+                                     const TinWriteOptions& options) {
+  const std::uint64_t distinct = check_lines(path, tin, edges, features, options);
+  OutputFile out(path, options.overwrite);
+  write_lines(out, tin, edges, features, options);
   out.commit();
   return {distinct, 0, out.bytes_written()};
 }

@@ -43,5 +43,10 @@ TinWriteStats write_constraint_lines(const std::string& path, const mesh::Triang
                                      const std::vector<ConstraintEdge>& edges,
                                      const std::vector<ConstraintFeatureInfo>& features,
                                      const TinWriteOptions& options);
+// The same into OUT (one file of an OutputSet), not committed; options.overwrite is OUT's.
+TinWriteStats write_constraint_lines(OutputFile& out, const mesh::Triangulation& tin,
+                                     const std::vector<ConstraintEdge>& edges,
+                                     const std::vector<ConstraintFeatureInfo>& features,
+                                     const TinWriteOptions& options);
 
 }  // namespace tincdt::io

@@ -39,14 +39,28 @@ std::string lower(std::string s) {
   return s;
 }
 
-// "tin.obj" -> "tin.prj"; a path without extension gets ".prj" appended.
+}  // namespace
+
 std::string prj_path(const std::string& path) {
   std::filesystem::path p(path);
   p.replace_extension(".prj");
   return p.string();
 }
 
-}  // namespace
+bool wants_prj(TinFormat format, const std::string& crs_wkt) {
+  return format != TinFormat::geojson && !crs_wkt.empty();
+}
+
+void write_prj(OutputFile& out, const std::string& crs_wkt) {
+  std::string text;
+  try {
+    text = crs_to_prj(crs_wkt);
+  } catch (const Error& e) {
+    throw OutputError(out.path(), "", e.detail());
+  }
+  if (text.empty()) throw OutputError(out.path(), "", "the CRS cannot be written as ESRI WKT");
+  out.write(text);
+}
 
 TinFormat format_from_path(const std::string& path) {
   const std::string ext = lower(std::filesystem::path(path).extension().string());
@@ -59,34 +73,23 @@ TinFormat format_from_path(const std::string& path) {
   throw OutputError(path, "", "unknown output format '" + ext + "' (" + known + ")");
 }
 
-TinWriteStats write_tin(const std::string& path, const mesh::Triangulation& tin,
+namespace {
+
+void check_reprojection(const std::string& path, TinFormat format, const TinWriteOptions& options) {
+  if (options.target_crs_wkt.empty()) return;
+  if (format != TinFormat::geojson)
+    throw OutputError(path, "", "reprojection is only supported for GeoJSON output");
+  // The offset is in the units of the TIN's CRS; after reprojection it would mean nothing.
+  if (!detail::is_zero(options.offset))
+    throw OutputError(path, "", "an offset cannot be combined with reprojection");
+}
+
+}  // namespace
+
+TinWriteStats write_tin(OutputFile& out, const mesh::Triangulation& tin,
                         const TinWriteOptions& options) {
-  const TinFormat format = options.format ? *options.format : format_from_path(path);
-  const bool want_prj = format != TinFormat::geojson && !options.crs_wkt.empty();
-  if (!options.target_crs_wkt.empty()) {
-    if (format != TinFormat::geojson)
-      throw OutputError(path, "", "reprojection is only supported for GeoJSON output");
-    // The offset is in the units of the TIN's CRS; after reprojection it would mean nothing.
-    if (!detail::is_zero(options.offset))
-      throw OutputError(path, "", "an offset cannot be combined with reprojection");
-  }
-
-  // Both outputs are opened (so both overwrite checks fail) before any work, both temporaries
-  // are complete on disk before the first rename.
-  OutputFile out(path, options.overwrite);
-  std::optional<OutputFile> prj;
-  if (want_prj) {
-    prj.emplace(prj_path(path), options.overwrite);
-    std::string text;
-    try {
-      text = crs_to_prj(options.crs_wkt);
-    } catch (const Error& e) {
-      throw OutputError(prj->path(), "", e.detail());
-    }
-    if (text.empty()) throw OutputError(prj->path(), "", "the CRS cannot be written as ESRI WKT");
-    prj->write(text);
-  }
-
+  const TinFormat format = options.format ? *options.format : format_from_path(out.path());
+  check_reprojection(out.path(), format, options);
   TinWriteStats stats;
   switch (format) {
     case TinFormat::obj:
@@ -99,6 +102,22 @@ TinWriteStats write_tin(const std::string& path, const mesh::Triangulation& tin,
       stats = detail::write_geojson(out, tin, options);
       break;
   }
+  return stats;
+}
+
+TinWriteStats write_tin(const std::string& path, const mesh::Triangulation& tin,
+                        const TinWriteOptions& options) {
+  const TinFormat format = options.format ? *options.format : format_from_path(path);
+  check_reprojection(path, format, options);
+  // Both outputs are opened (so both overwrite checks fail) before any work, both temporaries
+  // are complete on disk before the first rename.
+  OutputFile out(path, options.overwrite);
+  std::optional<OutputFile> prj;
+  if (wants_prj(format, options.crs_wkt)) {
+    prj.emplace(prj_path(path), options.overwrite);
+    write_prj(*prj, options.crs_wkt);
+  }
+  TinWriteStats stats = write_tin(out, tin, options);
   out.close();
   if (prj) prj->close();
   out.commit();

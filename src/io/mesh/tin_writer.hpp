@@ -6,6 +6,7 @@
 #include <string>
 
 #include "core/types.hpp"
+#include "io/output_file.hpp"
 #include "mesh/triangulation.hpp"
 
 namespace tincdt::io {
@@ -34,5 +35,17 @@ TinFormat format_from_path(const std::string& path);
 // and, for OBJ and PLY with a CRS, a .prj beside the output.
 TinWriteStats write_tin(const std::string& path, const mesh::Triangulation& tin,
                         const TinWriteOptions& options);
+
+// The pieces of write_tin(PATH, ...) for a caller that commits several files together
+// (OutputSet): the mesh alone into OUT (format from options.format, else OUT's path), not
+// committed; and the .prj text of CRS_WKT (ESRI WKT1), throwing OutputError naming OUT when the
+// CRS has no such form.
+TinWriteStats write_tin(OutputFile& out, const mesh::Triangulation& tin,
+                        const TinWriteOptions& options);
+void write_prj(OutputFile& out, const std::string& crs_wkt);
+// "tin.obj" -> "tin.prj"; a path without extension gets ".prj" appended.
+std::string prj_path(const std::string& path);
+// Whether a TIN in FORMAT with CRS_WKT gets a .prj beside it: OBJ and PLY with a CRS.
+bool wants_prj(TinFormat format, const std::string& crs_wkt);
 
 }  // namespace tincdt::io

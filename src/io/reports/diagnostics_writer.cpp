@@ -1,23 +1,14 @@
 // GeoPackage diagnostics through OGR: see diagnostics_writer.hpp.
 //
 // A GeoPackage is an SQLite database that GDAL must create itself (it refuses an existing file),
-// so the safe-output dance of OutputFile is reused this way: OutputFile reserves the hidden
-// temporary T beside the target (and does the existence and folder checks), the GeoPackage is
-// built at T + ".gpkg" (the extension the GPKG driver expects), closed, given T's permissions,
-// renamed over T, and OutputFile::commit() renames T over the target. On failure the .gpkg and
-// any SQLite side file are removed here and T by OutputFile.
+// so it is built at OutputFile::take_path() beside the output's temporary; OutputFile moves it
+// into place and removes it, with any SQLite side file, on failure.
 #include "io/reports/diagnostics_writer.hpp"
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <optional>
 #include <string>
-#include <system_error>
 #include <utility>
 
 #include "core/error.hpp"
@@ -29,35 +20,6 @@ namespace tincdt::io {
 namespace {
 
 using detail::last_gdal_message;
-
-std::string error_text(int err) {
-  return std::generic_category().message(err);
-}
-
-bool exists(const std::string& path) {
-  struct stat st {};
-  return ::lstat(path.c_str(), &st) == 0;
-}
-
-// The GeoPackage under construction: removed with its SQLite side files unless released.
-class TempGpkg {
- public:
-  explicit TempGpkg(std::string path) : path_(std::move(path)) {}
-  TempGpkg(const TempGpkg&) = delete;
-  TempGpkg& operator=(const TempGpkg&) = delete;
-  ~TempGpkg() {
-    if (!owned_) return;
-    for (const char* suffix : {"", "-journal", "-wal", "-shm"})
-      (void)::unlink((path_ + suffix).c_str());
-  }
-  const std::string& path() const { return path_; }
-  void own() { owned_ = true; }
-  void release() { owned_ = false; }
-
- private:
-  std::string path_;
-  bool owned_ = false;
-};
 
 struct Field {
   const char* name;
@@ -89,11 +51,11 @@ void check_locations(const std::string& path, const Diagnostics& d) {
     if (d.dropped_features[i].has_at) check(kDropped, i, d.dropped_features[i].at);
 }
 
-// Writes the GeoPackage at gpkg.path(), complete and closed.
+// Writes the GeoPackage at FILE (for output PATH), complete and closed.
 class GpkgBuilder {
  public:
-  GpkgBuilder(const std::string& path, TempGpkg& gpkg, const OGRSpatialReference* srs)
-      : path_(path), srs_(srs), ds_(create(path, gpkg)) {}
+  GpkgBuilder(const std::string& path, const std::string& file, const OGRSpatialReference* srs)
+      : path_(path), srs_(srs), ds_(create(path, file)) {}
 
   OGRLayer& layer(const char* name, const char* description, std::initializer_list<Field> fields) {
     const std::string desc = std::string("DESCRIPTION=") + description;
@@ -135,15 +97,12 @@ class GpkgBuilder {
   }
 
  private:
-  static detail::GdalDataset create(const std::string& path, TempGpkg& gpkg) {
+  static detail::GdalDataset create(const std::string& path, const std::string& file) {
     detail::register_gdal_drivers();
     GDALDriver* driver = GetGDALDriverManager()->GetDriverByName("GPKG");
     if (driver == nullptr) throw OutputError(path, "", "GDAL has no GeoPackage driver");
-    if (exists(gpkg.path()))
-      throw OutputError(path, "", "the temporary file '" + gpkg.path() + "' exists already");
-    gpkg.own();  // whatever GDAL leaves there from now on is ours to remove
     CPLErrorReset();
-    detail::GdalDataset ds(driver->Create(gpkg.path().c_str(), 0, 0, 0, GDT_Unknown, nullptr));
+    detail::GdalDataset ds(driver->Create(file.c_str(), 0, 0, 0, GDT_Unknown, nullptr));
     if (!ds)
       throw OutputError(
           path, "", "cannot create the GeoPackage: " + last_gdal_message("GDAL gave no reason"));
@@ -250,48 +209,24 @@ void write_layers(GpkgBuilder& b, const Diagnostics& d) {
   b.commit();
 }
 
-// Flushes FILE to disk and gives it MODE.
-void finish_file(const std::string& path, const std::string& file, mode_t mode) {
-  const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) {
-    const int err = errno;
-    throw OutputError(path, "", "cannot reopen the new file: " + error_text(err));
-  }
-  const bool ok = ::fchmod(fd, mode) == 0 && ::fsync(fd) == 0;
-  const int err = errno;
-  (void)::close(fd);
-  if (!ok) throw OutputError(path, "", "cannot flush the new file to disk: " + error_text(err));
-}
-
 }  // namespace
+
+void write_diagnostics(OutputFile& out, const Diagnostics& d, const std::string& crs_wkt) {
+  const std::string& path = out.path();
+  check_locations(path, d);
+  const detail::GdalQuiet quiet;
+  std::optional<OGRSpatialReference> srs;
+  if (!crs_wkt.empty()) srs.emplace(detail::parse_crs(path, crs_wkt, "the CRS"));
+  GpkgBuilder builder(path, out.take_path(), srs ? &*srs : nullptr);
+  write_layers(builder, d);
+  builder.close();
+}
 
 void write_diagnostics(const std::string& path, const Diagnostics& d, const std::string& crs_wkt,
                        bool overwrite) {
   check_locations(path, d);
-  OutputFile out(path, overwrite);  // the existence and folder checks, and the temporary T
-  out.close();
-  struct stat reserved {};
-  if (::stat(out.temp_path().c_str(), &reserved) != 0) {
-    const int err = errno;
-    throw OutputError(path, "", "the temporary file vanished: " + error_text(err));
-  }
-
-  const detail::GdalQuiet quiet;
-  std::optional<OGRSpatialReference> srs;
-  if (!crs_wkt.empty()) srs.emplace(detail::parse_crs(path, crs_wkt, "the CRS"));
-
-  TempGpkg gpkg(out.temp_path() + ".gpkg");
-  {
-    GpkgBuilder builder(path, gpkg, srs ? &*srs : nullptr);
-    write_layers(builder, d);
-    builder.close();
-  }
-  finish_file(path, gpkg.path(), reserved.st_mode & 07777);
-  if (std::rename(gpkg.path().c_str(), out.temp_path().c_str()) != 0) {
-    const int err = errno;
-    throw OutputError(path, "", "cannot move the new file into place: " + error_text(err));
-  }
-  gpkg.release();
+  OutputFile out(path, overwrite);  // the existence and folder checks, and the temporary
+  write_diagnostics(out, d, crs_wkt);
   out.commit();
 }
 

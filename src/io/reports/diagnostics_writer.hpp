@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/types.hpp"
+#include "io/output_file.hpp"
 #include "io/vector/line_reader.hpp"
 
 namespace tincdt::io {
@@ -65,6 +66,8 @@ struct Diagnostics {
 // the entry) or an unreadable CRS, and when GDAL fails; a failed call leaves no file behind.
 void write_diagnostics(const std::string& path, const Diagnostics& d, const std::string& crs_wkt,
                        bool overwrite);
+// The same into OUT (one file of an OutputSet), not committed.
+void write_diagnostics(OutputFile& out, const Diagnostics& d, const std::string& crs_wkt);
 
 // Appends what the line reader skipped and dropped (LineData::skipped, LineData::dropped) to D,
 // with the file names of LINES.

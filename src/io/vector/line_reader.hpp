@@ -90,4 +90,8 @@ struct LineReadStats {
 // left as it was.
 LineReadStats read_lines(const std::string& path, const LineReadOptions& options, LineData& out);
 
+// The file part of a vector source spec, split as read_lines() splits it: SPEC itself, or the
+// part before its last ':' when SPEC does not exist and that part does.
+std::string vector_source_file(const std::string& spec);
+
 }  // namespace tincdt::io

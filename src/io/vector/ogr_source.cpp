@@ -67,18 +67,28 @@ void check_z_options(const std::string& spec, const std::string& z_field, bool z
   }
 }
 
+}  // namespace tincdt::io::detail
+
+namespace tincdt::io {
+
+std::string vector_source_file(const std::string& spec) {
+  if (detail::exists(spec)) return spec;
+  const std::size_t colon = spec.rfind(':');
+  if (colon != std::string::npos && colon != 0 && detail::exists(spec.substr(0, colon)))
+    return spec.substr(0, colon);
+  return spec;
+}
+
+}  // namespace tincdt::io
+
+namespace tincdt::io::detail {
+
 // ---- OgrLayer ----
 
 OgrLayer::Spec OgrLayer::prepare(const std::string& spec, const std::string& layer_option,
                                  std::size_t files_read) {
-  Spec out{spec, {}};
-  if (!exists(spec)) {
-    const std::size_t colon = spec.rfind(':');
-    if (colon != std::string::npos && colon != 0 && exists(spec.substr(0, colon))) {
-      out.file = spec.substr(0, colon);
-      out.layer = spec.substr(colon + 1);
-    }
-  }
+  Spec out{vector_source_file(spec), {}};
+  if (out.file.size() < spec.size()) out.layer = spec.substr(out.file.size() + 1);
   if (!layer_option.empty()) out.layer = layer_option;
   if (files_read >= kMaxIndex) throw InputError(out.file, "", "too many input files");
   register_gdal_drivers();

@@ -1,0 +1,53 @@
+// Every file a run writes, as one transaction: each output is written to its own temporary file
+// beside its target (OutputFile), and commit() moves all of them into place, or none. A failure
+// or a cancellation before or during commit() leaves every existing file as it was and no
+// temporary file.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "io/output_file.hpp"
+
+namespace tincdt::io {
+
+class OutputSet {
+ public:
+  struct Entry {
+    std::string kind;  // what the file is, for the report: "tin", "prj", "stats", ...
+    std::unique_ptr<OutputFile> file;
+  };
+
+  // overwrite: targets that exist may be replaced (--overwrite).
+  explicit OutputSet(bool overwrite) : overwrite_(overwrite) {}
+  OutputSet(const OutputSet&) = delete;
+  OutputSet& operator=(const OutputSet&) = delete;
+  ~OutputSet() = default;  // uncommitted: the OutputFiles remove their temporaries
+
+  // A new output at PATH; its temporary is created now (OutputFile's checks: the target exists
+  // without overwrite, the folder is not writable). Throws OutputError when PATH is already an
+  // output of the set.
+  OutputFile& add(const std::string& path, std::string kind);
+
+  const std::vector<Entry>& entries() const { return entries_; }
+  bool overwrite() const { return overwrite_; }
+
+  // Closes every file (flushed to disk). Then, with SIGINT, SIGTERM and SIGHUP blocked on this
+  // thread, removes every temporary and throws Cancelled when one of those signals is pending
+  // or `proceed` (the caller's last check) returns false; otherwise moves the files into place
+  // in the order added. When one cannot be moved, those already moved are put back (a replaced
+  // target gets its old content again, a new one is removed) and the OutputError is thrown. An
+  // empty set commits nothing.
+  void commit(const std::function<bool()>& proceed = {});
+  bool committed() const { return committed_; }
+
+ private:
+  std::vector<Entry> entries_;
+  bool overwrite_;
+  bool committed_ = false;
+};
+
+}  // namespace tincdt::io

@@ -1,0 +1,78 @@
+#include "pipeline/job.hpp"
+
+#include <algorithm>
+#include <utility>
+
+#include "core/error.hpp"
+#include "io/crs.hpp"
+
+namespace tincdt::pipeline {
+
+const std::string& CrsNames::label(const std::string& wkt) {
+  auto it = labels_.find(wkt);
+  if (it == labels_.end()) it = labels_.emplace(wkt, wkt.empty() ? "" : io::crs_label(wkt)).first;
+  return it->second;
+}
+
+std::string CrsNames::name(const std::string& wkt) {
+  if (wkt.empty()) return "no CRS";
+  const std::string& l = label(wkt);
+  return l.empty() ? "an unnamed CRS" : l;
+}
+
+Job::Job(const BuildOptions& job_options, const ProgressFn* progress, LogFn log)
+    : options(job_options),
+      outputs(job_options.write.overwrite),
+      started(std::chrono::steady_clock::now()),
+      user_progress_(progress && *progress ? progress : nullptr),
+      log_(std::move(log)) {
+  report.output = options.output;
+  write = options.write;
+  if (user_progress_)
+    stage_progress_ = [this](std::string_view, double fraction) {
+      return (*user_progress_)(stage_, fraction);
+    };
+}
+
+io::OutputFile& Job::add_output(const std::string& path, std::string kind) {
+  return outputs.add(path, std::move(kind));
+}
+
+void Job::finish_output(io::OutputFile& out) {
+  out.close();
+  for (const io::OutputSet::Entry& e : outputs.entries())
+    if (e.file.get() == &out) report.outputs.push_back({out.path(), e.kind, out.bytes_written()});
+}
+
+void Job::progress(double fraction) const {
+  if (user_progress_ && !(*user_progress_)(stage_, fraction)) throw Cancelled();
+}
+
+std::string Job::describe_inputs() const {
+  const std::vector<std::string>& inputs = options.inputs;
+  if (inputs.size() == 1) return inputs.front();
+  std::string s;
+  const std::size_t shown = std::min<std::size_t>(inputs.size(), 3);
+  for (std::size_t i = 0; i < shown; ++i) {
+    if (i) s += ", ";
+    s += inputs[i];
+  }
+  if (inputs.size() > shown) s += " and " + std::to_string(inputs.size() - shown) + " more";
+  return s;
+}
+
+void check_triangles_left(Job& job) {
+  if (job.tin().triangle_count() > 0) return;
+  const BuildReport& r = job.report;
+  throw GeometryError(job.describe_inputs(), "",
+                      "no triangle is left after --max-edge, --clip and --erase (" +
+                          std::to_string(r.trimmed_triangles) + " trimmed, " +
+                          std::to_string(r.clipped_triangles) + " clipped, " +
+                          std::to_string(r.erased_triangles) + " erased)");
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace tincdt::pipeline

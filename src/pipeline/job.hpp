@@ -1,0 +1,123 @@
+// A job: the state the stages (stages.cpp) share, in the order they fill it. Each stage reads
+// what the stages before it left here and leaves its own result here; nothing else carries
+// data from one stage to the next.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <map>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "constraints/constraints.hpp"
+#include "core/progress.hpp"
+#include "core/types.hpp"
+#include "delaunay/delaunay.hpp"
+#include "io/mesh/tin_writer.hpp"
+#include "io/output_set.hpp"
+#include "io/vector/line_reader.hpp"
+#include "pipeline/build.hpp"
+#include "pipeline/surface.hpp"
+
+namespace tincdt::pipeline {
+
+// CRS labels for messages, each distinct WKT identified once (identification can search the
+// whole EPSG database, a noticeable fraction of a second).
+class CrsNames {
+ public:
+  const std::string& label(const std::string& wkt);
+  // The label, or "no CRS" / "an unnamed CRS".
+  std::string name(const std::string& wkt);
+
+ private:
+  std::map<std::string, std::string> labels_;
+};
+
+struct Job {
+  Job(const BuildOptions& job_options, const ProgressFn* progress, LogFn log);
+  Job(const Job&) = delete;
+  Job& operator=(const Job&) = delete;
+
+  const BuildOptions& options;
+  BuildReport report;
+
+  // ---- inputs (read) --------------------------------------------------------------------------
+  // The CRS of every input (they must agree, or --a-srs names it), "" when none is known.
+  std::string crs_wkt;
+  CrsNames crs_names;
+  // The points of every point file in order, then the contour and hard-line vertices
+  // (lines.vertices moved here). Consumed by delaunay, which keeps what the later stages need:
+  // the mesh's vertices are these points with equal x, y merged (mesh.vertex_of_point maps
+  // them when lines exist).
+  std::vector<Point3> points;
+  std::size_t point_count = 0;  // how many of `points` came from point files
+  io::LineData lines;           // contours and hard lines; segment ends index `points` from
+                                // point_count on
+  detail::SourceTable sources;  // constraint source id -> input feature (lines, then surface)
+  detail::SurfaceInput soft{detail::SourceKind::soft_line, {}, 0};
+  detail::SurfaceInput clip{detail::SourceKind::clip, {}, 0};
+  detail::SurfaceInput erase{detail::SourceKind::erase, {}, 0};
+  detail::SurfaceInput replace{detail::SourceKind::replace, {}, 0};
+
+  // ---- the mesh -------------------------------------------------------------------------------
+  // delaunay: the TIN and its duplicate records; every later stage edits mesh.tin in place (a
+  // stage that makes a new TIN, such as simplification, replaces it).
+  delaunay::DelaunayResult mesh;
+  mesh::Triangulation& tin() { return mesh.tin; }
+  // constraints, surface: every constrained piece with its source, every crossing joined, and
+  // (for validate) every segment given.
+  std::vector<constraints::Piece> pieces;
+  std::vector<constraints::Crossing> crossings;
+  std::vector<constraints::Segment> given_segments;
+  // flats: 1 per vertex on a contour (also for the quality stage's flat count).
+  std::vector<std::uint8_t> on_contour;
+
+  // ---- outputs --------------------------------------------------------------------------------
+  // The TIN's write options: format and overwrite (preflight), crs_wkt (read), offset (write);
+  // every output that holds coordinates uses them.
+  io::TinWriteOptions write;
+  // read: whether the TIN gets a .prj (a CRS, OBJ or PLY, and no .prj with that CRS there yet).
+  bool write_prj = false;
+  // Every file of the run. A stage adds its outputs here and writes them to their temporaries;
+  // build() moves all of them into place after the last stage, or none.
+  io::OutputSet outputs;
+  // A new output of the set; throws OutputError as OutputSet::add().
+  io::OutputFile& add_output(const std::string& path, std::string kind);
+  // Closes OUT (complete on disk) and lists it in report.outputs.
+  void finish_output(io::OutputFile& out);
+
+  // ---- messages and progress ------------------------------------------------------------------
+  void debug(const std::string& message) const { emit(log_debug, message); }
+  void info(const std::string& message) const { emit(log_info, message); }
+  void warn(const std::string& message) const { emit(log_warn, message); }
+  // Reports FRACTION of the running stage; throws Cancelled when the callback says stop.
+  void progress(double fraction) const;
+  // For library calls: a callback that reports under the running stage's name whatever name
+  // the library uses; null when the caller gave none.
+  const ProgressFn* stage_progress() const { return user_progress_ ? &stage_progress_ : nullptr; }
+  std::string_view stage() const { return stage_; }
+  void enter_stage(std::string_view name) { stage_ = name; }
+  // The inputs for messages: "a.las", "a.las, b.las and 3 more".
+  std::string describe_inputs() const;
+
+  const std::chrono::steady_clock::time_point started;
+
+ private:
+  void emit(int level, const std::string& message) const {
+    if (log_) log_(level, message);
+  }
+
+  const ProgressFn* user_progress_;
+  ProgressFn stage_progress_;
+  LogFn log_;
+  std::string_view stage_;
+};
+
+// For the stages that remove triangles: a GeometryError when none is left.
+void check_triangles_left(Job& job);
+
+// Seconds since T0.
+double seconds_since(std::chrono::steady_clock::time_point t0);
+
+}  // namespace tincdt::pipeline

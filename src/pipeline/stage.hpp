@@ -1,0 +1,48 @@
+// A stage of a job: a name, whether the options ask for it, and what it does to the Job.
+// The stages and their order are one table, in stages.cpp; each stage is one file
+// (stage_<name>.cpp) that defines its Stage object. Adding a stage is a new file, a row in the
+// table and its options in BuildOptions.
+#pragma once
+
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "pipeline/job.hpp"
+
+namespace tincdt::pipeline {
+
+// The files a stage will read or write, declared before anything runs, so that a missing input
+// folder, an existing output or an output that is also an input stops the job at once.
+struct FilePlan {
+  struct File {
+    std::string path;
+    std::string what;  // for messages: "the stats file (--stats)"
+  };
+  std::vector<File> inputs;   // as given: "FILE" or "FILE:LAYER", "-" for standard input
+  std::vector<File> outputs;  // each written through Job::outputs
+};
+
+struct Stage {
+  // Progress name, the key of the per-stage report entries, and the name the test hooks use.
+  std::string_view name;
+  // The timings_s key the stage's time adds to (BuildReport::Timings::add); "" for none.
+  std::string_view timing;
+  bool (*wanted)(const BuildOptions& options);
+  void (*run)(Job& job);
+  // The files the stage reads or writes (may be null: none).
+  void (*plan)(const BuildOptions& options, FilePlan& files) = nullptr;
+};
+
+// The stages of a build, in order (stages.cpp).
+std::span<const Stage* const> stages();
+
+// Runs every wanted stage of LIST in order on JOB: the progress callback sees each stage's name
+// at 0 when it starts and at 1 when it ends, and each adds its time to the report.
+void run_stages(Job& job, std::span<const Stage* const> list);
+
+// The files the wanted stages of LIST will read and write.
+FilePlan plan_files(const BuildOptions& options, std::span<const Stage* const> list);
+
+}  // namespace tincdt::pipeline

@@ -1,0 +1,55 @@
+// delaunay: every point and line vertex into one Delaunay triangulation, equal x, y merged.
+#include <string>
+#include <utility>
+
+#include "core/error.hpp"
+#include "core/memory.hpp"
+#include "delaunay/delaunay.hpp"
+#include "pipeline/stage.hpp"
+
+namespace tincdt::pipeline {
+namespace {
+
+bool filtering(const io::PointFilter& f) {
+  return !f.keep_classes.empty() || !f.drop_classes.empty() || f.first_return_only ||
+         f.last_return_only;
+}
+
+bool wanted(const BuildOptions&) {
+  return true;
+}
+
+void run(Job& job) {
+  const BuildReport& report = job.report;
+  const bool lines = !job.lines.segments.empty();
+  if (report.points_read == 0 && !lines)
+    throw GeometryError(job.describe_inputs(), "", "no points in the input");
+  if (report.points_kept == 0 && !lines)
+    throw GeometryError(job.describe_inputs(), "",
+                        "the class/return filters kept none of the " +
+                            std::to_string(report.points_read) + " points");
+  job.debug("triangulating " + std::to_string(job.points.size()) + " points");
+  delaunay::DelaunayOptions options;
+  options.on_duplicate = job.options.on_duplicate;
+  options.keep_point_map = lines;
+  options.keep_duplicates = !job.options.diagnostics.empty();
+  try {
+    job.mesh = delaunay::triangulate(std::move(job.points), options, job.stage_progress());
+  } catch (const GeometryError& e) {
+    std::string detail = e.detail();
+    if (filtering(job.options.filter) && report.points_kept < report.points_read)
+      detail += " (the class/return filters kept " + std::to_string(report.points_kept) + " of " +
+                std::to_string(report.points_read) + " points)";
+    throw GeometryError(e.file().empty() ? job.describe_inputs() : e.file(), e.where(), detail);
+  }
+  release(job.points);  // moved-from; free whatever is left
+  job.report.duplicates_merged = job.mesh.duplicates_merged;
+  if (job.mesh.duplicates_merged > 0)
+    job.debug(std::to_string(job.mesh.duplicates_merged) + " duplicate points merged (same x, y)");
+}
+
+}  // namespace
+
+extern const Stage delaunay_stage{"delaunay", "delaunay", wanted, run};
+
+}  // namespace tincdt::pipeline

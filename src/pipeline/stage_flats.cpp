@@ -1,0 +1,47 @@
+// flats: --fix-flats removes the flat triangles (three corners on one contour level); with
+// --stats alone they are only counted. Both need the whole TIN, before any z is replaced or
+// any triangle removed.
+#include <string>
+
+#include "pipeline/stage.hpp"
+#include "pipeline/surface.hpp"
+#include "terrain/flats.hpp"
+
+namespace tincdt::pipeline {
+namespace {
+
+bool wanted(const BuildOptions& o) {
+  return !o.contours.empty() && (o.fix_flats || !o.stats_path.empty());
+}
+
+void run(Job& job) {
+  job.on_contour = detail::contour_flags(job.tin(), job.pieces, job.sources);
+  BuildReport::Flats& flats = job.report.flats;
+  flats.counted = true;
+  if (!job.options.fix_flats) {
+    flats.before = flats.after = flats.after_swaps =
+        terrain::count_flat_triangles(job.tin(), job.on_contour);
+    return;
+  }
+  const terrain::FlatFixReport f = terrain::fix_flat_triangles(job.tin(), job.on_contour);
+  flats.fixed = true;
+  flats.before = f.flats_before;
+  flats.after_swaps = f.flats_after_swaps;
+  flats.after = f.flats_after;
+  flats.swaps = f.swaps;
+  flats.vertices_added = f.vertices_added;
+  flats.vertices_interpolated = f.vertices_interpolated;
+  flats.vertices_extrapolated = f.vertices_extrapolated;
+  flats.left_no_level = f.flats_left_no_level;
+  flats.left_unplaced = f.flats_left_unplaced;
+  flats.non_delaunay_edges = f.non_delaunay_edges;
+  job.debug("flat triangles: " + std::to_string(f.flats_before) + " before, " +
+            std::to_string(f.flats_after) + " after " + std::to_string(f.swaps) + " swaps and " +
+            std::to_string(f.vertices_added) + " new vertices");
+}
+
+}  // namespace
+
+extern const Stage flats_stage{"flats", "terrain", wanted, run};
+
+}  // namespace tincdt::pipeline

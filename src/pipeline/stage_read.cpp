@@ -1,0 +1,280 @@
+// read: the point files, then the contours and hard lines, then the surface features, each
+// source's CRS checked against the others'. Line vertices go after the points, so that the
+// Delaunay stage triangulates both; line and surface features get their constraint source ids
+// (Job::sources) in reading order, contours first.
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+#include <new>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/error.hpp"
+#include "core/memory.hpp"
+#include "io/crs.hpp"
+#include "io/points/point_reader.hpp"
+#include "io/vector/line_reader.hpp"
+#include "io/vector/polygon_reader.hpp"
+#include "pipeline/file_checks.hpp"
+#include "pipeline/stage.hpp"
+
+namespace tincdt::pipeline {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Every input's CRS must agree with the first one found, unless --a-srs overrides them all.
+class CrsAgreement {
+ public:
+  explicit CrsAgreement(Job& job) : job_(job) {
+    job.crs_wkt = job.options.assign_crs_wkt;
+    if (!job.crs_wkt.empty()) source_ = "--a-srs";
+  }
+
+  void merge(const std::string& path, const std::string& wkt) {
+    CrsNames& names = job_.crs_names;
+    const std::string& assigned = job_.options.assign_crs_wkt;
+    if (!assigned.empty()) {
+      if (!wkt.empty() && !io::same_crs(wkt, assigned))
+        job_.warn(path + ": its CRS " + names.name(wkt) + " is overridden by --a-srs " +
+                  names.name(assigned));
+    } else if (wkt.empty()) {
+      without_crs_.push_back(path);
+    } else if (job_.crs_wkt.empty()) {
+      job_.crs_wkt = wkt;
+      source_ = path;
+    } else if (!io::same_crs(job_.crs_wkt, wkt)) {
+      const std::string mine = names.name(wkt), theirs = names.name(job_.crs_wkt);
+      throw InputError(path, "",
+                       "CRS " + mine + " differs from " + theirs + " of " + source_ +
+                           (mine == theirs ? " (same name, different definition)" : "") +
+                           " (reproject one of them, or use --a-srs to override both)");
+    }
+  }
+
+  // The inputs without a CRS of their own take the one found, with a warning each.
+  void finish() {
+    if (job_.crs_wkt.empty() || !job_.options.assign_crs_wkt.empty()) return;
+    for (const std::string& path : without_crs_)
+      job_.warn(path + ": no CRS in the file; assuming " + job_.crs_names.name(job_.crs_wkt) +
+                " of " + source_);
+  }
+
+ private:
+  Job& job_;
+  std::string source_;
+  std::vector<std::string> without_crs_;
+};
+
+std::string lower_extension(const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
+
+// An upper-bound guess of the point count, so the merged vector is allocated once. Reserved
+// but untouched pages cost address space, not resident memory.
+void reserve_points(const std::vector<std::string>& inputs, std::vector<Point3>& points) {
+  std::uint64_t n = 0;
+  for (const std::string& path : inputs) {
+    if (path == "-") continue;
+    std::error_code ec;
+    const std::uintmax_t size = fs::file_size(path, ec);
+    if (ec) continue;
+    const std::string ext = lower_extension(path);
+    if (ext == ".laz") continue;
+    n += ext == ".las" ? size / 20 : size / 24;  // 20 = smallest LAS record; ~24 B per text line
+  }
+  if (n == 0) return;
+  try {
+    points.reserve(static_cast<std::size_t>(n));
+  } catch (const std::bad_alloc&) {
+    // fall back to growing as we read
+  } catch (const std::length_error&) {
+  }
+}
+
+void read_point_files(Job& job, CrsAgreement& crs) {
+  const std::vector<std::string>& inputs = job.options.inputs;
+  reserve_points(inputs, job.points);
+  std::vector<std::uint64_t> sizes;
+  std::uint64_t total_bytes = 0, bytes_done = 0;
+  for (const std::string& path : inputs) {
+    std::error_code ec;
+    const std::uintmax_t size = path == "-" ? 0 : fs::file_size(path, ec);
+    sizes.push_back(ec ? 0 : static_cast<std::uint64_t>(size));
+    total_bytes += sizes.back();
+  }
+  for (std::size_t i = 0; i < inputs.size(); ++i) {
+    const std::string& path = inputs[i];
+    const io::PointReadStats s = io::read_points(path, job.options.filter, job.points);
+    for (const std::string& w : s.warnings) job.warn(w);
+    BuildReport::Input in;
+    in.path = path;
+    in.format = s.format;
+    in.crs = job.crs_names.label(s.crs_wkt);
+    in.points_read = s.points_read;
+    in.points_kept = s.points_kept;
+    job.report.points_read += s.points_read;
+    job.report.points_kept += s.points_kept;
+    job.debug(path + ": " + (s.format.empty() ? std::string("points") : s.format) + ", " +
+              std::to_string(s.points_read) + " points, " + std::to_string(s.points_kept) +
+              " kept, " + job.crs_names.name(s.crs_wkt));
+    if (inputs.size() > 1) {  // with one input, the Delaunay stage's error says it all
+      if (s.points_read == 0)
+        job.warn(path + ": no points in the file");
+      else if (s.points_kept == 0)
+        job.warn(path + ": the filters kept none of its points");
+    }
+    crs.merge(path, s.crs_wkt);
+    job.report.inputs.push_back(std::move(in));
+    bytes_done += sizes[i];
+    job.progress(total_bytes ? static_cast<double>(bytes_done) / static_cast<double>(total_bytes)
+                             : static_cast<double>(i + 1) / static_cast<double>(inputs.size()));
+  }
+  job.point_count = job.points.size();
+}
+
+// Contours and hard lines: their feature indices are also their constraint source ids.
+void read_line_sources(Job& job, CrsAgreement& crs) {
+  std::vector<std::pair<std::string, detail::SourceKind>> line_sources;
+  for (const std::string& path : job.options.contours)
+    line_sources.emplace_back(path, detail::SourceKind::contour);
+  for (const std::string& path : job.options.breaklines)
+    line_sources.emplace_back(path, detail::SourceKind::hard_line);
+  io::LineData& lines = job.lines;
+  for (const auto& [path, kind] : line_sources) {
+    const std::size_t features_before = lines.features.size();
+    const io::LineReadStats s = io::read_lines(path, job.options.lines, lines);
+    for (const std::string& w : s.warnings) job.warn(w);
+    job.report.line_features += s.features;
+    job.report.zero_length_segments += s.zero_length_segments;
+    job.debug(path + ": layer " + s.layer + ", " + std::to_string(s.features) + " features, " +
+              std::to_string(s.segments) + " segments, " + job.crs_names.name(s.crs_wkt));
+    crs.merge(path, s.crs_wkt);
+    const std::uint32_t file = job.sources.add_file(lines.files.back());
+    for (std::size_t f = features_before; f < lines.features.size(); ++f)
+      job.sources.add(file, lines.features[f].fid, kind, false);
+    BuildReport::Input in;
+    in.path = path;
+    in.kind = detail::kind_name(kind);
+    in.format = s.layer;
+    in.crs = job.crs_names.label(s.crs_wkt);
+    in.features_read = s.features;
+    in.features_used = lines.features.size() - features_before;
+    in.features_dropped = s.empty_features;
+    in.vertices = s.vertices;
+    in.segments = s.segments;
+    in.skipped_segments = s.zero_length_segments;
+    job.report.inputs.push_back(std::move(in));
+  }
+  job.report.line_vertices = lines.vertices.size();
+  job.report.constraint_segments = lines.segments.size();
+  job.points.insert(job.points.end(), lines.vertices.begin(), lines.vertices.end());
+  release(lines.vertices);
+}
+
+// One kind of surface feature from every source given for it.
+void read_surface_kind(Job& job, CrsAgreement& crs, detail::SurfaceInput& input,
+                       const std::vector<std::string>& paths) {
+  io::ShapeReadOptions shape;
+  shape.layer = job.options.lines.layer;
+  const bool lines = input.kind == detail::SourceKind::soft_line;
+  if (input.kind == detail::SourceKind::replace) {
+    shape.feature_z = true;
+    shape.z_field = job.options.lines.z_field;
+    shape.z_from_m = job.options.lines.z_from_m;
+  }
+  input.first_source = static_cast<std::uint32_t>(job.sources.size());
+  for (const std::string& path : paths) {
+    const std::size_t features_before = input.data.features.size();
+    const io::ShapeReadStats s = lines ? io::read_shape_lines(path, shape, input.data)
+                                       : io::read_polygons(path, shape, input.data);
+    for (const std::string& w : s.warnings) job.warn(w);
+    job.debug(path + ": " + detail::kind_name(input.kind) + ", layer " + s.layer + ", " +
+              std::to_string(s.features) + " features, " + std::to_string(s.parts) +
+              (lines ? " lines, " : " rings, ") + job.crs_names.name(s.crs_wkt));
+    crs.merge(path, s.crs_wkt);
+    const std::uint32_t file = job.sources.add_file(input.data.files.back());
+    for (std::size_t f = features_before; f < input.data.features.size(); ++f) {
+      const io::ShapeFeature& feature = input.data.features[f];
+      job.sources.add(file, feature.fid, input.kind, detail::is_draped(input.kind, feature));
+    }
+    BuildReport::Input in;
+    in.path = path;
+    in.kind = detail::kind_name(input.kind);
+    in.format = s.layer;
+    in.crs = job.crs_names.label(s.crs_wkt);
+    in.features_read = s.features;
+    in.features_used = input.data.features.size() - features_before;
+    in.features_dropped = s.empty_features;
+    in.vertices = s.vertices;
+    in.segments = s.segments;
+    in.skipped_segments = s.repeated_vertices;
+    job.report.surface_features += in.features_used;
+    job.report.inputs.push_back(std::move(in));
+  }
+}
+
+// After every source: warnings for the inputs without a CRS, the reprojection's needs, and
+// whether the TIN gets a .prj. An existing .prj with the same CRS is kept as it is; one with
+// another CRS needs --overwrite. Checked now, so that a long job does not fail at its end.
+void settle_crs(Job& job, CrsAgreement& crs) {
+  crs.finish();
+  job.report.crs_wkt = job.crs_wkt;
+  job.report.crs = job.crs_names.label(job.crs_wkt);
+  job.write.crs_wkt = job.crs_wkt;
+  if (!job.write.target_crs_wkt.empty() && job.crs_wkt.empty())
+    throw InputError(job.describe_inputs(), "",
+                     "cannot reproject to " + job.crs_names.name(job.write.target_crs_wkt) +
+                         ": the input has no CRS (assign one with --a-srs)");
+  job.write_prj = io::wants_prj(*job.write.format, job.crs_wkt);
+  if (!job.write_prj) return;
+  const std::string prj = io::prj_path(job.options.output);
+  std::error_code ec;
+  const fs::file_status st = fs::status(prj, ec);
+  if (!fs::exists(st)) return;
+  if (fs::is_regular_file(st) && detail::prj_holds(prj, job.crs_wkt)) {
+    job.write_prj = false;
+    job.debug(prj + ": holds the TIN's CRS already; kept as it is");
+    return;
+  }
+  detail::refuse_input(plan_files(job.options, stages()), prj, "the TIN's .prj");
+  detail::check_output_path(prj, job.write.overwrite);
+}
+
+bool wanted(const BuildOptions&) {
+  return true;
+}
+
+void run(Job& job) {
+  CrsAgreement crs(job);
+  read_point_files(job, crs);
+  read_line_sources(job, crs);
+  const std::pair<detail::SurfaceInput*, const std::vector<std::string>*> kinds[] = {
+      {&job.soft, &job.options.soft_lines},
+      {&job.clip, &job.options.clip},
+      {&job.erase, &job.options.erase},
+      {&job.replace, &job.options.replace}};
+  for (const auto& [input, paths] : kinds) read_surface_kind(job, crs, *input, *paths);
+  settle_crs(job, crs);
+}
+
+void plan(const BuildOptions& o, FilePlan& files) {
+  for (const std::string& p : o.inputs) files.inputs.push_back({p, "a point file"});
+  const std::pair<const std::vector<std::string>*, const char*> vectors[] = {
+      {&o.contours, "--contours"}, {&o.breaklines, "--hard-lines"}, {&o.soft_lines, "--soft-lines"},
+      {&o.clip, "--clip"},         {&o.erase, "--erase"},           {&o.replace, "--replace"}};
+  for (const auto& [paths, option] : vectors)
+    for (const std::string& p : *paths)
+      files.inputs.push_back({p, std::string(option) + " source"});
+}
+
+}  // namespace
+
+extern const Stage read_stage{"read", "read", wanted, run, plan};
+
+}  // namespace tincdt::pipeline

@@ -1,0 +1,28 @@
+// stats: --stats, the report of the job as JSON; the last stage, so that it reports on all
+// the others.
+#include "pipeline/stage.hpp"
+
+namespace tincdt::pipeline {
+namespace {
+
+bool wanted(const BuildOptions& o) {
+  return !o.stats_path.empty();
+}
+
+void run(Job& job) {
+  job.report.timings_s.total = seconds_since(job.started);
+  job.report.peak_rss_bytes = peak_rss_bytes();
+  io::OutputFile& out = job.add_output(job.options.stats_path, "stats");
+  out.write(job.report.to_json());
+  out.close();
+}
+
+void plan(const BuildOptions& o, FilePlan& files) {
+  files.outputs.push_back({o.stats_path, "the stats file (--stats)"});
+}
+
+}  // namespace
+
+extern const Stage stats_stage{"stats", "", wanted, run, plan};
+
+}  // namespace tincdt::pipeline

@@ -1,0 +1,51 @@
+// surface: soft lines and clip / erase / replace rings draped on the TIN of points and hard
+// lines, inserted, and made constrained edges (pipeline/surface.hpp does the work).
+#include <string>
+#include <vector>
+
+#include "pipeline/stage.hpp"
+#include "pipeline/surface.hpp"
+
+namespace tincdt::pipeline {
+namespace {
+
+bool wanted(const BuildOptions& o) {
+  return !o.soft_lines.empty() || !o.clip.empty() || !o.erase.empty() || !o.replace.empty();
+}
+
+void run(Job& job) {
+  std::vector<const detail::SurfaceInput*> inputs;
+  for (const detail::SurfaceInput* input : {&job.soft, &job.clip, &job.erase, &job.replace})
+    if (!input->data.features.empty()) inputs.push_back(input);
+  if (inputs.empty()) return;
+  detail::SurfaceResult sr =
+      detail::insert_surface_features(job.tin(), inputs, job.sources, job.pieces,
+                                      job.options.constraint.restore, job.stage_progress());
+  const constraints::ConstraintResult& c = sr.constraints;
+  BuildReport& report = job.report;
+  report.soft_line_vertices = sr.soft_line_vertices;
+  report.draped_vertices = sr.draped;
+  report.reused_vertices = sr.reused;
+  report.constraint_segments += sr.segments;
+  report.zero_length_segments += c.segments_skipped;
+  report.constraint_segments_split += c.split_at_vertices;
+  report.crossings += c.crossings.size();
+  report.steiner_vertices += c.crossings.size();
+  report.flips.insertion += c.flips_insertion;
+  report.flips.restoration += c.flips_restoration;
+  job.crossings.insert(job.crossings.end(), c.crossings.begin(), c.crossings.end());
+  job.pieces = std::move(sr.constraints.pieces);
+  if (job.options.validate)
+    job.given_segments.insert(job.given_segments.end(), sr.given.begin(), sr.given.end());
+  job.debug(std::to_string(report.surface_features) + " surface features: " +
+            std::to_string(sr.vertices) + " vertices (" + std::to_string(sr.draped) + " draped, " +
+            std::to_string(sr.reused) + " on existing vertices), " + std::to_string(sr.segments) +
+            " segments, " + std::to_string(c.crossings.size()) + " crossings (" +
+            std::to_string(sr.crossings_with_hard_z) + " at a hard line's z)");
+}
+
+}  // namespace
+
+extern const Stage surface_stage{"surface", "surface", wanted, run};
+
+}  // namespace tincdt::pipeline

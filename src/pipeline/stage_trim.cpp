@@ -1,0 +1,26 @@
+// trim: --max-edge removes boundary triangles with a longer edge, inward from the convex hull,
+// so that a concave outline is not bridged; before clip and erase open new boundaries.
+#include <string>
+
+#include "pipeline/stage.hpp"
+#include "terrain/trim.hpp"
+
+namespace tincdt::pipeline {
+namespace {
+
+bool wanted(const BuildOptions& o) {
+  return o.max_edge > 0;
+}
+
+void run(Job& job) {
+  job.report.trimmed_triangles = terrain::trim_long_edges(job.tin(), job.options.max_edge);
+  job.debug("trim: " + std::to_string(job.report.trimmed_triangles) +
+            " triangles with an edge longer than --max-edge removed");
+  check_triangles_left(job);
+}
+
+}  // namespace
+
+extern const Stage trim_stage{"trim", "terrain", wanted, run};
+
+}  // namespace tincdt::pipeline

@@ -1,0 +1,72 @@
+// The stages of a build, in the order they run. Each is defined in its own file
+// (stage_<name>.cpp); a stage whose options are not set is skipped.
+#include <chrono>
+
+#include "pipeline/stage.hpp"
+
+namespace tincdt::pipeline {
+
+extern const Stage read_stage;         // points, lines and surface features; their CRS
+extern const Stage delaunay_stage;     // every point and line vertex: the Delaunay TIN
+extern const Stage constraints_stage;  // contours and hard lines become TIN edges
+extern const Stage surface_stage;      // soft lines, clip / erase / replace rings draped, inserted
+extern const Stage flats_stage;        // --fix-flats (and the flat count for --stats)
+extern const Stage replace_stage;      // --replace: vertices inside get the polygon's z
+extern const Stage trim_stage;         // --max-edge: long boundary triangles removed
+extern const Stage clip_stage;         // --clip: triangles outside removed
+extern const Stage erase_stage;        // --erase: triangles inside removed
+extern const Stage validate_stage;     // --validate
+extern const Stage quality_stage;      // the quality block of --stats
+extern const Stage write_stage;        // the TIN (-o) and its .prj
+extern const Stage constraint_lines_stage;  // --constraints-out
+extern const Stage diagnostics_stage;       // --diagnostics
+extern const Stage stats_stage;             // --stats, last: it reports on all the others
+
+namespace {
+
+const Stage* const kStages[] = {
+    &read_stage,
+    &delaunay_stage,
+    &constraints_stage,
+    &surface_stage,
+    &flats_stage,
+    &replace_stage,
+    &trim_stage,
+    &clip_stage,
+    &erase_stage,
+    &validate_stage,
+    &quality_stage,
+    &write_stage,
+    &constraint_lines_stage,
+    &diagnostics_stage,
+    &stats_stage,
+};
+
+}  // namespace
+
+std::span<const Stage* const> stages() {
+  return kStages;
+}
+
+void run_stages(Job& job, std::span<const Stage* const> list) {
+  for (const Stage* stage : list) {
+    if (!stage->wanted(job.options)) continue;
+    job.enter_stage(stage->name);
+    job.progress(0.0);
+    const auto t0 = std::chrono::steady_clock::now();
+    stage->run(job);
+    const double seconds = seconds_since(t0);
+    if (!stage->timing.empty()) job.report.timings_s.add(stage->timing, seconds);
+    job.report.stages.push_back({std::string(stage->name), seconds});
+    job.progress(1.0);
+  }
+}
+
+FilePlan plan_files(const BuildOptions& options, std::span<const Stage* const> list) {
+  FilePlan files;
+  for (const Stage* stage : list)
+    if (stage->plan && stage->wanted(options)) stage->plan(options, files);
+  return files;
+}
+
+}  // namespace tincdt::pipeline
