@@ -203,6 +203,7 @@ class ConstraintInserter {
     // one FIFO queue without a consumed prefix to keep.
     while (!crossed_.empty()) {
       waiting_.clear();
+      const std::uint64_t flips_before = result_.flips_insertion;
       for (const VertexPair q : crossed_) {
         const EdgeId e = tin_.find_edge(q.u, q.v);
         const VertexId c = tin_.apex(e), d = tin_.apex(tin_.twin(e));
@@ -219,6 +220,10 @@ class ConstraintInserter {
           created_.push_back({c, d});
         }
       }
+      // A round without a swap would repeat forever: the convexity argument failed.
+      if (result_.flips_insertion == flips_before)
+        throw InternalError("inserting a constraint: " + std::to_string(crossed_.size()) +
+                            " crossed edges, none of which can be swapped");
       crossed_.swap(waiting_);
     }
   }

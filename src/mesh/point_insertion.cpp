@@ -1,5 +1,7 @@
 #include "mesh/point_insertion.hpp"
 
+#include <cassert>
+
 #include "core/error.hpp"
 #include "mesh/geometry.hpp"
 #include "predicates/predicates.hpp"
@@ -80,6 +82,10 @@ Location PointInserter::locate(Point2 p, TriangleId hint) {
 template <int K>
 void PointInserter::make_fan(const VertexId (&ring)[K], const EdgeId (&outer)[K],
                              const TriangleId (&slots)[K], VertexId v) {
+  // Debug builds: outer[i] runs ring[i + 1] -> ring[i], the base of the new triangle i.
+  for (int i = 0; i < K; ++i)
+    assert(ring[i] != v && tin_.origin(outer[i]) == ring[(i + 1) % K] &&
+           tin_.dest(outer[i]) == ring[i]);
   for (int i = 0; i < K; ++i) tin_.set_corners(slots[i], ring[i], ring[(i + 1) % K], v);
   for (int i = 0; i < K; ++i) {
     const EdgeId base = 3 * slots[i];
