@@ -1,9 +1,12 @@
 #include "terrain/quality.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <charconv>
 #include <cmath>
 #include <numbers>
+
+#include "core/parallel.hpp"
 
 namespace tincdt::terrain {
 
@@ -14,9 +17,6 @@ constexpr int kBinsPerDecade = 4;
 // Bin edge k of the length grid: 10^(k / 4).
 double grid_edge(int k) {
   return std::pow(10.0, static_cast<double>(k) / kBinsPerDecade);
-}
-int grid_index(double length) {
-  return static_cast<int>(std::floor(kBinsPerDecade * std::log10(length)));
 }
 
 void put_number(std::string& out, double v) {
@@ -54,98 +54,237 @@ void put_array(std::string& out, const char* key, const Range& values) {
   out += ']';
 }
 
-}  // namespace
+// Edge lengths are counted as they come (tens of millions of edges: no list of them), on the
+// fixed grid 10^(k/4); bin k's edges are tabled once for the whole double range.
+constexpr int kLowest = -1300, kHighest = 1300;
+constexpr std::size_t kLengthBins = kHighest - kLowest + 1;
 
-QualityReport measure_quality(const mesh::Triangulation& tin,
-                              const std::vector<std::uint8_t>* on_contour) {
-  QualityReport q;
-  q.flats_need_contours = on_contour != nullptr;
-  std::vector<std::uint8_t> used(tin.vertex_count(), 0);
-  // Edge lengths are counted as they come (tens of millions of edges: no list of them), on the
-  // fixed grid 10^(k/4); bin k's edges are tabled once for the whole double range.
-  constexpr int kLowest = -1300, kHighest = 1300;
-  static const std::vector<double> bin_edge = [] {
-    std::vector<double> edges;
-    for (int k = kLowest; k <= kHighest + 1; ++k) edges.push_back(grid_edge(k));
-    return edges;
+const std::vector<double>& bin_edges() {
+  static const std::vector<double> edges = [] {
+    std::vector<double> e;
+    for (int k = kLowest; k <= kHighest + 1; ++k) e.push_back(grid_edge(k));
+    return e;
   }();
-  std::vector<std::uint64_t> bins(static_cast<std::size_t>(kHighest - kLowest + 1), 0);
-  double min_length = HUGE_VAL, max_length = 0, sum_length = 0;
-  auto count_edge = [&](double l) {
-    ++q.edges;
-    min_length = std::min(min_length, l);
-    max_length = std::max(max_length, l);
-    sum_length += l;
-    // The log can put a length that equals a bin edge on either side of it: settle it with the
-    // tabled edges, so the counts agree with the bins as printed.
-    int k = std::clamp(grid_index(l), kLowest + 1, kHighest - 1);
-    if (l < bin_edge[static_cast<std::size_t>(k - kLowest)]) --k;
-    if (l >= bin_edge[static_cast<std::size_t>(k + 1 - kLowest)]) ++k;
-    ++bins[static_cast<std::size_t>(k - kLowest)];
-  };
-  double min_angle = 180, max_angle = 0, max_ratio = 0;
+  return edges;
+}
 
-  tin.for_each_triangle([&](TriangleId t, const std::array<VertexId, 3>& c) {
-    ++q.triangles;
-    Point3 p[3];
-    for (int i = 0; i < 3; ++i) {
-      used[c[i]] = 1;
-      const Point2 xy = tin.point(c[i]);
-      p[i] = {xy.x, xy.y, tin.z(c[i])};
+// The bin of a length l > 0: bin_edges()[k] <= l < bin_edges()[k + 1]. A first guess from the
+// binary exponent (log10 2 = 0.30103: four bins per decade are 1.204 per octave), settled
+// against the tabled edges, so the counts agree with the bins as printed.
+std::size_t length_bin(double l, const std::vector<double>& edge) {
+  const double guess = std::floor(1.2041199826559248 * std::ilogb(l));
+  int k = static_cast<int>(std::clamp(guess, double{kLowest + 1}, double{kHighest - 1}));
+  while (k > kLowest && l < edge[static_cast<std::size_t>(k - kLowest)]) --k;
+  while (k < kHighest && l >= edge[static_cast<std::size_t>(k + 1 - kLowest)]) ++k;
+  return static_cast<std::size_t>(k - kLowest);
+}
+
+// cos^2 of 10, 20, ..., 80 degrees: an angle of cosine c >= 0 is at least 10 j degrees exactly
+// when c^2 <= kCos2[j - 1].
+constexpr double kCos2[8] = {0.96984631039295421, 0.88302222155948906, 0.75000000000000011,
+                             0.58682408883346526, 0.41317591116653485, 0.25000000000000011,
+                             0.11697777844051105, 0.030153689607045842};
+
+// The 10-degree bin of an angle from its cosine's sign and square: no trigonometry.
+std::size_t angle_bin(double dot, double cos2) {
+  if (dot == 0) return 9;
+  int below = 0;  // how many of 10, 20, ..., 80 degrees the acute angle reaches
+  for (double c : kCos2) below += cos2 <= c;
+  return static_cast<std::size_t>(dot > 0 ? below : 17 - below);
+}
+
+// An angle key that decreases as the angle grows over [0, 180]: sign(cos) cos^2.
+double angle_key(double dot, double cos2) {
+  return dot >= 0 ? cos2 : -cos2;
+}
+
+// One triangle's corner, to measure exactly at the end.
+struct Corner {
+  TriangleId t = kNoId;
+  int i = 0;
+  double key = 0;
+};
+
+double corner_degrees(const mesh::Triangulation& tin, const Corner& c) {
+  const std::array<VertexId, 3> v = tin.triangle(c.t);
+  const Point2 a = tin.point(v[static_cast<std::size_t>(c.i)]);
+  const Point2 b = tin.point(v[static_cast<std::size_t>((c.i + 1) % 3)]);
+  const Point2 d = tin.point(v[static_cast<std::size_t>((c.i + 2) % 3)]);
+  const double bx = b.x - a.x, by = b.y - a.y, dx = d.x - a.x, dy = d.y - a.y;
+  // atan2(|cross|, dot) is accurate near 0 and 180 degrees, where acos of a ratio is not.
+  return std::atan2(std::fabs(bx * dy - by * dx), bx * dx + by * dy) * 180 / std::numbers::pi;
+}
+
+// What one thread measures of its share of the triangles; counts, minima and maxima merge in
+// any order. Sums of doubles go per block (Sums) so that they do not depend on the threads.
+struct Partial {
+  std::uint64_t triangles = 0, below_20 = 0, flats = 0, edges = 0;
+  std::array<std::uint64_t, 18> angles{};
+  std::vector<std::uint64_t> lengths = std::vector<std::uint64_t>(kLengthBins, 0);
+  double min_length = HUGE_VAL, max_length = 0, max_ratio = 0;
+  Corner smallest{kNoId, 0, -2}, largest{kNoId, 0, 2};  // by angle_key
+};
+
+struct Sums {
+  double area_2d = 0, area_3d = 0, length = 0;
+};
+
+constexpr std::size_t kBlock = 1 << 16;  // triangle slots per block of sums
+
+class Measurer {
+ public:
+  Measurer(const mesh::Triangulation& tin, const std::vector<std::uint8_t>* on_contour,
+           std::vector<std::uint8_t>& used)
+      : tin_(tin), on_contour_(on_contour), used_(used), edge_(bin_edges()) {}
+
+  void block(std::size_t b, Partial& p, Sums& s) const {
+    const std::size_t end = std::min(tin_.triangle_slots(), (b + 1) * kBlock);
+    for (std::size_t t = b * kBlock; t < end; ++t) {
+      const auto id = static_cast<TriangleId>(t);
+      if (!tin_.is_kept(id)) continue;
+      triangle(id, p, s);
     }
-    double len[3];  // len[i]: edge i -> i + 1
+  }
+
+ private:
+  void triangle(TriangleId t, Partial& p, Sums& s) const {
+    const std::array<VertexId, 3> c = tin_.triangle(t);
+    ++p.triangles;
+    Point3 q[3];
     for (int i = 0; i < 3; ++i) {
-      const Point3 a = p[i], b = p[(i + 1) % 3];
-      len[i] = std::hypot(b.x - a.x, b.y - a.y);
+      std::atomic_ref<std::uint8_t>(used_[c[i]]).store(1, std::memory_order_relaxed);
+      const Point2 xy = tin_.point(c[i]);
+      q[i] = {xy.x, xy.y, tin_.z(c[i])};
+    }
+    // e[i]: corner i -> i + 1, in x, y; l2 its squared length, len its length.
+    double ex[3], ey[3], l2[3], len[3];
+    for (int i = 0; i < 3; ++i) {
+      const Point3& a = q[i];
+      const Point3& b = q[(i + 1) % 3];
+      ex[i] = b.x - a.x;
+      ey[i] = b.y - a.y;
+      l2[i] = ex[i] * ex[i] + ey[i] * ey[i];
+      len[i] = std::sqrt(l2[i]);
       // Count an edge from the side with the smaller origin, or from its only kept side.
-      const EdgeId e = 3 * t + static_cast<EdgeId>(i);
-      if (c[i] < c[(i + 1) % 3] || !tin.is_kept(mesh::triangle_of(tin.twin(e)))) count_edge(len[i]);
+      if (c[i] < c[(i + 1) % 3] || !tin_.is_kept(mesh::triangle_of(tin_.twin(3 * t + i))))
+        edge(len[i], p, s);
     }
     // Areas from coordinate differences (large map coordinates stay exact enough).
-    const double ux = p[1].x - p[0].x, uy = p[1].y - p[0].y, uz = p[1].z - p[0].z;
-    const double vx = p[2].x - p[0].x, vy = p[2].y - p[0].y, vz = p[2].z - p[0].z;
+    const double uz = q[1].z - q[0].z, vz = q[2].z - q[0].z;
+    const double ux = ex[0], uy = ey[0], vx = -ex[2], vy = -ey[2];
     const double area2 = ux * vy - uy * vx;
-    q.area_2d += 0.5 * area2;
-    q.area_3d += 0.5 * std::sqrt((uy * vz - uz * vy) * (uy * vz - uz * vy) +
+    s.area_2d += 0.5 * area2;
+    s.area_3d += 0.5 * std::sqrt((uy * vz - uz * vy) * (uy * vz - uz * vy) +
                                  (uz * vx - ux * vz) * (uz * vx - ux * vz) + area2 * area2);
-    // Angle at corner i between the edges to the other two: atan2(|cross|, dot) is accurate for
-    // angles near 0 and 180 where acos of a law-of-cosines ratio is not.
-    double smallest = 180;
+    // Corner i lies between edge i (outgoing) and edge i - 1 (incoming, reversed).
+    double smallest_key = -2;
     for (int i = 0; i < 3; ++i) {
-      const Point3 a = p[i], b = p[(i + 1) % 3], d = p[(i + 2) % 3];
-      const double bx = b.x - a.x, by = b.y - a.y, dx = d.x - a.x, dy = d.y - a.y;
-      const double deg =
-          std::atan2(std::fabs(bx * dy - by * dx), bx * dx + by * dy) * 180 / std::numbers::pi;
-      smallest = std::min(smallest, deg);
-      max_angle = std::max(max_angle, deg);
-      ++q.angle_histogram[std::min<std::size_t>(17, static_cast<std::size_t>(deg / 10))];
+      const int in = (i + 2) % 3;
+      const double dot = -(ex[i] * ex[in] + ey[i] * ey[in]);
+      const double cos2 = dot * dot / (l2[i] * l2[in]);
+      ++p.angles[angle_bin(dot, cos2)];
+      const double key = angle_key(dot, cos2);
+      smallest_key = std::max(smallest_key, key);
+      if (key > p.smallest.key) p.smallest = {t, i, key};
+      if (key < p.largest.key) p.largest = {t, i, key};
     }
-    min_angle = std::min(min_angle, smallest);
-    if (smallest < 20) ++q.triangles_below_20deg;
+    if (smallest_key > kCos2[1]) ++p.below_20;
     // R / r = abc / (4A) / (2A / (a + b + c)) = abc (a + b + c) / (8 A^2), with 2A = area2.
     const double ratio =
         len[0] * len[1] * len[2] * (len[0] + len[1] + len[2]) / (2 * area2 * area2);
-    max_ratio = std::max(max_ratio, ratio);
-    if (is_flat(tin, c, on_contour)) ++q.flat_triangles;
-  });
+    p.max_ratio = std::max(p.max_ratio, ratio);
+    if (is_flat(tin_, c, on_contour_)) ++p.flats;
+  }
 
-  for (std::uint8_t u : used) q.vertices += u;
+  void edge(double l, Partial& p, Sums& s) const {
+    ++p.edges;
+    p.min_length = std::min(p.min_length, l);
+    p.max_length = std::max(p.max_length, l);
+    s.length += l;
+    ++p.lengths[length_bin(l, edge_)];
+  }
+
+  const mesh::Triangulation& tin_;
+  const std::vector<std::uint8_t>* on_contour_;
+  std::vector<std::uint8_t>& used_;
+  const std::vector<double>& edge_;
+};
+
+void merge(Partial& into, const Partial& p) {
+  into.triangles += p.triangles;
+  into.below_20 += p.below_20;
+  into.flats += p.flats;
+  into.edges += p.edges;
+  for (std::size_t k = 0; k < into.angles.size(); ++k) into.angles[k] += p.angles[k];
+  for (std::size_t k = 0; k < kLengthBins; ++k) into.lengths[k] += p.lengths[k];
+  into.min_length = std::min(into.min_length, p.min_length);
+  into.max_length = std::max(into.max_length, p.max_length);
+  into.max_ratio = std::max(into.max_ratio, p.max_ratio);
+  // Ties go to the lower triangle id, so that the corner does not depend on the threads.
+  const auto better = [](const Corner& a, const Corner& b, bool larger_key) {
+    if (a.key != b.key) return larger_key ? a.key > b.key : a.key < b.key;
+    return a.t < b.t;
+  };
+  if (p.smallest.t != kNoId && better(p.smallest, into.smallest, true)) into.smallest = p.smallest;
+  if (p.largest.t != kNoId && better(p.largest, into.largest, false)) into.largest = p.largest;
+}
+
+void fill(QualityReport& q, const Partial& p, const mesh::Triangulation& tin) {
+  q.triangles = p.triangles;
+  q.triangles_below_20deg = p.below_20;
+  q.flat_triangles = p.flats;
+  q.angle_histogram = p.angles;
+  q.edges = p.edges;
   if (q.triangles) {
-    q.min_angle_deg = min_angle;
-    q.max_angle_deg = max_angle;
-    q.max_radius_ratio = max_ratio;
+    q.min_angle_deg = corner_degrees(tin, p.smallest);
+    q.max_angle_deg = corner_degrees(tin, p.largest);
+    q.max_radius_ratio = p.max_ratio;
   }
-  if (q.edges) {
-    q.min_edge_length = min_length;
-    q.max_edge_length = max_length;
-    q.mean_edge_length = sum_length / static_cast<double>(q.edges);
-    std::size_t first = 0, last = bins.size() - 1;
-    while (bins[first] == 0) ++first;
-    while (bins[last] == 0) --last;
-    for (std::size_t k = first; k <= last + 1; ++k) q.edge_length_bin_edges.push_back(bin_edge[k]);
-    q.edge_length_histogram.assign(bins.begin() + static_cast<std::ptrdiff_t>(first),
-                                   bins.begin() + static_cast<std::ptrdiff_t>(last) + 1);
+  if (!q.edges) return;
+  q.min_edge_length = p.min_length;
+  q.max_edge_length = p.max_length;
+  std::size_t first = 0, last = kLengthBins - 1;
+  while (p.lengths[first] == 0) ++first;
+  while (p.lengths[last] == 0) --last;
+  const std::vector<double>& edge = bin_edges();
+  q.edge_length_bin_edges.assign(edge.begin() + static_cast<std::ptrdiff_t>(first),
+                                 edge.begin() + static_cast<std::ptrdiff_t>(last) + 2);
+  q.edge_length_histogram.assign(p.lengths.begin() + static_cast<std::ptrdiff_t>(first),
+                                 p.lengths.begin() + static_cast<std::ptrdiff_t>(last) + 1);
+}
+
+}  // namespace
+
+QualityReport measure_quality(const mesh::Triangulation& tin,
+                              const std::vector<std::uint8_t>* on_contour, unsigned threads) {
+  QualityReport q;
+  q.flats_need_contours = on_contour != nullptr;
+  std::vector<std::uint8_t> used(tin.vertex_count(), 0);
+  const std::size_t blocks = (tin.triangle_slots() + kBlock - 1) / kBlock;
+  std::vector<Sums> sums(blocks);
+  // One chunk of blocks per thread, each with its own Partial.
+  const std::size_t chunks = std::clamp<std::size_t>(blocks, 1, thread_count(threads));
+  std::vector<Partial> partial(chunks);
+  std::atomic<std::size_t> next{0};
+  const Measurer measurer(tin, on_contour, used);
+  parallel_chunks(
+      chunks, blocks,
+      [&](std::size_t begin, std::size_t end) {
+        Partial& p = partial[next.fetch_add(1)];
+        for (std::size_t b = begin; b < end; ++b) measurer.block(b, p, sums[b]);
+      },
+      1);
+  Partial all;
+  for (const Partial& p : partial) merge(all, p);
+  fill(q, all, tin);
+  for (const Sums& s : sums) {
+    q.area_2d += s.area_2d;
+    q.area_3d += s.area_3d;
   }
+  double length = 0;
+  for (const Sums& s : sums) length += s.length;
+  if (q.edges) q.mean_edge_length = length / static_cast<double>(q.edges);
+  for (std::uint8_t u : used) q.vertices += u;
   return q;
 }
 

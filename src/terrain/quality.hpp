@@ -47,11 +47,14 @@ struct QualityReport {
   std::string to_json() const;
 };
 
-// Measures the kept triangles of `tin`. `on_contour`, when given, flags the vertices that lie on
-// contour lines (index = VertexId; vertices past its end count as not on a contour), and a
-// triangle is then flat only if its three corners are flagged and share one z.
+// Measures the kept triangles of `tin` in one pass on THREADS (0 = every core), with the same
+// result for any thread count. `on_contour`, when given, flags the vertices that lie on contour
+// lines (index = VertexId; vertices past its end count as not on a contour), and a triangle is
+// then flat only if its three corners are flagged and share one z. Angles are compared through
+// dot products and squared lengths; only the smallest and largest are measured in degrees.
 QualityReport measure_quality(const mesh::Triangulation& tin,
-                              const std::vector<std::uint8_t>* on_contour = nullptr);
+                              const std::vector<std::uint8_t>* on_contour = nullptr,
+                              unsigned threads = 0);
 
 // The flat-triangle rule shared with flats.hpp.
 inline bool is_flat(const mesh::Triangulation& tin, const std::array<VertexId, 3>& c,

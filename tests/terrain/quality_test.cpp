@@ -3,8 +3,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <numeric>
+#include <random>
 
 #include "mesh/point_insertion.hpp"
 #include "terrain_test_util.hpp"
@@ -101,6 +104,88 @@ TEST(Quality, OnlyKeptTrianglesAndJson) {
   const std::string empty = q.to_json();
   EXPECT_NE(empty.find("\"min_angle_deg\":null"), std::string::npos) << empty;
   EXPECT_NE(empty.find("\"edge_length_bin_edges\":[]"), std::string::npos) << empty;
+}
+
+// The per-corner measures the plain way (atan2 of cross and dot per corner, hypot per edge), as
+// an independent reference for the pass that compares angles through dot products.
+struct Reference {
+  std::array<std::uint64_t, 18> angles{};
+  double min_angle = 180, max_angle = 0, max_ratio = 0, min_length = HUGE_VAL, max_length = 0;
+  std::uint64_t below_20 = 0, edges = 0;
+};
+
+Reference reference(const mesh::Triangulation& tin) {
+  Reference r;
+  tin.for_each_triangle([&](TriangleId t, const std::array<VertexId, 3>& c) {
+    double len[3];
+    for (int i = 0; i < 3; ++i) {
+      const Point2 a = tin.point(c[i]), b = tin.point(c[(i + 1) % 3]);
+      len[i] = std::hypot(b.x - a.x, b.y - a.y);
+      const EdgeId e = 3 * t + static_cast<EdgeId>(i);
+      if (c[i] < c[(i + 1) % 3] || !tin.is_kept(mesh::triangle_of(tin.twin(e)))) {
+        ++r.edges;
+        r.min_length = std::min(r.min_length, len[i]);
+        r.max_length = std::max(r.max_length, len[i]);
+      }
+    }
+    double smallest = 180;
+    for (int i = 0; i < 3; ++i) {
+      const Point2 a = tin.point(c[i]), b = tin.point(c[(i + 1) % 3]),
+                   d = tin.point(c[(i + 2) % 3]);
+      const double bx = b.x - a.x, by = b.y - a.y, dx = d.x - a.x, dy = d.y - a.y;
+      const double deg =
+          std::atan2(std::fabs(bx * dy - by * dx), bx * dx + by * dy) * 180 / std::numbers::pi;
+      smallest = std::min(smallest, deg);
+      r.max_angle = std::max(r.max_angle, deg);
+      ++r.angles[std::min<std::size_t>(17, static_cast<std::size_t>(deg / 10))];
+    }
+    r.min_angle = std::min(r.min_angle, smallest);
+    if (smallest < 20) ++r.below_20;
+    const Point2 a = tin.point(c[0]), b = tin.point(c[1]), d = tin.point(c[2]);
+    const double area2 = (b.x - a.x) * (d.y - a.y) - (b.y - a.y) * (d.x - a.x);
+    r.max_ratio = std::max(
+        r.max_ratio, len[0] * len[1] * len[2] * (len[0] + len[1] + len[2]) / (2 * area2 * area2));
+  });
+  return r;
+}
+
+// Random clouds from uniform to strongly clustered (slivers, near-180-degree angles), some with
+// removed triangles: the cheap pass agrees with the reference, and is the same on 1 and 2 threads.
+TEST(Quality, AgreesWithAtan2PerCornerOnRandomTins) {
+  std::mt19937_64 rng(20260101);
+  for (int round = 0; round < 12; ++round) {
+    SCOPED_TRACE(round);
+    const std::size_t n = round < 6 ? 500 : 70000;  // the large ones span several blocks
+    std::uniform_real_distribution<double> u(0, 1000);
+    std::normal_distribution<double> g(0, round % 3 == 0 ? 1 : 50);
+    std::vector<Point3> pts;
+    for (std::size_t i = 0; i < n; ++i) {
+      const bool clustered = round % 2 == 1 && i % 3 == 0;
+      const double x = clustered ? 500 + g(rng) : u(rng), y = clustered ? 500 + g(rng) : u(rng);
+      pts.push_back({273000 + x, 5274000 + y, u(rng) / 10});
+    }
+    test::Built b = test::build_tin(std::move(pts));
+    if (round % 4 == 2) {
+      std::size_t k = 0;
+      b.tin.for_each_triangle([&](TriangleId t, const std::array<VertexId, 3>&) {
+        if (++k % 7 == 0) b.tin.set_removed(t, true);
+      });
+    }
+    const QualityReport q = measure_quality(b.tin, nullptr, 1);
+    const Reference r = reference(b.tin);
+    EXPECT_EQ(q.triangles, b.tin.triangle_count());
+    EXPECT_EQ(q.angle_histogram, r.angles);
+    EXPECT_EQ(q.triangles_below_20deg, r.below_20);
+    EXPECT_NEAR(q.min_angle_deg, r.min_angle, 1e-9 * std::max(1.0, r.min_angle));
+    EXPECT_NEAR(q.max_angle_deg, r.max_angle, 1e-9 * r.max_angle);
+    EXPECT_NEAR(q.max_radius_ratio, r.max_ratio, 1e-12 * r.max_ratio);
+    EXPECT_EQ(q.edges, r.edges);
+    EXPECT_NEAR(q.min_edge_length, r.min_length, 1e-12 * r.min_length);
+    EXPECT_NEAR(q.max_edge_length, r.max_length, 1e-12 * r.max_length);
+    EXPECT_EQ(std::accumulate(q.edge_length_histogram.begin(), q.edge_length_histogram.end(), 0ull),
+              q.edges);
+    EXPECT_EQ(measure_quality(b.tin, nullptr, 2).to_json(), q.to_json());
+  }
 }
 
 }  // namespace
