@@ -30,13 +30,14 @@ DelaunayResult triangulate(std::vector<Point3>&& points, const DelaunayOptions& 
   }
 
   DelaunayResult result;
-  if (n >= options.parallel_min_points && triangulate_in_two(input, box, options, progress, result))
+  if (options.threads != 1 && n >= options.parallel_min_points &&
+      triangulate_in_two(input, box, options, progress, result))
     return result;
 
   Triangulation& tin = result.tin;
   {
     // Vertices in insertion order, equal x, y merged.
-    const std::vector<std::uint32_t> order = insertion_order(input, box);
+    const std::vector<std::uint32_t> order = insertion_order(input, box, options.threads);
     if (options.keep_point_map) result.vertex_of_point.assign(n, kNoId);
     tin.reserve_vertices(n);
     std::uint32_t run = 0;

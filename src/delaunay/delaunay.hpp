@@ -21,6 +21,8 @@ struct DelaunayOptions {
   // From this many points on, split them in two halves triangulated by two threads and merged
   // (parallel_delaunay.hpp); 0 always tries, SIZE_MAX never.
   std::size_t parallel_min_points = 50000;
+  // Threads the stage may use (BuildOptions::threads); 0 = every core, 1 = the sequential path.
+  unsigned threads = 0;
 };
 
 struct DelaunayResult {

@@ -152,11 +152,12 @@ void sort_by_key_then_xy(const std::vector<Point3>& points, std::uint64_t* items
   }
 }
 
-std::vector<std::uint32_t> insertion_order(const std::vector<Point3>& points, const BBox& box) {
+std::vector<std::uint32_t> insertion_order(const std::vector<Point3>& points, const BBox& box,
+                                           unsigned threads) {
   const std::size_t n = points.size();
   const OrderKey key(box);
   std::vector<std::uint64_t> items(n);
-  parallel_chunks(n, [&](std::size_t begin, std::size_t end) {
+  parallel_chunks(threads, n, [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) items[i] = std::uint64_t{key(points[i])} << 32 | i;
   });
   {

@@ -36,8 +36,9 @@ class OrderKey {
 void sort_by_key_then_xy(const std::vector<Point3>& points, std::uint64_t* items,
                          std::uint64_t* buffer, std::size_t n);
 
-// Point indices in insertion order (the sequential path).
-std::vector<std::uint32_t> insertion_order(const std::vector<Point3>& points, const BBox& box);
+// Point indices in insertion order (the sequential path); keys computed on THREADS (0 = all).
+std::vector<std::uint32_t> insertion_order(const std::vector<Point3>& points, const BBox& box,
+                                           unsigned threads = 0);
 
 // z of a vertex that takes one more point with equal x, y; `count` is the points so far,
 // this one included.

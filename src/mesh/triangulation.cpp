@@ -1,6 +1,7 @@
 #include "mesh/triangulation.hpp"
 
 #include <atomic>
+#include <cassert>
 #include <cmath>
 #include <numbers>
 #include <sstream>
@@ -73,6 +74,13 @@ void Triangulation::flip(EdgeId e) {
   const EdgeId f1 = next_edge(f), f2 = prev_edge(f);  // a -> d, d -> b
   const VertexId a = corner_[e], b = corner_[e1], c = corner_[e2], d = corner_[f2];
   const EdgeId t_bc = twin_[e1], t_ca = twin_[e2], t_ad = twin_[f1], t_db = twin_[f2];
+  // Debug builds: an unconstrained edge of two linked triangles whose quadrilateral is strictly
+  // convex (a and b strictly on opposite sides of c-d), ghosts aside.
+  assert(twin_[f] == e && corner_[f] == b && corner_[f1] == a && !is_constrained(e));
+  assert(a == kInfinite || b == kInfinite || c == kInfinite || d == kInfinite ||
+         predicates::orient2d(xy_[c], xy_[d], xy_[a]) *
+                 predicates::orient2d(xy_[c], xy_[d], xy_[b]) <
+             0);
 
   // e's slot becomes (d, c, a), f's slot (c, d, b).
   corner_[e] = d;
@@ -102,11 +110,11 @@ void Triangulation::flip(EdgeId e) {
   }
 }
 
-void Triangulation::build_vertex_index() {
+void Triangulation::build_vertex_index(unsigned threads) {
   vertex_edge_.assign(vertex_count(), kNoId);
   // Any leaving half-edge will do, so two threads may race on a vertex: relaxed atomics make
   // that well-defined at the price of a plain store.
-  parallel_chunks(corner_.size(), [this](std::size_t begin, std::size_t end) {
+  parallel_chunks(threads, corner_.size(), [this](std::size_t begin, std::size_t end) {
     for (std::size_t e = begin; e < end; ++e) {
       const VertexId v = corner_[e];
       if (v < kInfinite)

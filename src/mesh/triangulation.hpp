@@ -113,9 +113,9 @@ class Triangulation {
   // half-edges keep their twins and constraint flags: in e's triangle, next(e) = c -> a and
   // prev(e) = a -> d; in the twin's, next = d -> b and prev = b -> c.
   void flip(EdgeId e);
-  // Any half-edge leaving v: an index built on demand, then kept up to date by flip() and
-  // PointInserter.
-  void build_vertex_index();
+  // Any half-edge leaving v: an index built on demand (on THREADS, 0 = all), then kept up to
+  // date by flip() and PointInserter.
+  void build_vertex_index(unsigned threads = 0);
   bool has_vertex_index() const { return !vertex_edge_.empty(); }
   EdgeId edge_from(VertexId v) const { return vertex_edge_[v]; }
   void set_edge_from(VertexId v, EdgeId e) { vertex_edge_[v] = e; }

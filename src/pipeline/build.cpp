@@ -1,36 +1,15 @@
 #include "pipeline/build.hpp"
 
-#include <cmath>
 #include <fstream>
 #include <string>
 
 #include "core/error.hpp"
+#include "io/output_file.hpp"
 #include "pipeline/file_checks.hpp"
 #include "pipeline/job.hpp"
 #include "pipeline/stage.hpp"
 
 namespace tincdt::pipeline {
-namespace {
-
-// Checks that need no data: they fail now rather than after a long read.
-void preflight(Job& job) {
-  const BuildOptions& options = job.options;
-  if (options.inputs.empty() && options.contours.empty() && options.breaklines.empty())
-    throw InputError("no input given: point files, contours or breaklines");
-  if (options.fix_flats && options.contours.empty())
-    throw InputError(
-        "--fix-flats needs contours (--contours): flat triangles are those of one contour level");
-  if (!(options.max_edge >= 0) || std::isnan(options.max_edge))
-    throw InputError("--max-edge must be a length > 0");
-  if (!job.write.format) job.write.format = io::format_from_path(options.output);
-  job.report.output_format = std::string(format_name(*job.write.format));
-  if (!options.write.target_crs_wkt.empty() && *job.write.format != io::TinFormat::geojson)
-    throw OutputError(options.output, "",
-                      "reprojection (--t-srs) is only supported for GeoJSON output");
-  detail::check_files(options, plan_files(options, stages()));
-}
-
-}  // namespace
 
 std::string_view format_name(io::TinFormat format) {
   switch (format) {
@@ -42,6 +21,10 @@ std::string_view format_name(io::TinFormat format) {
       return "geojson";
   }
   return "?";
+}
+
+bool remove_temporaries_for_exit() noexcept {
+  return io::remove_temporaries_for_exit();
 }
 
 std::uint64_t peak_rss_bytes() {
@@ -58,8 +41,10 @@ std::uint64_t peak_rss_bytes() {
 }
 
 BuildReport build(const BuildOptions& options, const ProgressFn* progress, const LogFn& log) {
-  Job job(options, progress, log);
-  preflight(job);
+  const CheckedOptions checked = check_options(options);
+  Job job(options, checked, progress, log);
+  for (const std::string& warning : checked.warnings) job.warn(warning);
+  detail::check_files(options, plan_files(options, stages()));
   run_stages(job, stages());
   job.enter_stage("commit");
   job.outputs.commit([&job] {

@@ -29,6 +29,11 @@ BuildReport build(const BuildOptions& options, const ProgressFn* progress = null
 // Writes report.to_json() to PATH through a temporary file renamed at the end.
 void write_stats(const BuildReport& report, const std::string& path, bool overwrite);
 
+// For a signal handler that ends the process at once (a second Ctrl-C): removes the temporary
+// files of the outputs under way; async-signal-safe. Returns false, removing nothing, while the
+// outputs are being moved into place (then let the few renames finish).
+bool remove_temporaries_for_exit() noexcept;
+
 // Peak resident set size of this process (VmHWM), 0 if unknown.
 std::uint64_t peak_rss_bytes();
 

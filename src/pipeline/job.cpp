@@ -20,14 +20,21 @@ std::string CrsNames::name(const std::string& wkt) {
   return l.empty() ? "an unnamed CRS" : l;
 }
 
-Job::Job(const BuildOptions& job_options, const ProgressFn* progress, LogFn log)
+Job::Job(const BuildOptions& job_options, const CheckedOptions& checked, const ProgressFn* progress,
+         LogFn log)
     : options(job_options),
+      assign_crs_wkt(checked.assign_crs_wkt),
       outputs(job_options.write.overwrite),
       started(std::chrono::steady_clock::now()),
       user_progress_(progress && *progress ? progress : nullptr),
       log_(std::move(log)) {
   report.output = options.output;
-  write = options.write;
+  report.output_format = std::string(format_name(checked.format));
+  write.format = checked.format;
+  write.ply_ascii = options.write.ply_ascii;
+  write.overwrite = options.write.overwrite;
+  write.offset = options.write.offset;
+  write.target_crs_wkt = checked.target_crs_wkt;
   if (user_progress_)
     stage_progress_ = [this](std::string_view, double fraction) {
       return (*user_progress_)(stage_, fraction);

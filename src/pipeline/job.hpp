@@ -35,7 +35,9 @@ class CrsNames {
 };
 
 struct Job {
-  Job(const BuildOptions& job_options, const ProgressFn* progress, LogFn log);
+  // CHECKED: check_options(job_options).
+  Job(const BuildOptions& job_options, const CheckedOptions& checked, const ProgressFn* progress,
+      LogFn log);
   Job(const Job&) = delete;
   Job& operator=(const Job&) = delete;
 
@@ -43,6 +45,7 @@ struct Job {
   BuildReport report;
 
   // ---- inputs (read) --------------------------------------------------------------------------
+  const std::string assign_crs_wkt;  // --a-srs as WKT, "" when not given
   // The CRS of every input (they must agree, or --a-srs names it), "" when none is known.
   std::string crs_wkt;
   CrsNames crs_names;
@@ -74,7 +77,7 @@ struct Job {
   std::vector<std::uint8_t> on_contour;
 
   // ---- outputs --------------------------------------------------------------------------------
-  // The TIN's write options: format and overwrite (preflight), crs_wkt (read), offset (write);
+  // The TIN's write options: from the options, crs_wkt (read), the automatic offset (write);
   // every output that holds coordinates uses them.
   io::TinWriteOptions write;
   // read: whether the TIN gets a .prj (a CRS, OBJ or PLY, and no .prj with that CRS there yet).

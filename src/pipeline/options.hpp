@@ -1,11 +1,14 @@
-// The settings of a job, one field per setting, grouped in the order of the stages they
-// configure. apps/tincdt binds its command line to these fields.
+// The settings of a job: one field per setting, grouped in the order of the stages they
+// configure (stages.cpp). apps/tincdt binds its command line to these fields directly;
+// check_options() holds every rule that involves more than one of them.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "constraints/constraints.hpp"
+#include "core/types.hpp"
 #include "delaunay/delaunay.hpp"
 #include "io/mesh/tin_writer.hpp"
 #include "io/points/point_reader.hpp"
@@ -13,36 +16,44 @@
 
 namespace tincdt::pipeline {
 
-// One field per job setting, grouped by stage. Later stages (contours / breaklines from OGR
-// sources, restoration mode, clipping) add their own fields next to the stage they configure.
 struct BuildOptions {
-  // ---- input ---------------------------------------------------------------------------
-  std::vector<std::string> inputs;  // point files (LAS, XYZ, "-")
-  io::PointFilter filter;
-  std::string assign_crs_wkt;  // --a-srs: the inputs' CRS, replacing any in the files
+  // ---- every stage ------------------------------------------------------------------------
+  // Threads for the parallel work (reading XYZ, Delaunay, quality); 0 = every core.
+  unsigned threads = 0;
 
-  // Contours and hard lines (any OGR source, "FILE" or "FILE:LAYER"): their vertices join the
-  // Delaunay stage, their segments become constrained edges. Lines alone make a valid job.
-  // Contour vertices are the ones --fix-flats looks at; breaklines (--breaklines, --hard-lines)
-  // are otherwise the same.
+  // ---- read: points ----------------------------------------------------------------------
+  std::vector<std::string> inputs;  // point files (LAS, XYZ, "-" = XYZ from standard input)
+  io::PointFilter filter;           // --keep-class, --drop-class, --first-only, --last-only
+  // --a-srs: the inputs' CRS as the user gave it (EPSG:n, WKT, PROJ string, a .prj file),
+  // replacing any in the files.
+  std::string assign_srs;
+
+  // ---- read: contours and hard lines (any OGR source, "FILE" or "FILE:LAYER") ------------
+  // Their vertices join the Delaunay stage, their segments become constrained edges. Lines
+  // alone make a valid job. Contour vertices are the ones --fix-flats looks at; breaklines
+  // (--breaklines, --hard-lines) are otherwise the same.
   std::vector<std::string> contours;
   std::vector<std::string> breaklines;
   io::LineReadOptions lines;  // --layer, --z-field, --z-from-m, for every vector source
 
-  // ---- surface features (any OGR source, "FILE" or "FILE:LAYER"; lines.layer applies) -------
+  // ---- read: surface features (any OGR source; lines.layer applies) -----------------------
   // Inserted after the TIN of points and hard lines is built and constrained. Their 2D vertices
-  // are draped: z from that TIN (linear interpolation); a vertex outside it is an InputError
-  // naming the feature. Then their segments become constrained edges; where one crosses a hard
-  // line or contour, the new vertex takes the hard line's z.
+  // are draped: z from that TIN (linear interpolation). Then their segments become constrained
+  // edges; where one crosses a hard line or contour, the new vertex takes the hard line's z.
+  // Clip and erase rings with a z of their own (3D geometry) keep it; 2D rings are draped.
   std::vector<std::string> soft_lines;  // lines, always draped (a z of their own is ignored)
   std::vector<std::string> clip;        // polygons: triangles outside all of them are removed
   std::vector<std::string> erase;       // polygons: triangles inside any of them are removed
   std::vector<std::string> replace;     // polygons: vertices on or inside get the polygon's z
                                         // (lines.z_field, else lines.z_from_m, else 3D z)
-  // Clip and erase rings with a z of their own (3D geometry) keep it; 2D rings are draped.
 
-  // ---- TIN boundary and quality, applied in this order -----------------------------------
-  //   fix flats -> replace -> trim (max_edge) -> clip -> erase
+  // ---- delaunay ----------------------------------------------------------------------------
+  delaunay::DuplicatePolicy on_duplicate = delaunay::DuplicatePolicy::mean;
+
+  // ---- constraints --------------------------------------------------------------------------
+  constraints::ConstraintOptions constraint;  // --restore, --on-crossing
+
+  // ---- terrain, applied in this order: fix flats -> replace -> trim -> clip -> erase ------
   // Flats are fixed on the whole TIN before any z is replaced (a replace polygon makes flat
   // triangles on purpose) and before any triangle is removed (fix_flat_triangles needs the
   // whole TIN). Trimming works inward from the convex hull only, before clip and erase open
@@ -51,24 +62,41 @@ struct BuildOptions {
   bool fix_flats = false;  // --fix-flats: needs contours (their vertices define the flats)
   double max_edge = 0;     // --max-edge LENGTH: > 0 trims boundary triangles; 0 = no trimming
 
-  // ---- Delaunay stage --------------------------------------------------------------------
-  delaunay::DuplicatePolicy on_duplicate = delaunay::DuplicatePolicy::mean;
-  bool validate = false;  // run Triangulation::validate() before writing (slow)
+  // ---- validate -----------------------------------------------------------------------------
+  bool validate = false;  // check the TIN's topology and Delaunay property before writing
 
-  // ---- constraint stage ------------------------------------------------------------------
-  constraints::ConstraintOptions constraint;  // --restore, --on-crossing
-
-  // ---- output --------------------------------------------------------------------------
-  std::string output;
-  io::TinWriteOptions write;  // format, ply_ascii, overwrite, offset, target CRS
-                              // (write.crs_wkt is filled by build() from the inputs)
-  bool offset_auto = false;   // write.offset = data's min corner rounded down to 1000
-  std::string stats_path;     // --stats FILE.json, empty = none; honours write.overwrite
+  // ---- write: the TIN and the other outputs -------------------------------------------------
+  std::string output;  // -o
+  struct Write {
+    std::optional<io::TinFormat> format;  // -f; default: from the output's extension
+    bool ply_ascii = false;               // --ply-ascii
+    bool overwrite = false;               // --overwrite: for every output
+    Point3 offset{0, 0, 0};               // --offset X,Y,Z: subtracted from written coordinates
+    bool offset_auto = false;             // --offset auto: the data's min corner, rounded down
+                                          // to 1000
+    std::string target_srs;               // --t-srs (GeoJSON only), as the user gave it
+  } write;
+  std::string stats_path;  // --stats FILE.json
   // --constraints-out FILE.geojson: every constrained edge of the written TIN with its source
-  // feature (as the TIN: write.offset, write.target_crs_wkt, overwrite, temporary + rename).
+  // feature (in the TIN's coordinates: offset, target CRS).
   std::string constraints_out;
   // --diagnostics FILE.gpkg: crossings, skipped segments and dropped features as GIS layers.
   std::string diagnostics;
 };
+
+// What check_options() found, resolved for the job.
+struct CheckedOptions {
+  io::TinFormat format = io::TinFormat::ply;  // of the TIN: -f, else from the extension
+  std::string assign_crs_wkt;                 // --a-srs as WKT, "" when not given
+  std::string target_crs_wkt;                 // --t-srs as WKT, "" when not given
+  std::vector<std::string> warnings;          // settings that have no effect, and why
+};
+
+// Every rule that involves more than one option, or a value no single option can check: some
+// input, the output format, GeoJSON for --t-srs, the extensions of --constraints-out and
+// --diagnostics, --fix-flats with contours, exclusive options, readable --a-srs / --t-srs.
+// Throws UsageError naming the option. Cheap (no input is read); build() runs it first, and a
+// command line runs it before anything else to tell a usage error from a failed job.
+CheckedOptions check_options(const BuildOptions& options);
 
 }  // namespace tincdt::pipeline

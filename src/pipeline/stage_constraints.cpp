@@ -62,6 +62,7 @@ bool wanted(const BuildOptions& o) {
 void run(Job& job) {
   if (job.lines.segments.empty()) return;
   std::vector<constraints::Segment> segments = segments_of(job);
+  if (!job.tin().has_vertex_index()) job.tin().build_vertex_index(job.options.threads);
   constraints::ConstraintResult c;
   try {
     c = constraints::insert_constraints(job.tin(), segments, job.options.constraint,

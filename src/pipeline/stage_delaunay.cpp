@@ -33,6 +33,7 @@ void run(Job& job) {
   options.on_duplicate = job.options.on_duplicate;
   options.keep_point_map = lines;
   options.keep_duplicates = !job.options.diagnostics.empty();
+  options.threads = job.options.threads;
   try {
     job.mesh = delaunay::triangulate(std::move(job.points), options, job.stage_progress());
   } catch (const GeometryError& e) {

@@ -10,8 +10,8 @@ bool wanted(const BuildOptions& o) {
 }
 
 void run(Job& job) {
-  job.report.quality =
-      terrain::measure_quality(job.tin(), job.on_contour.empty() ? nullptr : &job.on_contour);
+  job.report.quality = terrain::measure_quality(
+      job.tin(), job.on_contour.empty() ? nullptr : &job.on_contour, job.options.threads);
   job.report.quality_measured = true;
 }
 

@@ -29,13 +29,13 @@ namespace fs = std::filesystem;
 class CrsAgreement {
  public:
   explicit CrsAgreement(Job& job) : job_(job) {
-    job.crs_wkt = job.options.assign_crs_wkt;
+    job.crs_wkt = job.assign_crs_wkt;
     if (!job.crs_wkt.empty()) source_ = "--a-srs";
   }
 
   void merge(const std::string& path, const std::string& wkt) {
     CrsNames& names = job_.crs_names;
-    const std::string& assigned = job_.options.assign_crs_wkt;
+    const std::string& assigned = job_.assign_crs_wkt;
     if (!assigned.empty()) {
       if (!wkt.empty() && !io::same_crs(wkt, assigned))
         job_.warn(path + ": its CRS " + names.name(wkt) + " is overridden by --a-srs " +
@@ -56,7 +56,7 @@ class CrsAgreement {
 
   // The inputs without a CRS of their own take the one found, with a warning each.
   void finish() {
-    if (job_.crs_wkt.empty() || !job_.options.assign_crs_wkt.empty()) return;
+    if (job_.crs_wkt.empty() || !job_.assign_crs_wkt.empty()) return;
     for (const std::string& path : without_crs_)
       job_.warn(path + ": no CRS in the file; assuming " + job_.crs_names.name(job_.crs_wkt) +
                 " of " + source_);
@@ -110,7 +110,8 @@ void read_point_files(Job& job, CrsAgreement& crs) {
   }
   for (std::size_t i = 0; i < inputs.size(); ++i) {
     const std::string& path = inputs[i];
-    const io::PointReadStats s = io::read_points(path, job.options.filter, job.points);
+    const io::PointReadStats s =
+        io::read_points(path, job.options.filter, job.points, job.options.threads);
     for (const std::string& w : s.warnings) job.warn(w);
     BuildReport::Input in;
     in.path = path;
@@ -265,6 +266,9 @@ void run(Job& job) {
 
 void plan(const BuildOptions& o, FilePlan& files) {
   for (const std::string& p : o.inputs) files.inputs.push_back({p, "a point file"});
+  std::error_code ec;
+  if (!o.assign_srs.empty() && fs::is_regular_file(o.assign_srs, ec))
+    files.inputs.push_back({o.assign_srs, "the CRS file of --a-srs"});
   const std::pair<const std::vector<std::string>*, const char*> vectors[] = {
       {&o.contours, "--contours"}, {&o.breaklines, "--hard-lines"}, {&o.soft_lines, "--soft-lines"},
       {&o.clip, "--clip"},         {&o.erase, "--erase"},           {&o.replace, "--replace"}};

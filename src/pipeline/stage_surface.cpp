@@ -18,6 +18,7 @@ void run(Job& job) {
   for (const detail::SurfaceInput* input : {&job.soft, &job.clip, &job.erase, &job.replace})
     if (!input->data.features.empty()) inputs.push_back(input);
   if (inputs.empty()) return;
+  if (!job.tin().has_vertex_index()) job.tin().build_vertex_index(job.options.threads);
   detail::SurfaceResult sr =
       detail::insert_surface_features(job.tin(), inputs, job.sources, job.pieces,
                                       job.options.constraint.restore, job.stage_progress());

@@ -42,7 +42,7 @@ bool wanted(const BuildOptions&) {
 
 void run(Job& job) {
   const mesh::Triangulation& tin = job.tin();
-  if (job.options.offset_auto) job.write.offset = automatic_offset(tin);
+  if (job.options.write.offset_auto) job.write.offset = automatic_offset(tin);
   BuildReport& report = job.report;
   report.offset = job.write.offset;
   report.triangles = tin.triangle_count();

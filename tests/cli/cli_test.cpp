@@ -491,7 +491,7 @@ TEST_F(Cli, StatsFileExistsFailsBeforeWork) {
 
 TEST_F(Cli, OutputSameAsInputIsRefused) {
   spit(s.path("a.json"), "1 2 3\n");
-  expect_failure(s.run({s.path("a.json"), "-o", s.path("a.json"), "--overwrite"}), 1,
+  expect_failure(s.run({s.path("a.json"), "-o", s.path("a.json"), "--overwrite"}), 2,
                  s.path("a.json"), "input", s, {"a.json"});
   EXPECT_EQ(slurp(s.path("a.json")), "1 2 3\n");
 }

@@ -214,7 +214,7 @@ TEST_F(Pipeline, DuplicatePolicies) {
 TEST_F(Pipeline, OffsetAutoRoundsTheMinimumCornerDown) {
   const auto pts = square_with_jittered_grid(5, 273357.14, 5274357.14);
   auto o = options_for(pts, "t.obj");
-  o.offset_auto = true;
+  o.write.offset_auto = true;
   const auto r = pipeline::build(o);
   EXPECT_EQ(r.offset, (Point3{273000, 5274000, 0}));
   const Obj obj = read_obj(o.output);
@@ -228,7 +228,7 @@ TEST_F(Pipeline, OffsetAutoRoundsTheMinimumCornerDown) {
 TEST_F(Pipeline, NegativeCoordinatesOffsetRoundsDown) {
   const auto pts = square_with_jittered_grid(4, -235434.52, -10.5);
   auto o = options_for(pts, "t.ply");
-  o.offset_auto = true;
+  o.write.offset_auto = true;
   EXPECT_EQ(pipeline::build(o).offset, (Point3{-236000, -1000, 0}));
 }
 
@@ -245,13 +245,13 @@ TEST_F(Pipeline, UnknownFormatFailsBeforeReading) {
   pipeline::BuildOptions o;
   o.inputs = {path("does_not_exist.xyz")};
   o.output = path("t.stl");
-  EXPECT_THROW(pipeline::build(o), OutputError);
+  EXPECT_THROW(pipeline::build(o), UsageError);
 }
 
 TEST_F(Pipeline, ReprojectionNeedsGeojson) {
   auto o = options_for(square_with_jittered_grid(3, 0, 0), "t.ply");
-  o.write.target_crs_wkt = "GEOGCS[\"WGS 84\"]";
-  EXPECT_THROW(pipeline::build(o), OutputError);
+  o.write.target_srs = "EPSG:4326";
+  EXPECT_THROW(pipeline::build(o), UsageError);
   EXPECT_EQ(names_in(dir_), std::set<std::string>{"in.xyz"});
 }
 
@@ -416,7 +416,7 @@ TEST_F(Pipeline, AssignedCrsOverridesWithAWarning) {
   pipeline::BuildOptions o;
   o.inputs = {shared_las("Topography.las"), shared_las("wontcompress3.las")};
   o.output = path("t.ply");
-  o.assign_crs_wkt = io::crs_from_user("EPSG:2949");
+  o.assign_srs = "EPSG:2949";
   std::vector<std::string> warnings;
   const auto r = pipeline::build(o, nullptr, [&](int level, const std::string& m) {
     if (level == pipeline::log_warn) warnings.push_back(m);

@@ -574,7 +574,7 @@ TEST_F(Surface, MaxEdgeTrimsFromTheHullOnlyBeforeClipAndErase) {
 TEST_F(Surface, FixFlatsNeedsContours) {
   auto o = plane_job();
   o.fix_flats = true;
-  EXPECT_NE(error_of([&] { pipeline::build(o); }).find("--fix-flats needs contours"),
+  EXPECT_NE(error_of([&] { pipeline::build(o); }).find("--fix-flats needs --contours"),
             std::string::npos);
 }
 
@@ -672,8 +672,12 @@ TEST_F(Surface, ExtraOutputsAreCheckedBeforeReading) {
   o.constraints_out = path("c.geojson");
   EXPECT_THROW(pipeline::build(o), OutputError);
   o.constraints_out.clear();
-  o.diagnostics = path("tin.obj");
-  EXPECT_THROW(pipeline::build(o), OutputError);  // same file as the TIN
+  o.diagnostics = path("d.gpkg");
+  o.stats_path = path("d.gpkg");
+  EXPECT_THROW(pipeline::build(o), OutputError);  // the same file as another output
+  o.stats_path = path("tin.obj");
+  EXPECT_THROW(pipeline::build(o), OutputError);  // the same file as the TIN
+  o.stats_path.clear();
   o.diagnostics = path("no_such_folder/d.gpkg");
   EXPECT_THROW(pipeline::build(o), OutputError);
   EXPECT_EQ(slurp(path("c.geojson")), "old");

@@ -29,8 +29,8 @@ bool has_extension(const std::string& path, const char* ext) {
 }  // namespace
 
 PointReadStats read_points(const std::string& path, const PointFilter& filter,
-                           std::vector<Point3>& out) {
-  if (path == "-") return read_xyz(path, out);
+                           std::vector<Point3>& out, unsigned threads) {
+  if (path == "-") return read_xyz(path, out, threads);
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0) throw InputError(path, "", detail::open_error_text(errno));
   if (S_ISDIR(st.st_mode)) throw InputError(path, "", "is a directory, not a file");
@@ -40,7 +40,7 @@ PointReadStats read_points(const std::string& path, const PointFilter& filter,
                      "translate' or 'las2las')");
   }
   // Pipes and devices cannot be peeked at without consuming them: they can only be XYZ text.
-  if (!S_ISREG(st.st_mode)) return read_xyz(path, out);
+  if (!S_ISREG(st.st_mode)) return read_xyz(path, out, threads);
   if (st.st_size == 0) throw InputError(path, "", "empty file");
 
   char signature[4] = {};
@@ -52,7 +52,7 @@ PointReadStats read_points(const std::string& path, const PointFilter& filter,
   if (std::memcmp(signature, "LASF", 4) == 0) return read_las(path, filter, out);
   // A .las name without the signature is a damaged or mislabelled file, not text.
   if (has_extension(path, ".las")) return read_las(path, filter, out);
-  return read_xyz(path, out);
+  return read_xyz(path, out, threads);
 }
 
 }  // namespace tincdt::io

@@ -30,11 +30,12 @@ struct PointReadStats {
 
 // Reads PATH ("-" = XYZ from stdin), dispatching on content (LAS signature "LASF") and
 // extension; .laz and compressed LAS are refused with an InputError. Appends to `out`.
-// Throws InputError naming the file and the line / byte / record at fault.
+// Throws InputError naming the file and the line / byte / record at fault. THREADS: how many
+// threads a reader that parses in parallel (XYZ) may use; 0 = every core.
 PointReadStats read_points(const std::string& path, const PointFilter& filter,
-                           std::vector<Point3>& out);
+                           std::vector<Point3>& out, unsigned threads = 0);
 
-PointReadStats read_xyz(const std::string& path, std::vector<Point3>& out);
+PointReadStats read_xyz(const std::string& path, std::vector<Point3>& out, unsigned threads = 0);
 PointReadStats read_las(const std::string& path, const PointFilter& filter,
                         std::vector<Point3>& out);
 

@@ -286,8 +286,9 @@ Start find_start(const char* b, const char* e, bool at_eof) {
   return s;
 }
 
-unsigned thread_count() {
-  const unsigned hw = std::thread::hardware_concurrency();
+// THREADS, or every core for 0.
+unsigned thread_count(unsigned threads) {
+  const unsigned hw = threads != 0 ? threads : std::thread::hardware_concurrency();
   return std::clamp(hw, 1u, kMaxThreads);
 }
 
@@ -354,7 +355,8 @@ void reserve_for(const char* b, std::size_t size, std::vector<Point3>& out) {
   detail::advise_huge_pages(out);
 }
 
-PointReadStats read_mapped(const std::string& path, std::vector<Point3>& out) {
+PointReadStats read_mapped(const std::string& path, std::vector<Point3>& out,
+                           unsigned threads_wanted) {
   const detail::MappedFile file(path);
   if (file.size() == 0) throw InputError(path, "", "empty file");
   const char* const b = file.chars();
@@ -364,7 +366,7 @@ PointReadStats read_mapped(const std::string& path, std::vector<Point3>& out) {
   PointReadStats stats;
   stats.format = "xyz";
   reserve_for(start.data, static_cast<std::size_t>(e - start.data), out);
-  const unsigned threads = thread_count();
+  const unsigned threads = thread_count(threads_wanted);
   const std::size_t window = kPieceBytes * threads;
   std::vector<std::vector<Point3>> scratch;
   std::size_t lines = start.lines_before;
@@ -384,8 +386,9 @@ PointReadStats read_mapped(const std::string& path, std::vector<Point3>& out) {
   return stats;
 }
 
-PointReadStats read_stream(int fd, const std::string& name, std::vector<Point3>& out) {
-  const unsigned threads = thread_count();
+PointReadStats read_stream(int fd, const std::string& name, std::vector<Point3>& out,
+                           unsigned threads_wanted) {
+  const unsigned threads = thread_count(threads_wanted);
   std::size_t capacity = kPieceBytes * threads;
   auto buffer = std::make_unique<char[]>(capacity);
   std::size_t filled = 0;
@@ -446,17 +449,17 @@ PointReadStats read_stream(int fd, const std::string& name, std::vector<Point3>&
 
 }  // namespace
 
-PointReadStats read_xyz(const std::string& path, std::vector<Point3>& out) {
-  if (path == "-") return read_stream(STDIN_FILENO, "<stdin>", out);
+PointReadStats read_xyz(const std::string& path, std::vector<Point3>& out, unsigned threads) {
+  if (path == "-") return read_stream(STDIN_FILENO, "<stdin>", out, threads);
   {
     // Pipes and devices (e.g. /dev/stdin, <(command)) cannot be mapped: stream them.
     struct stat st {};
     if (::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode)) {
       const detail::FileHandle file(path);
-      return read_stream(file.fd(), path, out);
+      return read_stream(file.fd(), path, out, threads);
     }
   }
-  return read_mapped(path, out);
+  return read_mapped(path, out, threads);
 }
 
 }  // namespace tincdt::io

@@ -1,0 +1,22 @@
+// The command line, bound directly to pipeline::BuildOptions: one CLI11 option per field, word
+// choices mapped to the library's enums, help groups in the order of the stages.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include "pipeline/build.hpp"
+
+namespace tincdt::cli {
+
+// Messages, the one setting that is not the job's.
+struct Verbosity {
+  bool quiet = false;
+  bool verbose = false;
+};
+
+// Defines every option of APP, each writing its value into OPTIONS (or VERBOSITY) as it is
+// parsed. Values that a single option can check are checked here (CLI11 reports them as usage
+// errors); rules between options are pipeline::check_options()'s.
+void define_options(CLI::App& app, pipeline::BuildOptions& options, Verbosity& verbosity);
+
+}  // namespace tincdt::cli

@@ -1,0 +1,105 @@
+#include "summary.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <cstdio>
+#include <string>
+
+namespace tincdt::cli {
+namespace {
+
+std::string count(std::uint64_t n) {  // 1234567 -> "1,234,567"
+  std::string digits = std::to_string(n);
+  std::string out;
+  for (std::size_t i = 0; i < digits.size(); ++i) {
+    if (i > 0 && (digits.size() - i) % 3 == 0) out += ',';
+    out += digits[i];
+  }
+  return out;
+}
+
+std::string bytes(std::uint64_t n) {
+  const char* units[] = {"B", "KiB", "MiB", "GiB", "TiB"};
+  double v = static_cast<double>(n);
+  int u = 0;
+  while (v >= 1024.0 && u < 4) {
+    v /= 1024.0;
+    ++u;
+  }
+  char buf[32];
+  std::snprintf(buf, sizeof buf, u == 0 ? "%.0f %s" : "%.1f %s", v, units[u]);
+  return buf;
+}
+
+std::string secs(double s) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, s < 10 ? "%.3f s" : "%.1f s", s);
+  return buf;
+}
+
+}  // namespace
+
+void log_summary(const pipeline::BuildOptions& options, const pipeline::BuildReport& r) {
+  const auto point_files = static_cast<std::uint64_t>(
+      std::count_if(r.inputs.begin(), r.inputs.end(),
+                    [](const pipeline::BuildReport::Input& in) { return in.kind == "points"; }));
+  std::string line = "read " + count(r.points_read) + " points from " + count(point_files) +
+                     (point_files == 1 ? " file" : " files");
+  if (r.line_vertices > 0) line += " and " + count(r.line_vertices) + " line vertices";
+  if (r.points_kept != r.points_read) line += ", kept " + count(r.points_kept);
+  if (r.duplicates_merged > 0) line += ", merged " + count(r.duplicates_merged) + " duplicates";
+  spdlog::info(line);
+  if (r.constraint_segments > 0) {
+    std::string c = "constraints: " + count(r.constraint_segments) + " segments";
+    if (r.line_features > 0) c += " from " + count(r.line_features) + " line features";
+    if (r.surface_features > 0)
+      c += (r.line_features > 0 ? " and " : " from ") + count(r.surface_features) +
+           " surface features";
+    if (r.crossings > 0) c += ", " + count(r.crossings) + " crossings joined";
+    if (r.constraint_segments_split > 0)
+      c += ", " + count(r.constraint_segments_split) + " split at vertices";
+    spdlog::info(c);
+  }
+  if (r.draped_vertices > 0)
+    spdlog::info("draped: {} vertices ({} of soft lines)", count(r.draped_vertices),
+                 count(r.soft_line_vertices));
+  if (r.flats.fixed)
+    spdlog::info("flat triangles: {} before, {} after ({} swaps, {} new vertices)",
+                 count(r.flats.before), count(r.flats.after), count(r.flats.swaps),
+                 count(r.flats.vertices_added));
+  if (r.replaced_vertices > 0) spdlog::info("replace: {} vertices", count(r.replaced_vertices));
+  if (r.trimmed_triangles + r.clipped_triangles + r.erased_triangles > 0)
+    spdlog::info("removed triangles: {} trimmed (--max-edge), {} clipped, {} erased",
+                 count(r.trimmed_triangles), count(r.clipped_triangles), count(r.erased_triangles));
+  spdlog::info("TIN: {} vertices, {} triangles{}", count(r.vertices), count(r.triangles),
+               r.constraints > 0 ? ", " + count(r.constraints) + " constrained edges" : "");
+  std::string t =
+      "time: read " + secs(r.timings_s.read) + ", delaunay " + secs(r.timings_s.delaunay);
+  if (r.timings_s.constraints > 0) t += ", constraints " + secs(r.timings_s.constraints);
+  if (r.timings_s.surface > 0) t += ", surface features " + secs(r.timings_s.surface);
+  if (r.timings_s.terrain > 0.0005) t += ", terrain " + secs(r.timings_s.terrain);
+  if (r.timings_s.validate > 0) t += ", validate " + secs(r.timings_s.validate);
+  t += ", write " + secs(r.timings_s.write) + ", total " + secs(r.timings_s.total);
+  if (r.peak_rss_bytes > 0) t += "; peak memory " + bytes(r.peak_rss_bytes);
+  spdlog::info(t);
+  const std::string format = r.output_format == "obj"       ? "OBJ"
+                             : r.output_format == "geojson" ? "GeoJSON"
+                             : options.write.ply_ascii      ? "PLY ASCII"
+                                                            : "PLY binary";
+  std::string w = "wrote " + r.output + " (" + format + ", " + bytes(r.output_bytes) + ", " +
+                  (r.crs.empty() ? (r.crs_wkt.empty() ? "no CRS" : "CRS unnamed") : "CRS " + r.crs);
+  if (r.offset.x != 0 || r.offset.y != 0 || r.offset.z != 0) {
+    char buf[96];
+    std::snprintf(buf, sizeof buf, ", offset %.17g,%.17g,%.17g", r.offset.x, r.offset.y,
+                  r.offset.z);
+    w += buf;
+  }
+  spdlog::info(w + ")");
+  if (!r.constraints_out.empty()) spdlog::info("wrote {}", r.constraints_out);
+  if (!r.diagnostics.empty()) spdlog::info("wrote {}", r.diagnostics);
+  if (!options.stats_path.empty()) spdlog::info("wrote {}", options.stats_path);
+}
+
+}  // namespace tincdt::cli

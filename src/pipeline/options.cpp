@@ -1,0 +1,100 @@
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+#include "core/error.hpp"
+#include "io/crs.hpp"
+#include "pipeline/build.hpp"
+
+namespace tincdt::pipeline {
+namespace {
+
+std::string lower_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+std::string srs_option(const std::string& text, const char* option) {
+  if (text.empty()) return {};
+  try {
+    return io::crs_from_user(text);
+  } catch (const Error& e) {
+    throw UsageError(std::string(option) + ": " + e.what());
+  }
+}
+
+void check_inputs(const BuildOptions& o) {
+  if (o.inputs.empty() && o.contours.empty() && o.breaklines.empty())
+    throw UsageError(
+        "no input: give point files (INPUT), --contours or --hard-lines (--breaklines)");
+  if (std::count(o.inputs.begin(), o.inputs.end(), std::string("-")) > 1)
+    throw UsageError("-", "", "standard input can be read only once");
+  const io::PointFilter& f = o.filter;
+  for (std::uint8_t k : f.keep_classes)
+    if (std::find(f.drop_classes.begin(), f.drop_classes.end(), k) != f.drop_classes.end())
+      throw UsageError("class " + std::to_string(k) + " is in both --keep-class and --drop-class");
+  if (f.first_return_only && f.last_return_only)
+    throw UsageError("--first-only and --last-only exclude each other");
+  if (!o.lines.z_field.empty() && o.lines.z_from_m)
+    throw UsageError("--z-field and --z-from-m exclude each other");
+}
+
+void check_terrain(const BuildOptions& o) {
+  if (o.fix_flats && o.contours.empty())
+    throw UsageError("--fix-flats needs --contours: flat triangles are those of one contour level");
+  if (!(o.max_edge >= 0))
+    throw UsageError("--max-edge: " + std::to_string(o.max_edge) + " is not a length > 0");
+}
+
+io::TinFormat check_outputs(const BuildOptions& o) {
+  if (o.output.empty()) throw UsageError("no output: give the TIN's file name with -o");
+  io::TinFormat format{};
+  if (o.write.format) {
+    format = *o.write.format;
+  } else {
+    try {
+      format = io::format_from_path(o.output);
+    } catch (const Error& e) {
+      throw UsageError(e.file(), e.where(), e.detail() + "; use -f obj|ply|geojson");
+    }
+  }
+  if (!o.write.target_srs.empty() && format != io::TinFormat::geojson)
+    throw UsageError("--t-srs needs GeoJSON output; OBJ and PLY keep the input CRS (in a .prj)");
+  const Point3& d = o.write.offset;
+  if (!std::isfinite(d.x) || !std::isfinite(d.y) || !std::isfinite(d.z))
+    throw UsageError("--offset: every coordinate must be a finite number");
+  if (!o.constraints_out.empty()) {
+    const std::string ext = lower_extension(o.constraints_out);
+    if (ext != ".geojson" && ext != ".json")
+      throw UsageError("--constraints-out writes GeoJSON: give a .geojson or .json file, not '" +
+                       o.constraints_out + "'");
+  }
+  if (!o.diagnostics.empty() && lower_extension(o.diagnostics) != ".gpkg")
+    throw UsageError("--diagnostics writes a GeoPackage: give a .gpkg file, not '" + o.diagnostics +
+                     "'");
+  return format;
+}
+
+}  // namespace
+
+CheckedOptions check_options(const BuildOptions& options) {
+  check_inputs(options);
+  check_terrain(options);
+  CheckedOptions checked;
+  checked.format = check_outputs(options);
+  checked.assign_crs_wkt = srs_option(options.assign_srs, "--a-srs");
+  checked.target_crs_wkt = srs_option(options.write.target_srs, "--t-srs");
+  if (options.write.ply_ascii && checked.format != io::TinFormat::ply)
+    checked.warnings.push_back("--ply-ascii is ignored: the output is " +
+                               std::string(format_name(checked.format)) + ", not PLY");
+  const Point3& offset = options.write.offset;
+  if (!checked.target_crs_wkt.empty() &&
+      (options.write.offset_auto || offset.x != 0 || offset.y != 0 || offset.z != 0))
+    throw UsageError("--offset cannot be combined with --t-srs (it is in the input CRS's units)");
+  return checked;
+}
+
+}  // namespace tincdt::pipeline
