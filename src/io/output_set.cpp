@@ -114,7 +114,7 @@ void OutputSet::commit(const std::function<bool()>& proceed) {
     const TerminationBlock block;
     bool go = false;
     try {
-      go = !block.pending() && (!proceed || proceed());
+      go = (!proceed || proceed()) && !block.pending();  // a signal PROCEED saw is pending
     } catch (...) {
       entries_.clear();  // removes the temporaries while no signal can end the process
       throw;

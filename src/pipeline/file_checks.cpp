@@ -112,6 +112,8 @@ void refuse_input(const FilePlan& plan, const std::string& output, const std::st
 void check_files(const BuildOptions& options, const FilePlan& plan) {
   const bool overwrite = options.write.overwrite;
   const std::vector<FilePlan::File>& outputs = plan.outputs;
+  // An input first: that it exists already is then beside the point.
+  for (const FilePlan::File& output : outputs) refuse_input(plan, output.path, output.what);
   for (std::size_t i = 0; i < outputs.size(); ++i) {
     check_output_path(outputs[i].path, overwrite);
     for (std::size_t j = 0; j < i; ++j)
@@ -119,7 +121,6 @@ void check_files(const BuildOptions& options, const FilePlan& plan) {
         throw OutputError(outputs[i].path, "",
                           outputs[i].what + " and " + outputs[j].what + " are the same file");
   }
-  for (const FilePlan::File& output : outputs) refuse_input(plan, output.path, output.what);
   if (std::count_if(plan.inputs.begin(), plan.inputs.end(),
                     [](const FilePlan::File& f) { return f.path == "-"; }) > 1)
     throw InputError("-", "", "standard input can be read only once");
