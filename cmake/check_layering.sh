@@ -2,7 +2,7 @@
 # Checks the module layering of src/ (docs: ../shared/docs/DESIGN.md, "Layout").
 #
 # Every #include "X/..." in src/M/ must name a module X upstream of M or M itself, in the order
-#   core < predicates < mesh < delaunay < constraints < terrain < io < pipeline
+#   core < predicates < mesh < delaunay < constraints < terrain < simplify < io < pipeline
 # except that io may include only core and mesh (and io). apps/ and tests/ may include anything.
 # Also from DESIGN.md: GDAL headers only in src/io, no CLI11 anywhere in src/ (only apps/ sees
 # it), no spdlog in core or the algorithm modules, and no "../" includes that dodge the rules.
@@ -10,13 +10,13 @@
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
-order=(core predicates mesh delaunay constraints terrain io pipeline)
+order=(core predicates mesh delaunay constraints terrain simplify io pipeline)
 declare -A allowed
 for ((i = 0; i < ${#order[@]}; ++i)); do
   allowed[${order[i]}]="${order[*]:0:i+1}"  # upstream of or equal to
 done
 allowed[io]="core mesh io"
-no_spdlog="core predicates mesh delaunay constraints terrain"
+no_spdlog="core predicates mesh delaunay constraints terrain simplify"
 
 is_in() {  # is_in WORD "LIST"
   [[ " $2 " == *" $1 "* ]]

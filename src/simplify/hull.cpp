@@ -1,0 +1,141 @@
+// Strict convex hull corners and duplicate merging: the two steps a caller needs before
+// simplify() when it has not built the full TIN.
+#include <algorithm>
+#include <numeric>
+
+#include "delaunay/spatial_order.hpp"
+#include "predicates/predicates.hpp"
+#include "simplify/simplify.hpp"
+
+namespace tincdt::simplify {
+namespace {
+
+using predicates::orient2d;
+
+bool xy_less(Point2 a, Point2 b) {
+  return a.x < b.x || (a.x == b.x && a.y < b.y);
+}
+
+}  // namespace
+
+std::vector<std::uint32_t> hull_corners(std::span<const Point2> xy) {
+  const auto n = static_cast<std::uint32_t>(xy.size());
+  if (n == 0) return {};
+
+  // Akl-Toussaint: the extreme points in 8 directions, counter-clockwise from the leftmost,
+  // bound a region F (strictly left of each of their edges) that holds no hull corner: a point
+  // strictly left of every edge of a closed chain of input points lies in their hull, and is
+  // none of them. Which points are extreme may be decided inexactly (x + y rounds); F only
+  // depends on them being input points.
+  std::uint32_t ext[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+  const auto key = [&](std::uint32_t i, int d) {
+    const Point2 p = xy[i];
+    switch (d) {
+      case 0:
+        return -p.x;  // left
+      case 1:
+        return -p.x - p.y;  // bottom left
+      case 2:
+        return -p.y;  // bottom
+      case 3:
+        return p.x - p.y;  // bottom right
+      case 4:
+        return p.x;  // right
+      case 5:
+        return p.x + p.y;  // top right
+      case 6:
+        return p.y;  // top
+      default:
+        return p.y - p.x;  // top left
+    }
+  };
+  for (std::uint32_t i = 1; i < n; ++i)
+    for (int d = 0; d < 8; ++d)
+      if (key(i, d) > key(ext[d], d)) ext[d] = i;
+  // Repeated extremes (one point extreme in several directions) would give edges of length 0.
+  std::uint32_t chain[8];
+  int m = 0;
+  for (int d = 0; d < 8; ++d)
+    if (m == 0 || xy[ext[d]] != xy[chain[m - 1]]) chain[m++] = ext[d];
+  while (m > 1 && xy[chain[m - 1]] == xy[chain[0]]) --m;
+  const auto in_f = [&](Point2 p) {
+    if (m < 3) return false;
+    for (int d = 0; d < m; ++d)
+      if (orient2d(xy[chain[d]], xy[chain[(d + 1) % m]], p) <= 0) return false;
+    return true;
+  };
+  // Most points are far inside: a box checked to lie in F (convex, so its corners suffice)
+  // settles them with four comparisons.
+  double min_x = xy[0].x, max_x = xy[0].x, min_y = xy[0].y, max_y = xy[0].y;
+  for (const Point2& p : xy) {
+    min_x = std::min(min_x, p.x);
+    max_x = std::max(max_x, p.x);
+    min_y = std::min(min_y, p.y);
+    max_y = std::max(max_y, p.y);
+  }
+  double box[4] = {0, -1, 0, -1};  // lo_x, hi_x, lo_y, hi_y; empty
+  for (double margin : {1.0 / 1024, 1.0 / 16, 1.0 / 4}) {
+    const double lx = min_x + (max_x - min_x) * margin, hx = max_x - (max_x - min_x) * margin;
+    const double ly = min_y + (max_y - min_y) * margin, hy = max_y - (max_y - min_y) * margin;
+    if (in_f({lx, ly}) && in_f({hx, ly}) && in_f({hx, hy}) && in_f({lx, hy})) {
+      box[0] = lx, box[1] = hx, box[2] = ly, box[3] = hy;
+      break;
+    }
+  }
+  std::vector<std::uint32_t> rest;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const Point2 p = xy[i];
+    if (p.x > box[0] && p.x < box[1] && p.y > box[2] && p.y < box[3]) continue;
+    if (!in_f(p)) rest.push_back(i);
+  }
+
+  // Andrew's monotone chain on the rest, dropping collinear points.
+  std::sort(rest.begin(), rest.end(),
+            [&](std::uint32_t a, std::uint32_t b) { return xy_less(xy[a], xy[b]); });
+  rest.erase(std::unique(rest.begin(), rest.end(),
+                         [&](std::uint32_t a, std::uint32_t b) { return xy[a] == xy[b]; }),
+             rest.end());
+  if (rest.size() < 3) return rest;
+  std::vector<std::uint32_t> hull;
+  hull.reserve(2 * rest.size());
+  const auto add = [&](std::uint32_t i, std::size_t floor) {
+    while (hull.size() >= floor + 2 &&
+           orient2d(xy[hull[hull.size() - 2]], xy[hull.back()], xy[i]) <= 0)
+      hull.pop_back();
+    hull.push_back(i);
+  };
+  for (std::uint32_t i : rest) add(i, 0);  // lower chain, left to right
+  const std::size_t lower = hull.size() - 1;
+  for (auto it = rest.rbegin() + 1; it != rest.rend(); ++it) add(*it, lower);  // upper
+  hull.pop_back();  // the first point again
+  return hull;
+}
+
+std::vector<Point3> merge_duplicates(std::vector<Point3>&& points, delaunay::DuplicatePolicy policy,
+                                     std::uint64_t* merged) {
+  std::vector<Point3> input = std::move(points);
+  std::vector<std::uint32_t> order(input.size());
+  std::iota(order.begin(), order.end(), 0u);
+  // Stable: equal points stay in input order, so `first` keeps the earliest.
+  std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+    return xy_less({input[a].x, input[a].y}, {input[b].x, input[b].y});
+  });
+  std::vector<Point3> out;
+  out.reserve(input.size());
+  std::uint32_t run = 0;
+  std::uint64_t folded = 0;
+  for (std::uint32_t i : order) {
+    const Point3& p = input[i];
+    if (!out.empty() && out.back().x == p.x && out.back().y == p.y) {
+      delaunay::merge_duplicate_z(out.back().z, p.z, ++run, policy);
+      ++folded;
+    } else {
+      out.push_back(p);
+      run = 1;
+    }
+  }
+  if (merged) *merged = folded;
+  return out;
+}
+
+}  // namespace tincdt::simplify

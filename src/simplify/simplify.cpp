@@ -1,0 +1,637 @@
+#include "simplify/simplify.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <thread>
+
+#include "core/error.hpp"
+#include "core/memory.hpp"
+#include "mesh/point_insertion.hpp"
+#include "predicates/predicates.hpp"
+
+namespace tincdt::simplify {
+namespace {
+
+using mesh::kInfinite;
+using mesh::next_edge;
+using mesh::prev_edge;
+using mesh::triangle_of;
+using mesh::Triangulation;
+using predicates::orient2d;
+
+// ids_[i] before the ranges are made: point i is a vertex (kept). Never a triangle slot.
+constexpr std::uint32_t kKept = kNoId - 1;
+
+unsigned thread_count(unsigned requested) {
+  return requested ? requested : std::max(1u, std::thread::hardware_concurrency());
+}
+
+bool xy_less(Point2 a, Point2 b) {
+  return a.x < b.x || (a.x == b.x && a.y < b.y);
+}
+
+// The gradient of the plane through three points, relative to the first, so that large
+// coordinates (UTM) do not cancel: z = za + gx (x - a.x) + gy (y - a.y). Doubles are enough for
+// an error value; which triangle a point is in is decided exactly elsewhere.
+struct Gradient {
+  double gx, gy;
+  Gradient(Point2 a, double za, Point2 b, double zb, Point2 c, double zc) {
+    const double bx = b.x - a.x, by = b.y - a.y, cx = c.x - a.x, cy = c.y - a.y;
+    const double dzb = zb - za, dzc = zc - za;
+    const double det = bx * cy - by * cx;
+    gx = (dzb * cy - dzc * by) / det;
+    gy = (dzc * bx - dzb * cx) / det;
+  }
+};
+
+// Whether point p with error e is worse than the worst so far, w with error we (w = kNoId:
+// none yet). Equal errors go by x, then y, so that input order never decides.
+bool worse(double e, std::uint32_t p, double we, std::uint32_t w, const Point2* xy) {
+  if (e != we) return e > we;
+  return w == kNoId || xy_less(xy[p], xy[w]);
+}
+
+// What a set of points (a triangle's, or one thread's share of it) holds.
+struct Tally {
+  double worst_error = -1.0;
+  double sum_sq = 0;
+  std::uint32_t worst = kNoId;
+  std::uint32_t count = 0;
+
+  void add(double e, std::uint32_t p, const Point2* xy) {
+    sum_sq += e * e;
+    ++count;
+    if (worse(e, p, worst_error, worst, xy)) {
+      worst_error = e;
+      worst = p;
+    }
+  }
+};
+
+// A triangle's worst point in the queue: stale once the triangle's worst is another.
+struct Entry {
+  double error;
+  std::uint32_t point;
+  TriangleId tri;
+};
+
+// Largest error first; equal errors by the points' x, then y.
+struct HeapOrder {
+  const Point2* xy;
+  bool operator()(const Entry& a, const Entry& b) const {  // a pops after b
+    if (a.error != b.error) return a.error < b.error;
+    return xy_less(xy[b.point], xy[a.point]);
+  }
+};
+
+// A new triangle (apex, ring[i], ring[i + 1]) around an inserted vertex.
+struct Cone {
+  TriangleId tri;
+  Gradient plane;  // relative to the apex
+};
+
+// The new triangles around an inserted vertex, as plain arrays for the hot loop.
+struct Fan {
+  Point2 apex;
+  double apex_z;
+  const Point2* ring;   // m + 1 points; ring[m] == ring[0] when cyclic
+  const Point2* spoke;  // ring[i] - apex, rounded
+  const Cone* cones;    // m
+  int m;
+  bool cyclic;  // the apex is inside the hull (else the cones stop at the hull)
+
+  // orient2d(apex, ring[i], q), given d = q - apex (rounded): the differences are shared by
+  // every spoke a point meets. The filter's bound covers their rounding (three rounded factors
+  // per term and the subtraction: 4u, doubled); an uncertain sign goes to the exact predicate.
+  int side(int i, Point2 d, Point2 q) const {
+    const double left = spoke[i].x * d.y, right = spoke[i].y * d.x;
+    const double det = left - right;
+    const double bound = 0x1p-50 * (std::fabs(left) + std::fabs(right)) + 0x1p-1000;
+    if (std::fabs(det) > bound) [[likely]]
+      return (det > 0) - (det < 0);
+    return orient2d(apex, ring[i], q);
+  }
+
+  // The cone holding q (known to lie in the fan), scanning from `hint`. A point on the spoke
+  // between two cones goes to the one with the smaller slot, whatever the scan order.
+  int classify(Point2 q, Point2 d, int hint) const {
+    int i = hint;
+    int left = side(i, d, q);
+    for (int step = 0; step < m; ++step) {
+      const int right = side(i + 1, d, q);
+      if (left >= 0 && right <= 0) {
+        int j = -1;
+        if (left == 0) j = i > 0 ? i - 1 : (cyclic ? m - 1 : -1);
+        if (right == 0) j = i + 1 < m ? i + 1 : (cyclic ? 0 : -1);
+        return j >= 0 && cones[j].tri < cones[i].tri ? j : i;
+      }
+      if (++i == m) {
+        i = 0;
+        left = cyclic ? right : side(0, d, q);
+      } else {
+        left = right;
+      }
+    }
+    throw Error("internal error: simplify: a point of a replaced triangle is in none of the new");
+  }
+};
+
+// Runs f(chunk, chunks) for chunk = 0 .. chunks - 1, one thread each.
+template <class F>
+void run_chunks(std::size_t chunks, F&& f) {
+  std::vector<std::thread> pool;
+  try {
+    for (std::size_t c = 1; c < chunks; ++c) pool.emplace_back([&f, c, chunks] { f(c, chunks); });
+    f(0, chunks);
+  } catch (...) {
+    for (std::thread& th : pool) th.join();
+    throw;
+  }
+  for (std::thread& th : pool) th.join();
+}
+
+class Simplifier {
+ public:
+  Simplifier(std::span<const Point2> xy, std::span<const double> z, const SimplifyOptions& options,
+             const ProgressFn* progress)
+      : xy_(xy),
+        z_(z),
+        options_(options),
+        progress_(progress),
+        threads_(thread_count(options.threads)) {
+    if (xy.size() != z.size()) throw Error("simplify: x, y and z counts differ");
+    if (xy.size() >= kKept) throw GeometryError("simplify: too many points for 32-bit ids");
+    if (!(options.max_error >= 0))
+      throw Error("simplify: the maximum error must be a number >= 0, not " +
+                  std::to_string(options.max_error));
+    const std::size_t arena = 2 * xy.size() + 1024;
+    ids_.reserve(arena);
+    advise_huge_pages(ids_);
+    ids_.assign(arena, kNoId);
+  }
+
+  // The constrained Delaunay triangulation of the kept points and the segments' ends.
+  void start(std::span<const std::uint32_t> kept, std::span<const constraints::Segment> segments) {
+    const auto n = static_cast<std::uint32_t>(xy_.size());
+    for (std::uint32_t i : kept) {
+      if (i >= n) throw Error("simplify: a kept point index is out of range");
+      ids_[i] = kKept;
+    }
+    for (const constraints::Segment& s : segments) {
+      if (s.a >= n || s.b >= n) throw Error("simplify: a segment names a point out of range");
+      ids_[s.a] = ids_[s.b] = kKept;
+    }
+    std::vector<Point3> points;
+    std::vector<std::uint32_t> point_of;  // of each entry of `points`
+    for (std::uint32_t i = 0; i < n; ++i) {
+      if (ids_[i] != kKept) continue;
+      points.push_back({xy_[i].x, xy_[i].y, z_[i]});
+      point_of.push_back(i);
+    }
+    report_.points = n;
+    report_.kept_vertices = points.size();
+    delaunay::DelaunayOptions d;
+    d.keep_point_map = true;
+    delaunay::DelaunayResult r = delaunay::triangulate(std::move(points), d);
+    if (r.duplicates_merged > 0)
+      throw GeometryError("simplify: two kept points share x, y (merge duplicates first)");
+    tin_ = std::move(r.tin);
+    point_of_vertex_.assign(tin_.vertex_count(), kNoId);
+    for (std::size_t k = 0; k < point_of.size(); ++k)
+      point_of_vertex_[r.vertex_of_point[k]] = point_of[k];
+    if (!segments.empty()) {
+      std::vector<constraints::Segment> s;
+      s.reserve(segments.size());
+      for (const constraints::Segment& g : segments) s.push_back({g.a, g.b, g.source});
+      for (std::size_t k = 0; k < point_of.size(); ++k) ids_[point_of[k]] = r.vertex_of_point[k];
+      for (constraints::Segment& g : s) g = {ids_[g.a], ids_[g.b], g.source};
+      for (std::uint32_t i : point_of) ids_[i] = kKept;
+      // In an order of their geometry, so that the caller's order does not decide.
+      const auto key = [&](const constraints::Segment& g) {
+        const Point2 a = tin_.point(g.a), b = tin_.point(g.b);
+        return xy_less(a, b) ? std::pair{a, b} : std::pair{b, a};
+      };
+      std::sort(s.begin(), s.end(),
+                [&](const constraints::Segment& a, const constraints::Segment& b) {
+                  const auto ka = key(a), kb = key(b);
+                  if (ka.first != kb.first) return xy_less(ka.first, kb.first);
+                  return xy_less(ka.second, kb.second);
+                });
+      constraints::insert_constraints(tin_, s);
+      point_of_vertex_.resize(tin_.vertex_count(), kNoId);  // crossings
+    }
+    if (!tin_.has_vertex_index()) tin_.build_vertex_index();
+  }
+
+  // Every other point into the range of the triangle holding it, its error measured: on all
+  // threads, each walking from the triangle of its previous point. ids_[i] holds the triangle
+  // of point i until a counting sort makes the ranges, in [n, n + candidates).
+  void assign_points() {
+    const std::size_t n = xy_.size();
+    const std::size_t slots = tin_.triangle_slots();
+    grow();
+    TriangleId first_real = 0;
+    while (tin_.is_ghost(first_real)) ++first_real;
+
+    const std::size_t chunks = std::clamp<std::size_t>(n / kParallelPoints, 1, threads_);
+    std::vector<std::vector<Tally>> tallies(chunks);
+    run_chunks(chunks, [&](std::size_t c, std::size_t n_chunks) {
+      std::vector<Tally>& tally = tallies[c];
+      tally.assign(slots, Tally{});
+      std::uint64_t random = 0x9e3779b97f4a7c15ULL ^ c;
+      TriangleId t = first_real;
+      for (std::size_t i = n * c / n_chunks, end = n * (c + 1) / n_chunks; i < end; ++i) {
+        if (ids_[i] == kKept) continue;
+        const Point2 p = xy_[i];
+        t = locate(p, t, random);
+        ids_[i] = t;
+        const VertexId a = tin_.origin(3 * t), b = tin_.origin(3 * t + 1),
+                       d = tin_.origin(3 * t + 2);
+        const Point2 pa = tin_.point(a);
+        const Gradient g(pa, tin_.z(a), tin_.point(b), tin_.z(b), tin_.point(d), tin_.z(d));
+        const double e = std::fabs(z_[i] - (tin_.z(a) + g.gx * (p.x - pa.x) + g.gy * (p.y - pa.y)));
+        tally[t].add(e, static_cast<std::uint32_t>(i), xy_.data());
+      }
+    });
+    for (const std::vector<Tally>& tally : tallies)
+      for (std::size_t t = 0; t < slots; ++t) absorb(tally[t], static_cast<TriangleId>(t));
+
+    std::size_t at = n;  // ranges in slot order
+    for (std::size_t t = 0; t < slots; ++t) {
+      begin_[t] = at;
+      at += count_[t];
+    }
+    arena_end_ = at;
+    std::vector<std::size_t> cursor(begin_.begin(),
+                                    begin_.begin() + static_cast<std::ptrdiff_t>(slots));
+    for (std::size_t i = 0; i < n; ++i)
+      if (ids_[i] != kKept) ids_[cursor[ids_[i]]++] = static_cast<std::uint32_t>(i);
+    candidates_ = n - report_.kept_vertices;
+    for (std::size_t t = 0; t < slots; ++t) {
+      if (count_[t] == 0) continue;
+      if (worst_error_[t] <= options_.max_error) settled_ += count_[t];
+      heap_.push_back({worst_error_[t], worst_[t], static_cast<TriangleId>(t)});
+    }
+    std::make_heap(heap_.begin(), heap_.end(), HeapOrder{xy_.data()});
+  }
+
+  // The greedy loop: the worst point in, the points of the triangles it replaced measured
+  // again, until all are within the tolerance or the vertex budget is spent.
+  void run() {
+    Progress report(progress_, "simplify", candidates_ ? candidates_ : 1);
+    mesh::PointInserter inserter(tin_);
+    const HeapOrder order{xy_.data()};
+    while (!heap_.empty()) {
+      const Entry top = heap_.front();
+      std::pop_heap(heap_.begin(), heap_.end(), order);
+      heap_.pop_back();
+      if (worst_[top.tri] != top.point || worst_error_[top.tri] != top.error) continue;  // stale
+      if (top.error <= options_.max_error) break;
+      if (options_.max_vertices && tin_.vertex_count() >= options_.max_vertices) {
+        report_.stopped_at_max_vertices = true;
+        break;
+      }
+      insert(inserter, top.point, top.tri);
+      ++report_.inserted;
+      report.tick(settled_);
+      if (heap_.size() > 2 * tin_.triangle_slots() + 4096) rebuild_heap();
+    }
+    report.finish();
+  }
+
+  SimplifyResult finish() {
+    double max_error = 0, sum_sq = 0;
+    for (std::size_t t = 0; t < count_.size(); ++t) {
+      if (count_[t] == 0) continue;
+      max_error = std::max(max_error, worst_error_[t]);
+      sum_sq += sum_sq_[t];
+    }
+    report_.max_error = max_error;
+    report_.rmse = report_.points ? std::sqrt(sum_sq / static_cast<double>(report_.points)) : 0;
+    tin_.recount();
+    report_.vertices = tin_.vertex_count();
+    SimplifyResult result;
+    result.tin = std::move(tin_);
+    result.point_of_vertex = std::move(point_of_vertex_);
+    result.report = report_;
+    return result;
+  }
+
+ private:
+  struct Range {
+    std::size_t begin, count;
+  };
+  static constexpr std::size_t kParallelPoints = 1 << 16;  // fewer are not worth a thread
+
+  Point2 pt(VertexId v) const { return tin_.point(v); }
+
+  void grow() {
+    const std::size_t slots = tin_.triangle_slots();
+    if (begin_.size() >= slots) return;
+    begin_.resize(slots, 0);
+    count_.resize(slots, 0);
+    worst_.resize(slots, kNoId);
+    worst_error_.resize(slots, -1.0);
+    sum_sq_.resize(slots, 0.0);
+  }
+
+  // Adds a tally to triangle u.
+  void absorb(const Tally& t, TriangleId u) {
+    if (t.count == 0) return;
+    sum_sq_[u] += t.sum_sq;
+    count_[u] += t.count;
+    if (worse(t.worst_error, t.worst, worst_error_[u], worst_[u], xy_.data())) {
+      worst_error_[u] = t.worst_error;
+      worst_[u] = t.worst;
+    }
+  }
+
+  // The real triangle holding p (inside or on its boundary), walking from real triangle t with
+  // a random first edge at each step, which terminates on any triangulation. When p is on an
+  // edge, of its two triangles the one with the smaller slot: the walk's route must not decide.
+  TriangleId locate(Point2 p, TriangleId t, std::uint64_t& random) const {
+    EdgeId from = kNoId;
+    for (;;) {
+      random ^= random << 13;
+      random ^= random >> 7;
+      random ^= random << 17;
+      const auto first = static_cast<EdgeId>(random % 3);
+      EdgeId crossed = kNoId, zero = kNoId;
+      int zeros = 0;
+      for (EdgeId i = 0; i < 3; ++i) {
+        const EdgeId e = 3 * t + (first + i) % 3;
+        const int o = e == from ? 1 : orient2d(pt(tin_.origin(e)), pt(tin_.dest(e)), p);
+        if (o < 0) {
+          crossed = e;
+          break;
+        }
+        if (o == 0) {
+          zero = e;
+          ++zeros;
+        }
+      }
+      if (crossed == kNoId) {
+        if (zeros == 0) return t;
+        if (zeros > 1)
+          throw GeometryError(
+              "simplify: a point shares x, y with a kept point or a crossing of "
+              "two segments (merge duplicates first)");
+        const TriangleId u = triangle_of(tin_.twin(zero));
+        return u < t && !tin_.is_ghost(u) ? u : t;
+      }
+      from = tin_.twin(crossed);
+      t = triangle_of(from);
+      if (tin_.apex(from) == kInfinite)
+        throw Error("internal error: simplify: a point lies outside the hull of the kept points");
+    }
+  }
+
+  // Inserts point p, which lies in triangle t, and measures again the points of the triangles
+  // the insertion replaced: they are exactly the triangles now around the new vertex (Lawson
+  // flips only replace triangles by triangles that have it as a corner).
+  void insert(mesh::PointInserter& inserter, std::uint32_t p, TriangleId t) {
+    const Point2 at = xy_[p];
+    const mesh::Location where = inserter.locate(at, t);
+    if (where.kind == mesh::Location::on_vertex)
+      throw GeometryError("simplify: a point shares x, y with a vertex (merge duplicates first)");
+    const VertexId v = tin_.add_vertex(at, z_[p]);
+    point_of_vertex_.push_back(p);
+    inserter.insert(v, where);
+    grow();
+
+    // The star of v, counter-clockwise. Its real triangles form one cyclic run (v inside the
+    // hull) or, v on the hull, one run from the vertex after the edge v -> inf.
+    star_.clear();
+    const EdgeId e0 = tin_.edge_from(v);
+    EdgeId e = e0;
+    do {
+      star_.push_back(e);
+      e = tin_.twin(prev_edge(e));
+    } while (e != e0);
+    const std::size_t k = star_.size();
+    std::size_t ghost = k;
+    for (std::size_t i = 0; i < k; ++i)
+      if (tin_.dest(star_[i]) == kInfinite) ghost = i;
+    const bool cyclic = ghost == k;
+    const std::size_t first = cyclic ? 0 : ghost + 1;
+    ring_.clear();
+    spokes_.clear();
+    cones_.clear();
+    for (std::size_t i = 0; i < (cyclic ? k : k - 1); ++i)
+      ring_.push_back(pt(tin_.dest(star_[(first + i) % k])));
+    if (cyclic) ring_.push_back(ring_.front());
+    for (const Point2& r : ring_) spokes_.push_back({r.x - at.x, r.y - at.y});
+    for (std::size_t i = 0; i < (cyclic ? k : k - 2); ++i) {
+      const EdgeId s = star_[(first + i) % k];
+      const VertexId a = tin_.dest(s), b = tin_.apex(s);
+      cones_.push_back({triangle_of(s), Gradient(at, z_[p], pt(a), tin_.z(a), pt(b), tin_.z(b))});
+    }
+
+    // The replaced triangles' ranges (the star's slots that held points); their slots reset.
+    std::size_t total = 0;
+    for (const EdgeId s : star_) total += count_[triangle_of(s)];
+    if (arena_end_ + total > ids_.size()) compact();
+    old_.clear();
+    for (const EdgeId s : star_) {
+      const TriangleId u = triangle_of(s);
+      if (count_[u] == 0) continue;
+      old_.push_back({begin_[u], count_[u]});
+      if (worst_error_[u] <= options_.max_error) settled_ -= count_[u];
+      count_[u] = 0;
+      worst_[u] = kNoId;
+      worst_error_[u] = -1.0;
+      sum_sq_[u] = 0;
+    }
+    const Fan fan{
+        at,    z_[p], ring_.data(), spokes_.data(), cones_.data(), static_cast<int>(cones_.size()),
+        cyclic};
+    if (cones_.size() < 255)
+      redistribute(fan, p, total, cone8_, std::uint8_t{255});
+    else
+      redistribute(fan, p, total, cone32_, kNoId);
+
+    for (const Cone& cone : cones_) {
+      const TriangleId u = cone.tri;
+      if (count_[u] == 0) continue;
+      if (worst_error_[u] <= options_.max_error) settled_ += count_[u];
+      heap_.push_back({worst_error_[u], worst_[u], u});
+      std::push_heap(heap_.begin(), heap_.end(), HeapOrder{xy_.data()});
+    }
+  }
+
+  // The points of the old ranges (all but p) into new ranges, one per cone, at the arena's
+  // end: first each point's cone and error (split among threads when there are many), then
+  // the moves. Each new range keeps its points in their old order.
+  template <class C>
+  void redistribute(const Fan& fan, std::uint32_t p, std::size_t total, std::vector<C>& cone_of,
+                    C skip) {
+    const auto m = static_cast<std::size_t>(fan.m);
+    if (cone_of.size() < total) cone_of.resize(total);
+    const std::size_t chunks = std::clamp<std::size_t>(total / kParallelPoints, 1, threads_);
+    tallies_.assign(chunks * m, Tally{});
+    // Calls f(ids, count, j) on the slices of the old ranges that hold points [lo, hi) of their
+    // concatenation, j being the first one's place in it.
+    const auto for_slices = [&](std::size_t lo, std::size_t hi, auto&& f) {
+      std::size_t j = 0;
+      for (const Range& r : old_) {
+        const std::size_t from = std::max(lo, j), to = std::min(hi, j + r.count);
+        if (from < to) f(ids_.data() + r.begin + (from - j), to - from, from);
+        j += r.count;
+      }
+    };
+    run_chunks(chunks, [&](std::size_t c, std::size_t n_chunks) {
+      Tally* tally = tallies_.data() + c * m;
+      int hint = 0;
+      for_slices(total * c / n_chunks, total * (c + 1) / n_chunks,
+                 [&](const std::uint32_t* ids, std::size_t count, std::size_t j) {
+                   hint = scan(fan, ids, count, p, cone_of.data() + j, skip, tally, hint);
+                 });
+    });
+    // New ranges cone by cone, each chunk's share in chunk order; a tally's count becomes
+    // its chunk's write position.
+    std::size_t at = arena_end_;
+    for (std::size_t i = 0; i < m; ++i) {
+      begin_[fan.cones[i].tri] = at;
+      for (std::size_t c = 0; c < chunks; ++c) {
+        Tally& t = tallies_[c * m + i];
+        absorb(t, fan.cones[i].tri);
+        const std::size_t count = t.count;
+        t.count = static_cast<std::uint32_t>(at - arena_end_);
+        at += count;
+      }
+    }
+    std::uint32_t* out = ids_.data() + arena_end_;
+    arena_end_ = at;
+    run_chunks(chunks, [&](std::size_t c, std::size_t n_chunks) {
+      Tally* cursor = tallies_.data() + c * m;
+      for_slices(total * c / n_chunks, total * (c + 1) / n_chunks,
+                 [&](const std::uint32_t* ids, std::size_t count, std::size_t j) {
+                   const C* cone = cone_of.data() + j;
+                   for (std::size_t i = 0; i < count; ++i)
+                     if (cone[i] != skip) out[cursor[cone[i]].count++] = ids[i];
+                 });
+    });
+  }
+
+  // Classifies and measures `count` points: their cones into `cone` (p, the new vertex,
+  // gets `skip`), their errors into the cones' tallies. Returns the last cone, the next hint.
+  template <class C>
+  int scan(const Fan& fan, const std::uint32_t* ids, std::size_t count, std::uint32_t p, C* cone,
+           C skip, Tally* tally, int hint) const {
+    const Point2* xy = xy_.data();
+    const double* z = z_.data();
+    for (std::size_t i = 0; i < count; ++i) {
+      const std::uint32_t q = ids[i];
+      if (q == p) {
+        cone[i] = skip;
+        continue;
+      }
+      const Point2 xq = xy[q];
+      const Point2 d{xq.x - fan.apex.x, xq.y - fan.apex.y};
+      hint = fan.classify(xq, d, hint);
+      cone[i] = static_cast<C>(hint);
+      const Gradient& g = fan.cones[hint].plane;
+      tally[hint].add(std::fabs(z[q] - (fan.apex_z + g.gx * d.x + g.gy * d.y)), q, xy);
+    }
+    return hint;
+  }
+
+  // Moves the live ranges to the front of the arena, in the order they lie.
+  void compact() {
+    std::vector<TriangleId> live;
+    for (std::size_t t = 0; t < count_.size(); ++t)
+      if (count_[t] > 0) live.push_back(static_cast<TriangleId>(t));
+    std::sort(live.begin(), live.end(),
+              [&](TriangleId a, TriangleId b) { return begin_[a] < begin_[b]; });
+    std::size_t at = 0;
+    for (TriangleId t : live) {
+      std::copy_n(ids_.begin() + static_cast<std::ptrdiff_t>(begin_[t]), count_[t],
+                  ids_.begin() + static_cast<std::ptrdiff_t>(at));
+      begin_[t] = at;
+      at += count_[t];
+    }
+    arena_end_ = at;
+  }
+
+  void rebuild_heap() {
+    heap_.clear();
+    for (std::size_t t = 0; t < count_.size(); ++t)
+      if (count_[t] > 0) heap_.push_back({worst_error_[t], worst_[t], static_cast<TriangleId>(t)});
+    std::make_heap(heap_.begin(), heap_.end(), HeapOrder{xy_.data()});
+  }
+
+  std::span<const Point2> xy_;
+  std::span<const double> z_;
+  SimplifyOptions options_;
+  const ProgressFn* progress_;
+  std::size_t threads_;
+  Triangulation tin_;
+  std::vector<std::uint32_t> point_of_vertex_;
+  SimplifyReport report_;
+
+  // The points of each triangle are one range of ids_, an arena: new ranges are appended, old
+  // ones abandoned, and compact() closes the gaps when the end is reached.
+  std::vector<std::uint32_t> ids_;
+  std::size_t arena_end_ = 0;
+  // Per triangle slot: its range and what it holds.
+  std::vector<std::size_t> begin_;
+  std::vector<std::uint32_t> count_;
+  std::vector<std::uint32_t> worst_;  // the point with the largest error, or kNoId
+  std::vector<double> worst_error_;
+  std::vector<double> sum_sq_;  // of the errors of its points
+  std::vector<Entry> heap_;     // lazy: an entry is stale once its triangle's worst changed
+  std::uint64_t candidates_ = 0, settled_ = 0;  // points, and those in triangles within max_error
+
+  // Scratch of insert().
+  std::vector<EdgeId> star_;
+  std::vector<Point2> ring_, spokes_;
+  std::vector<Cone> cones_;
+  std::vector<Range> old_;
+  std::vector<std::uint8_t> cone8_;
+  std::vector<std::uint32_t> cone32_;
+  std::vector<Tally> tallies_;
+};
+
+}  // namespace
+
+SimplifyResult simplify(std::span<const Point2> xy, std::span<const double> z,
+                        std::span<const std::uint32_t> kept,
+                        std::span<const constraints::Segment> segments,
+                        const SimplifyOptions& options, const ProgressFn* progress) {
+  Simplifier s(xy, z, options, progress);
+  std::vector<std::uint32_t> all = hull_corners(xy);
+  all.insert(all.end(), kept.begin(), kept.end());
+  s.start(all, segments);
+  s.assign_points();
+  s.run();
+  return s.finish();
+}
+
+SimplifyResult simplify_tin(const mesh::Triangulation& full, const SimplifyOptions& options,
+                            const ProgressFn* progress) {
+  Simplifier s(full.points(), full.heights(), options, progress);
+  std::vector<std::uint32_t> kept;
+  std::vector<constraints::Segment> segments;
+  full.for_each_constrained_edge([&](EdgeId e) {
+    segments.push_back({full.origin(e), full.dest(e), 0});
+  });
+  // Strict hull corners: ghost (u, v, inf) lies outside hull edge v -> u, and the ghost across
+  // its edge v -> inf lies outside the hull edge w -> v before it.
+  for (std::size_t t = 0; t < full.triangle_slots(); ++t) {
+    const auto tri = full.triangle(static_cast<TriangleId>(t));
+    int k = 0;
+    while (k < 3 && tri[k] != kInfinite) ++k;
+    if (k == 3) continue;
+    const VertexId u = tri[(k + 1) % 3], v = tri[(k + 2) % 3];
+    const EdgeId inf_v = full.twin(3 * static_cast<EdgeId>(t) + static_cast<EdgeId>((k + 2) % 3));
+    const VertexId w = full.dest(next_edge(inf_v));
+    if (orient2d(full.point(w), full.point(v), full.point(u)) != 0) kept.push_back(v);
+  }
+  s.start(kept, segments);
+  s.assign_points();
+  s.run();
+  return s.finish();
+}
+
+}  // namespace tincdt::simplify
