@@ -1,0 +1,66 @@
+// tincdt's simplification on a height grid, in the terms of ../shared/bench/node/delatin_run.mjs:
+// cell (i, j) of a WIDTH x HEIGHT Float32 grid (row-major, as gdal_translate -of ENVI writes it)
+// is the point x = i (column), y = j (row), z = its height. Times simplify() alone (not the
+// file reading) and prints
+//   RESULT tool=tincdt width=W height=H max_error=E vertices=V triangles=T run_s=S
+//          achieved_max_error=M rmse=R
+// Usage: simplify_bench GRID.f32 WIDTH HEIGHT MAX_ERROR [THREADS]
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <vector>
+
+#include "core/memory.hpp"
+#include "simplify/simplify.hpp"
+
+int main(int argc, char** argv) {
+  if (argc < 5 || argc > 6) {
+    std::fprintf(stderr, "usage: %s GRID.f32 WIDTH HEIGHT MAX_ERROR [THREADS]\n", argv[0]);
+    return 2;
+  }
+  const std::size_t width = std::strtoull(argv[2], nullptr, 10);
+  const std::size_t height = std::strtoull(argv[3], nullptr, 10);
+  const double max_error = std::strtod(argv[4], nullptr);
+  const unsigned threads = argc == 6 ? static_cast<unsigned>(std::atoi(argv[5])) : 0;
+  const std::size_t n = width * height;
+
+  std::ifstream in(argv[1], std::ios::binary | std::ios::ate);
+  if (!in || static_cast<std::size_t>(in.tellg()) != n * sizeof(float)) {
+    std::fprintf(stderr, "%s: not a %zu x %zu Float32 grid\n", argv[1], width, height);
+    return 1;
+  }
+  std::vector<float> grid(n);
+  in.seekg(0);
+  in.read(reinterpret_cast<char*>(grid.data()), static_cast<std::streamsize>(n * sizeof(float)));
+
+  // As the pipeline's vertex arrays: huge pages where the kernel allows them on request.
+  std::vector<tincdt::Point2> xy;
+  std::vector<double> z;
+  xy.reserve(n);
+  z.reserve(n);
+  tincdt::advise_huge_pages(xy);
+  tincdt::advise_huge_pages(z);
+  xy.resize(n);
+  z.resize(n);
+  for (std::size_t j = 0; j < height; ++j)
+    for (std::size_t i = 0; i < width; ++i) {
+      xy[j * width + i] = {static_cast<double>(i), static_cast<double>(j)};
+      z[j * width + i] = grid[j * width + i];
+    }
+  std::vector<float>().swap(grid);
+
+  tincdt::simplify::SimplifyOptions options;
+  options.max_error = max_error;
+  options.threads = threads;
+  const auto t0 = std::chrono::steady_clock::now();
+  const tincdt::simplify::SimplifyResult r = tincdt::simplify::simplify(xy, z, {}, {}, options);
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::printf(
+      "RESULT tool=tincdt width=%zu height=%zu max_error=%g vertices=%llu triangles=%zu "
+      "run_s=%.4f achieved_max_error=%.6f rmse=%.6f\n",
+      width, height, max_error, static_cast<unsigned long long>(r.report.vertices),
+      r.tin.triangle_count(), s, r.report.max_error, r.report.rmse);
+  return 0;
+}
