@@ -270,8 +270,10 @@ class Simplifier {
     candidates_ = n - report_.kept_vertices;
     for (std::size_t t = 0; t < slots; ++t) {
       if (count_[t] == 0) continue;
-      if (worst_error_[t] <= options_.max_error) settled_ += count_[t];
-      heap_.push_back({worst_error_[t], worst_[t], static_cast<TriangleId>(t)});
+      if (worst_error_[t] <= options_.max_error)
+        settled_ += count_[t];
+      else
+        heap_.push_back({worst_error_[t], worst_[t], static_cast<TriangleId>(t)});
     }
     std::make_heap(heap_.begin(), heap_.end(), HeapOrder{xy_.data()});
   }
@@ -287,7 +289,6 @@ class Simplifier {
       std::pop_heap(heap_.begin(), heap_.end(), order);
       heap_.pop_back();
       if (worst_[top.tri] != top.point || worst_error_[top.tri] != top.error) continue;  // stale
-      if (top.error <= options_.max_error) break;
       if (options_.max_vertices && tin_.vertex_count() >= options_.max_vertices) {
         report_.stopped_at_max_vertices = true;
         break;
@@ -454,7 +455,10 @@ class Simplifier {
     for (const Cone& cone : cones_) {
       const TriangleId u = cone.tri;
       if (count_[u] == 0) continue;
-      if (worst_error_[u] <= options_.max_error) settled_ += count_[u];
+      if (worst_error_[u] <= options_.max_error) {
+        settled_ += count_[u];
+        continue;
+      }
       heap_.push_back({worst_error_[u], worst_[u], u});
       std::push_heap(heap_.begin(), heap_.end(), HeapOrder{xy_.data()});
     }
@@ -557,7 +561,8 @@ class Simplifier {
   void rebuild_heap() {
     heap_.clear();
     for (std::size_t t = 0; t < count_.size(); ++t)
-      if (count_[t] > 0) heap_.push_back({worst_error_[t], worst_[t], static_cast<TriangleId>(t)});
+      if (count_[t] > 0 && worst_error_[t] > options_.max_error)
+        heap_.push_back({worst_error_[t], worst_[t], static_cast<TriangleId>(t)});
     std::make_heap(heap_.begin(), heap_.end(), HeapOrder{xy_.data()});
   }
 
@@ -580,7 +585,9 @@ class Simplifier {
   std::vector<std::uint32_t> worst_;  // the point with the largest error, or kNoId
   std::vector<double> worst_error_;
   std::vector<double> sum_sq_;  // of the errors of its points
-  std::vector<Entry> heap_;     // lazy: an entry is stale once its triangle's worst changed
+  // Triangles with a point beyond the tolerance, worst first. Lazy: an entry is stale once its
+  // triangle's worst changed.
+  std::vector<Entry> heap_;
   std::uint64_t candidates_ = 0, settled_ = 0;  // points, and those in triangles within max_error
 
   // Scratch of insert().
