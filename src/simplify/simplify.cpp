@@ -1,7 +1,10 @@
 #include "simplify/simplify.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <exception>
+#include <mutex>
 #include <string>
 #include <thread>
 
@@ -137,19 +140,102 @@ struct Fan {
   }
 };
 
-// Runs f(chunk, chunks) for chunk = 0 .. chunks - 1, one thread each.
-template <class F>
-void run_chunks(std::size_t chunks, F&& f) {
-  std::vector<std::thread> pool;
-  try {
-    for (std::size_t c = 1; c < chunks; ++c) pool.emplace_back([&f, c, chunks] { f(c, chunks); });
-    f(0, chunks);
-  } catch (...) {
-    for (std::thread& th : pool) th.join();
-    throw;
-  }
-  for (std::thread& th : pool) th.join();
+// Threads kept for the whole run, so that splitting a few thousand points between cores costs
+// microseconds, not a thread start: run(f, chunks) calls f(c, chunks) for every chunk c, chunk
+// 0 on the calling thread. Workers spin briefly for the next job, then sleep on a futex.
+inline void cpu_relax() {
+#if defined(__x86_64__) || defined(__i386__)
+  __builtin_ia32_pause();
+#endif
 }
+
+class Pool {
+ public:
+  explicit Pool(std::size_t threads) {
+    for (std::size_t i = 1; i < threads; ++i) workers_.emplace_back([this, i] { work(i); });
+  }
+  ~Pool() {
+    stop_ = true;
+    generation_.fetch_add(1, std::memory_order_release);
+    generation_.notify_all();
+    for (std::thread& t : workers_) t.join();
+  }
+  Pool(const Pool&) = delete;
+  Pool& operator=(const Pool&) = delete;
+
+  std::size_t threads() const { return workers_.size() + 1; }
+
+  template <class F>
+  void run(F& f, std::size_t chunks) {
+    if (chunks <= 1) {
+      f(std::size_t{0}, std::size_t{1});
+      return;
+    }
+    job_ = [](void* fn, std::size_t c, std::size_t n) { (*static_cast<F*>(fn))(c, n); };
+    fn_ = &f;
+    chunks_ = chunks;
+    pending_.store(static_cast<int>(workers_.size()), std::memory_order_relaxed);
+    generation_.fetch_add(1, std::memory_order_release);
+    generation_.notify_all();
+    std::exception_ptr error;
+    try {
+      f(std::size_t{0}, chunks);
+    } catch (...) {
+      error = std::current_exception();
+    }
+    for (int spin = 0;; ++spin) {
+      const int left = pending_.load(std::memory_order_acquire);
+      if (left == 0) break;
+      if (spin > kSpins)
+        pending_.wait(left, std::memory_order_acquire);
+      else
+        cpu_relax();
+    }
+    if (!error) error = worker_error_;
+    worker_error_ = nullptr;
+    if (error) std::rethrow_exception(error);
+  }
+
+ private:
+  static constexpr int kSpins = 4000;  // with a pause each, some tens of microseconds
+
+  void work(std::size_t index) {
+    std::uint64_t seen = 0;
+    for (;;) {
+      for (int spin = 0;; ++spin) {
+        const std::uint64_t g = generation_.load(std::memory_order_acquire);
+        if (g != seen) {
+          seen = g;
+          break;
+        }
+        if (spin > kSpins)
+          generation_.wait(g, std::memory_order_acquire);
+        else
+          cpu_relax();
+      }
+      if (stop_) return;
+      if (index < chunks_) {
+        try {
+          job_(fn_, index, chunks_);
+        } catch (...) {
+          const std::lock_guard<std::mutex> lock(error_mutex_);
+          worker_error_ = std::current_exception();
+        }
+      }
+      if (pending_.fetch_sub(1, std::memory_order_acq_rel) == 1) pending_.notify_one();
+    }
+  }
+
+  std::vector<std::thread> workers_;
+  std::atomic<std::uint64_t> generation_{0};
+  std::atomic<int> pending_{0};
+  std::atomic<bool> stop_{false};
+  void (*job_)(void*, std::size_t, std::size_t) = nullptr;
+  void* fn_ = nullptr;
+  std::size_t chunks_ = 0;
+  std::mutex error_mutex_;
+  std::exception_ptr worker_error_;
+};
 
 class Simplifier {
  public:
@@ -159,7 +245,7 @@ class Simplifier {
         z_(z),
         options_(options),
         progress_(progress),
-        threads_(thread_count(options.threads)) {
+        pool_(thread_count(options.threads)) {
     if (xy.size() != z.size()) throw Error("simplify: x, y and z counts differ");
     if (xy.size() >= kKept) throw GeometryError("simplify: too many points for 32-bit ids");
     if (!(options.max_error >= 0))
@@ -234,9 +320,9 @@ class Simplifier {
     TriangleId first_real = 0;
     while (tin_.is_ghost(first_real)) ++first_real;
 
-    const std::size_t chunks = std::clamp<std::size_t>(n / kParallelPoints, 1, threads_);
+    const std::size_t chunks = std::clamp<std::size_t>(n / kParallelPoints, 1, pool_.threads());
     std::vector<std::vector<Tally>> tallies(chunks);
-    run_chunks(chunks, [&](std::size_t c, std::size_t n_chunks) {
+    auto locate_chunk = [&](std::size_t c, std::size_t n_chunks) {
       std::vector<Tally>& tally = tallies[c];
       tally.assign(slots, Tally{});
       std::uint64_t random = 0x9e3779b97f4a7c15ULL ^ c;
@@ -253,7 +339,8 @@ class Simplifier {
         const double e = std::fabs(z_[i] - (tin_.z(a) + g.gx * (p.x - pa.x) + g.gy * (p.y - pa.y)));
         tally[t].add(e, static_cast<std::uint32_t>(i), xy_.data());
       }
-    });
+    };
+    pool_.run(locate_chunk, chunks);
     for (const std::vector<Tally>& tally : tallies)
       for (std::size_t t = 0; t < slots; ++t) absorb(tally[t], static_cast<TriangleId>(t));
 
@@ -323,7 +410,7 @@ class Simplifier {
   struct Range {
     std::size_t begin, count;
   };
-  static constexpr std::size_t kParallelPoints = 1 << 16;  // fewer are not worth a thread
+  static constexpr std::size_t kParallelPoints = 1 << 13;  // fewer are not worth a handoff
 
   Point2 pt(VertexId v) const { return tin_.point(v); }
 
@@ -472,7 +559,7 @@ class Simplifier {
                     C skip) {
     const auto m = static_cast<std::size_t>(fan.m);
     if (cone_of.size() < total) cone_of.resize(total);
-    const std::size_t chunks = std::clamp<std::size_t>(total / kParallelPoints, 1, threads_);
+    const std::size_t chunks = std::clamp<std::size_t>(total / kParallelPoints, 1, pool_.threads());
     tallies_.assign(chunks * m, Tally{});
     // Calls f(ids, count, j) on the slices of the old ranges that hold points [lo, hi) of their
     // concatenation, j being the first one's place in it.
@@ -484,14 +571,15 @@ class Simplifier {
         j += r.count;
       }
     };
-    run_chunks(chunks, [&](std::size_t c, std::size_t n_chunks) {
+    auto scan_chunk = [&](std::size_t c, std::size_t n_chunks) {
       Tally* tally = tallies_.data() + c * m;
       int hint = 0;
       for_slices(total * c / n_chunks, total * (c + 1) / n_chunks,
                  [&](const std::uint32_t* ids, std::size_t count, std::size_t j) {
                    hint = scan(fan, ids, count, p, cone_of.data() + j, skip, tally, hint);
                  });
-    });
+    };
+    pool_.run(scan_chunk, chunks);
     // New ranges cone by cone, each chunk's share in chunk order; a tally's count becomes
     // its chunk's write position.
     std::size_t at = arena_end_;
@@ -507,7 +595,7 @@ class Simplifier {
     }
     std::uint32_t* out = ids_.data() + arena_end_;
     arena_end_ = at;
-    run_chunks(chunks, [&](std::size_t c, std::size_t n_chunks) {
+    auto move_chunk = [&](std::size_t c, std::size_t n_chunks) {
       Tally* cursor = tallies_.data() + c * m;
       for_slices(total * c / n_chunks, total * (c + 1) / n_chunks,
                  [&](const std::uint32_t* ids, std::size_t count, std::size_t j) {
@@ -515,7 +603,8 @@ class Simplifier {
                    for (std::size_t i = 0; i < count; ++i)
                      if (cone[i] != skip) out[cursor[cone[i]].count++] = ids[i];
                  });
-    });
+    };
+    pool_.run(move_chunk, chunks);
   }
 
   // Classifies and measures `count` points: their cones into `cone` (p, the new vertex,
@@ -570,10 +659,10 @@ class Simplifier {
   std::span<const double> z_;
   SimplifyOptions options_;
   const ProgressFn* progress_;
-  std::size_t threads_;
   Triangulation tin_;
   std::vector<std::uint32_t> point_of_vertex_;
   SimplifyReport report_;
+  Pool pool_;
 
   // The points of each triangle are one range of ids_, an arena: new ranges are appended, old
   // ones abandoned, and compact() closes the gaps when the end is reached.
