@@ -140,19 +140,22 @@ struct Fan {
   }
 };
 
-// Threads kept for the whole run, so that splitting a few thousand points between cores costs
-// microseconds, not a thread start: run(f, chunks) calls f(c, chunks) for every chunk c, chunk
-// 0 on the calling thread. Workers spin briefly for the next job, then sleep on a futex.
 inline void cpu_relax() {
 #if defined(__x86_64__) || defined(__i386__)
   __builtin_ia32_pause();
 #endif
 }
 
+// Threads kept for the whole run, so that splitting a few thousand points between cores costs
+// microseconds, not a thread start. run(f, chunks) calls f(c, chunks) once for every chunk c;
+// the calling thread and the workers claim chunks in turn, so a worker that is late (asleep,
+// or descheduled on a busy machine) only means the caller does more of them. What a chunk
+// computes must not depend on which thread runs it. Idle workers spin briefly for the next
+// job, then sleep on a futex.
 class Pool {
  public:
   explicit Pool(std::size_t threads) {
-    for (std::size_t i = 1; i < threads; ++i) workers_.emplace_back([this, i] { work(i); });
+    for (std::size_t i = 1; i < threads; ++i) workers_.emplace_back([this] { work(); });
   }
   ~Pool() {
     stop_ = true;
@@ -167,39 +170,50 @@ class Pool {
 
   template <class F>
   void run(F& f, std::size_t chunks) {
-    if (chunks <= 1) {
-      f(std::size_t{0}, std::size_t{1});
+    if (chunks <= 1 || workers_.empty()) {
+      for (std::size_t c = 0; c < chunks; ++c) f(c, chunks);
       return;
     }
     job_ = [](void* fn, std::size_t c, std::size_t n) { (*static_cast<F*>(fn))(c, n); };
     fn_ = &f;
     chunks_ = chunks;
-    pending_.store(static_cast<int>(workers_.size()), std::memory_order_relaxed);
+    next_.store(0, std::memory_order_relaxed);
+    done_.store(0, std::memory_order_relaxed);
     generation_.fetch_add(1, std::memory_order_release);
     generation_.notify_all();
-    std::exception_ptr error;
-    try {
-      f(std::size_t{0}, chunks);
-    } catch (...) {
-      error = std::current_exception();
-    }
+    claim_all();
     for (int spin = 0;; ++spin) {
-      const int left = pending_.load(std::memory_order_acquire);
-      if (left == 0) break;
+      const std::size_t done = done_.load(std::memory_order_acquire);
+      if (done == chunks) break;
       if (spin > kSpins)
-        pending_.wait(left, std::memory_order_acquire);
+        done_.wait(done, std::memory_order_acquire);
       else
         cpu_relax();
     }
-    if (!error) error = worker_error_;
-    worker_error_ = nullptr;
+    std::exception_ptr error = std::move(error_);
+    error_ = nullptr;
     if (error) std::rethrow_exception(error);
   }
 
  private:
-  static constexpr int kSpins = 4000;  // with a pause each, some tens of microseconds
+  static constexpr int kSpins = 4000;  // with a pause each: some tens of microseconds
 
-  void work(std::size_t index) {
+  // Runs chunks until none is left to claim.
+  void claim_all() {
+    for (;;) {
+      const std::size_t c = next_.fetch_add(1, std::memory_order_relaxed);
+      if (c >= chunks_) return;
+      try {
+        job_(fn_, c, chunks_);
+      } catch (...) {
+        const std::lock_guard<std::mutex> lock(error_mutex_);
+        if (!error_) error_ = std::current_exception();
+      }
+      if (done_.fetch_add(1, std::memory_order_acq_rel) + 1 == chunks_) done_.notify_all();
+    }
+  }
+
+  void work() {
     std::uint64_t seen = 0;
     for (;;) {
       for (int spin = 0;; ++spin) {
@@ -214,27 +228,19 @@ class Pool {
           cpu_relax();
       }
       if (stop_) return;
-      if (index < chunks_) {
-        try {
-          job_(fn_, index, chunks_);
-        } catch (...) {
-          const std::lock_guard<std::mutex> lock(error_mutex_);
-          worker_error_ = std::current_exception();
-        }
-      }
-      if (pending_.fetch_sub(1, std::memory_order_acq_rel) == 1) pending_.notify_one();
+      claim_all();
     }
   }
 
   std::vector<std::thread> workers_;
   std::atomic<std::uint64_t> generation_{0};
-  std::atomic<int> pending_{0};
+  std::atomic<std::size_t> next_{0}, done_{0};
   std::atomic<bool> stop_{false};
   void (*job_)(void*, std::size_t, std::size_t) = nullptr;
   void* fn_ = nullptr;
   std::size_t chunks_ = 0;
   std::mutex error_mutex_;
-  std::exception_ptr worker_error_;
+  std::exception_ptr error_;
 };
 
 class Simplifier {
@@ -320,31 +326,22 @@ class Simplifier {
     TriangleId first_real = 0;
     while (tin_.is_ghost(first_real)) ++first_real;
 
-    const std::size_t chunks = std::clamp<std::size_t>(n / kParallelPoints, 1, pool_.threads());
-    std::vector<std::vector<Tally>> tallies(chunks);
-    auto locate_chunk = [&](std::size_t c, std::size_t n_chunks) {
-      std::vector<Tally>& tally = tallies[c];
-      tally.assign(slots, Tally{});
+    // Where each point is, in chunks of consecutive points.
+    auto locate_chunk = [&](std::size_t c, std::size_t chunks) {
       std::uint64_t random = 0x9e3779b97f4a7c15ULL ^ c;
       TriangleId t = first_real;
-      for (std::size_t i = n * c / n_chunks, end = n * (c + 1) / n_chunks; i < end; ++i) {
+      for (std::size_t i = n * c / chunks, end = n * (c + 1) / chunks; i < end; ++i) {
         if (ids_[i] == kKept) continue;
-        const Point2 p = xy_[i];
-        t = locate(p, t, random);
+        t = locate(xy_[i], t, random);
         ids_[i] = t;
-        const VertexId a = tin_.origin(3 * t), b = tin_.origin(3 * t + 1),
-                       d = tin_.origin(3 * t + 2);
-        const Point2 pa = tin_.point(a);
-        const Gradient g(pa, tin_.z(a), tin_.point(b), tin_.z(b), tin_.point(d), tin_.z(d));
-        const double e = std::fabs(z_[i] - (tin_.z(a) + g.gx * (p.x - pa.x) + g.gy * (p.y - pa.y)));
-        tally[t].add(e, static_cast<std::uint32_t>(i), xy_.data());
       }
     };
-    pool_.run(locate_chunk, chunks);
-    for (const std::vector<Tally>& tally : tallies)
-      for (std::size_t t = 0; t < slots; ++t) absorb(tally[t], static_cast<TriangleId>(t));
+    pool_.run(locate_chunk, std::clamp<std::size_t>(n / kChunkPoints, 1, kMaxChunks));
 
-    std::size_t at = n;  // ranges in slot order
+    // The ranges, in slot order, each in point order.
+    for (std::size_t i = 0; i < n; ++i)
+      if (ids_[i] != kKept) ++count_[ids_[i]];
+    std::size_t at = n;
     for (std::size_t t = 0; t < slots; ++t) {
       begin_[t] = at;
       at += count_[t];
@@ -354,6 +351,39 @@ class Simplifier {
                                     begin_.begin() + static_cast<std::ptrdiff_t>(slots));
     for (std::size_t i = 0; i < n; ++i)
       if (ids_[i] != kKept) ids_[cursor[ids_[i]]++] = static_cast<std::uint32_t>(i);
+    release(cursor);
+
+    // Each triangle's errors, triangle by triangle (so the sums do not depend on the chunks).
+    std::vector<std::size_t> first_slot{0};  // chunks of slots holding similar point counts
+    const std::size_t chunks = std::clamp<std::size_t>(n / kChunkPoints, 1, kMaxChunks);
+    for (std::size_t t = 0, seen = 0; t < slots; ++t) {
+      seen += count_[t];
+      if (seen * chunks >= first_slot.size() * n && first_slot.size() < chunks)
+        first_slot.push_back(t + 1);
+    }
+    first_slot.push_back(slots);
+    auto measure_chunk = [&](std::size_t c, std::size_t) {
+      for (std::size_t t = first_slot[c]; t < first_slot[c + 1]; ++t) {
+        if (count_[t] == 0) continue;
+        const EdgeId e = 3 * static_cast<EdgeId>(t);
+        const VertexId a = tin_.origin(e), b = tin_.origin(e + 1), d = tin_.origin(e + 2);
+        const Point2 pa = pt(a);
+        const double za = tin_.z(a);
+        const Gradient g(pa, za, pt(b), tin_.z(b), pt(d), tin_.z(d));
+        Tally tally;
+        for (std::size_t k = begin_[t]; k < begin_[t] + count_[t]; ++k) {
+          const std::uint32_t q = ids_[k];
+          const Point2 p = xy_[q];
+          tally.add(std::fabs(z_[q] - (za + g.gx * (p.x - pa.x) + g.gy * (p.y - pa.y))), q,
+                    xy_.data());
+        }
+        worst_[t] = tally.worst;
+        worst_error_[t] = tally.worst_error;
+        sum_sq_[t] = tally.sum_sq;
+      }
+    };
+    pool_.run(measure_chunk, first_slot.size() - 1);
+
     candidates_ = n - report_.kept_vertices;
     for (std::size_t t = 0; t < slots; ++t) {
       if (count_[t] == 0) continue;
@@ -410,7 +440,11 @@ class Simplifier {
   struct Range {
     std::size_t begin, count;
   };
-  static constexpr std::size_t kParallelPoints = 1 << 13;  // fewer are not worth a handoff
+  // Work is split in chunks of at least this many points (fewer are not worth a handoff
+  // between threads), at most kMaxChunks of them, whatever the thread count: what a chunk
+  // computes never depends on the thread that runs it, so neither does the result.
+  static constexpr std::size_t kChunkPoints = 1 << 13;
+  static constexpr std::size_t kMaxChunks = 16;
 
   Point2 pt(VertexId v) const { return tin_.point(v); }
 
@@ -559,7 +593,7 @@ class Simplifier {
                     C skip) {
     const auto m = static_cast<std::size_t>(fan.m);
     if (cone_of.size() < total) cone_of.resize(total);
-    const std::size_t chunks = std::clamp<std::size_t>(total / kParallelPoints, 1, pool_.threads());
+    const std::size_t chunks = std::clamp<std::size_t>(total / kChunkPoints, 1, kMaxChunks);
     tallies_.assign(chunks * m, Tally{});
     // Calls f(ids, count, j) on the slices of the old ranges that hold points [lo, hi) of their
     // concatenation, j being the first one's place in it.
