@@ -99,6 +99,8 @@ constexpr const char* kFooter = R"(Examples:
     tincdt tile.las --erase lakes.shp --soft-lines roads.shp -o tin.ply
   Fix the flat triangles of a contour-only TIN, with a QA report:
     tincdt --contours contours.shp --fix-flats -o tin.ply --stats qa.json
+  A 10 cm TIN for a web viewer, every contour kept:
+    tincdt tile.las --keep-class 2 --contours contours.shp --max-error 0.1 -o web.ply
   On one core of a shared machine:
     tincdt big.las -o big.ply --threads 1
 
@@ -106,6 +108,8 @@ Order of the stages (and precedence where features overlap):
   1. points, contours and hard lines: triangulated, the lines made TIN edges
   2. soft lines, clip / erase / replace rings: 2D vertices draped on that TIN,
      then made TIN edges (a draped line crossing a hard one takes its z there)
+     --max-error, --max-vertices: then only the points needed to stay within
+     the tolerance are kept (every line vertex and segment stays)
   3. --fix-flats
   4. --replace: vertices on or inside get the polygon's z (later polygons win)
   5. --max-edge: trims inward from the convex hull
@@ -239,6 +243,31 @@ void triangulation_options(CLI::App& app, BuildOptions& o) {
            "delaunay");
 }
 
+void simplify_options(CLI::App& app, BuildOptions& o) {
+  Group g(app, "Simplification (after the surface features)");
+  g.parsed(
+      "--max-error",
+      [&o](const std::string& v) {
+        const auto d = parse_double(v);
+        if (!d || !(*d >= 0))
+          throw CLI::ValidationError("--max-error", "'" + v + "' is not a number >= 0");
+        o.max_error = *d;
+      },
+      "Keep only the points needed for every point to lie within Z\n"
+      "(vertically) of the TIN; contours and breaklines stay whole",
+      "Z");
+  g.parsed(
+      "--max-vertices",
+      [&o](const std::string& v) {
+        std::size_t n = 0;
+        const auto [end, ec] = std::from_chars(v.data(), v.data() + v.size(), n);
+        if (v.empty() || ec != std::errc() || end != v.data() + v.size() || n < 3)
+          throw CLI::ValidationError("--max-vertices", "'" + v + "' is not a count >= 3");
+        o.max_vertices = n;
+      },
+      "Stop simplifying at N vertices (alone: with --max-error 0)", "N");
+}
+
 void terrain_options(CLI::App& app, BuildOptions& o) {
   Group quality(app, "Quality (after the lines are in, in this order)");
   quality.flag("--fix-flats", o.fix_flats,
@@ -340,6 +369,7 @@ void define_options(CLI::App& app, BuildOptions& options, Verbosity& verbosity) 
   input_options(app, options);
   line_options(app, options);
   triangulation_options(app, options);
+  simplify_options(app, options);
   terrain_options(app, options);
   output_options(app, options);
   run_options(app, options, verbosity);

@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cstdint>
 #include <cstdio>
 #include <string>
@@ -65,6 +66,21 @@ void log_summary(const pipeline::BuildOptions& options, const pipeline::BuildRep
   if (r.draped_vertices > 0)
     spdlog::info("draped: {} vertices ({} of soft lines)", count(r.draped_vertices),
                  count(r.soft_line_vertices));
+  if (r.simplify.ran) {
+    // The z unit: feet when the CRS says so, metres for any other CRS, none when unknown.
+    std::string wkt = r.crs_wkt;
+    std::transform(wkt.begin(), wkt.end(), wkt.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    const char* unit = wkt.empty() ? "" : wkt.find("foot") != std::string::npos ? " ft" : " m";
+    char text[160];
+    std::snprintf(text, sizeof text, "%.1f%% of %s points, max error %.3f%s, RMSE %.3f%s",
+                  100.0 * static_cast<double>(r.simplify.vertices) /
+                      static_cast<double>(std::max<std::uint64_t>(r.simplify.points, 1)),
+                  count(r.simplify.points).c_str(), r.simplify.max_error, unit, r.simplify.rmse,
+                  unit);
+    spdlog::info("simplify: kept {}{}", text,
+                 r.simplify.stopped_at_max_vertices ? " (stopped at --max-vertices)" : "");
+  }
   if (r.flats.fixed)
     spdlog::info("flat triangles: {} before, {} after ({} swaps, {} new vertices)",
                  count(r.flats.before), count(r.flats.after), count(r.flats.swaps),
@@ -79,6 +95,7 @@ void log_summary(const pipeline::BuildOptions& options, const pipeline::BuildRep
       "time: read " + secs(r.timings_s.read) + ", delaunay " + secs(r.timings_s.delaunay);
   if (r.timings_s.constraints > 0) t += ", constraints " + secs(r.timings_s.constraints);
   if (r.timings_s.surface > 0) t += ", surface features " + secs(r.timings_s.surface);
+  for (const auto& [key, seconds] : r.timings_s.more) t += ", " + key + " " + secs(seconds);
   if (r.timings_s.terrain > 0.0005) t += ", terrain " + secs(r.timings_s.terrain);
   if (r.timings_s.validate > 0) t += ", validate " + secs(r.timings_s.validate);
   t += ", write " + secs(r.timings_s.write) + ", total " + secs(r.timings_s.total);

@@ -68,6 +68,8 @@ struct Job {
   // stage that makes a new TIN, such as simplification, replaces it).
   delaunay::DelaunayResult mesh;
   mesh::Triangulation& tin() { return mesh.tin; }
+  // simplify: where mesh.duplicates[i] was merged (its vertex may have been dropped since).
+  std::vector<Point3> duplicate_at;
   // constraints, surface: every constrained piece with its source, every crossing joined, and
   // (for validate) every segment given.
   std::vector<constraints::Piece> pieces;

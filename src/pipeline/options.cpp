@@ -42,6 +42,14 @@ void check_inputs(const BuildOptions& o) {
     throw UsageError("--z-field and --z-from-m exclude each other");
 }
 
+void check_simplify(const BuildOptions& o) {
+  if (o.max_error && !(*o.max_error >= 0 && std::isfinite(*o.max_error)))
+    throw UsageError("--max-error: " + std::to_string(*o.max_error) + " is not a number >= 0");
+  if (o.max_vertices > 0 && o.max_vertices < 3)
+    throw UsageError("--max-vertices: " + std::to_string(o.max_vertices) +
+                     " vertices make no TIN (give 3 or more)");
+}
+
 void check_terrain(const BuildOptions& o) {
   if (o.fix_flats && o.contours.empty())
     throw UsageError("--fix-flats needs --contours: flat triangles are those of one contour level");
@@ -82,6 +90,7 @@ io::TinFormat check_outputs(const BuildOptions& o) {
 
 CheckedOptions check_options(const BuildOptions& options) {
   check_inputs(options);
+  check_simplify(options);
   check_terrain(options);
   CheckedOptions checked;
   checked.format = check_outputs(options);

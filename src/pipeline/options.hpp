@@ -53,6 +53,14 @@ struct BuildOptions {
   // ---- constraints --------------------------------------------------------------------------
   constraints::ConstraintOptions constraint;  // --restore, --on-crossing
 
+  // ---- simplify, after the surface features ------------------------------------------------
+  // --max-error Z (>= 0): the smallest TIN greedy insertion finds within Z (z units, vertically)
+  // of every vertex of the full one; every constrained edge stays, and the result is
+  // constrained Delaunay whatever --restore says. --max-vertices N: stop at N vertices (0 = no
+  // limit); alone, it simplifies with a tolerance of 0.
+  std::optional<double> max_error;
+  std::size_t max_vertices = 0;
+
   // ---- terrain, applied in this order: fix flats -> replace -> trim -> clip -> erase ------
   // Flats are fixed on the whole TIN before any z is replaced (a replace polygon makes flat
   // triangles on purpose) and before any triangle is removed (fix_flat_triangles needs the

@@ -310,6 +310,16 @@ std::string BuildReport::to_json() const {
       {"replaced_vertices", replaced_vertices}, {"trimmed_triangles", trimmed_triangles},
       {"clipped_triangles", clipped_triangles}, {"erased_triangles", erased_triangles}};
   for (const auto& [key, n] : surface) j.field(key, n);
+  if (simplify.ran)
+    j.begin_object("simplify")
+        .field("points", simplify.points)
+        .field("vertices", simplify.vertices)
+        .field("max_error", simplify.max_error)
+        .field("rmse", simplify.rmse)
+        .field("stopped_at_max_vertices", simplify.stopped_at_max_vertices)
+        .end_object();
+  else
+    j.null_field("simplify");
   put_flats(j, flats);
   if (quality_measured)
     j.json_field("quality", quality.to_json());

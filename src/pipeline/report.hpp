@@ -58,6 +58,14 @@ struct BuildReport {
   std::uint64_t soft_line_vertices = 0;  // soft-line vertices inserted (draped)
   std::uint64_t draped_vertices = 0;     // all draped vertices (soft lines, 2D rings)
   std::uint64_t reused_vertices = 0;     // surface-feature vertices on an existing vertex
+  struct Simplify {
+    bool ran = false;
+    std::uint64_t points = 0;    // vertices of the full TIN: the merged points and line vertices
+    std::uint64_t vertices = 0;  // of the simplified TIN
+    double max_error = 0;        // achieved, over all of `points`
+    double rmse = 0;
+    bool stopped_at_max_vertices = false;
+  } simplify;
   Flats flats;
   std::uint64_t replaced_vertices = 0;
   std::uint64_t trimmed_triangles = 0;

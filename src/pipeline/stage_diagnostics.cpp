@@ -29,9 +29,14 @@ bool wanted(const BuildOptions& o) {
 void run(Job& job) {
   const mesh::Triangulation& tin = job.tin();
   io::Diagnostics d;
-  for (const delaunay::DelaunayResult::Duplicate& dup : job.mesh.duplicates) {
-    const Point2 at = tin.point(dup.vertex);
-    d.duplicates.push_back({{at.x, at.y, tin.z(dup.vertex)}, dup.points, dup.z_min, dup.z_max});
+  for (std::size_t i = 0; i < job.mesh.duplicates.size(); ++i) {
+    const delaunay::DelaunayResult::Duplicate& dup = job.mesh.duplicates[i];
+    // After simplify the vertex may be gone: where it was is kept in duplicate_at.
+    const Point3 at =
+        i < job.duplicate_at.size()
+            ? job.duplicate_at[i]
+            : Point3{tin.point(dup.vertex).x, tin.point(dup.vertex).y, tin.z(dup.vertex)};
+    d.duplicates.push_back({at, dup.points, dup.z_min, dup.z_max});
   }
   d.crossings.reserve(job.crossings.size());
   for (const constraints::Crossing& x : job.crossings)

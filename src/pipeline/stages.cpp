@@ -10,6 +10,7 @@ extern const Stage read_stage;         // points, lines and surface features; th
 extern const Stage delaunay_stage;     // every point and line vertex: the Delaunay TIN
 extern const Stage constraints_stage;  // contours and hard lines become TIN edges
 extern const Stage surface_stage;      // soft lines, clip / erase / replace rings draped, inserted
+extern const Stage simplify_stage;     // --max-error, --max-vertices: greedy insertion
 extern const Stage flats_stage;        // --fix-flats (and the flat count for --stats)
 extern const Stage replace_stage;      // --replace: vertices inside get the polygon's z
 extern const Stage trim_stage;         // --max-edge: long boundary triangles removed
@@ -25,21 +26,14 @@ extern const Stage stats_stage;             // --stats, last: it reports on all 
 namespace {
 
 const Stage* const kStages[] = {
-    &read_stage,
-    &delaunay_stage,
-    &constraints_stage,
-    &surface_stage,
-    &flats_stage,
-    &replace_stage,
-    &trim_stage,
-    &clip_stage,
-    &erase_stage,
-    &validate_stage,
-    &quality_stage,
-    &write_stage,
-    &constraint_lines_stage,
-    &diagnostics_stage,
-    &stats_stage,
+    &read_stage,        &delaunay_stage,
+    &constraints_stage, &surface_stage,
+    &simplify_stage,    &flats_stage,
+    &replace_stage,     &trim_stage,
+    &clip_stage,        &erase_stage,
+    &validate_stage,    &quality_stage,
+    &write_stage,       &constraint_lines_stage,
+    &diagnostics_stage, &stats_stage,
 };
 
 }  // namespace

@@ -1,0 +1,61 @@
+// simplify: --max-error / --max-vertices: the full constrained TIN becomes the smallest one the
+// greedy insertion finds within the tolerance of every one of its vertices, keeping every
+// constrained edge (simplify/simplify.hpp). The later stages (flats, replace, trim, clip, erase)
+// work on the simplified TIN; the vertex ids the earlier stages left in the Job are remapped.
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/memory.hpp"
+#include "pipeline/stage.hpp"
+#include "simplify/simplify.hpp"
+
+namespace tincdt::pipeline {
+namespace {
+
+bool wanted(const BuildOptions& o) {
+  return o.max_error || o.max_vertices > 0;
+}
+
+void run(Job& job) {
+  const mesh::Triangulation& full = job.tin();
+  simplify::SimplifyOptions options;
+  options.max_error = job.options.max_error.value_or(0);
+  options.max_vertices = job.options.max_vertices;
+  options.threads = job.options.threads;
+  simplify::SimplifyResult r = simplify::simplify_tin(full, options, job.stage_progress());
+
+  // Every vertex the earlier stages name is on a constrained edge, hence kept.
+  std::vector<VertexId> vertex_of(full.vertex_count(), kNoId);
+  for (VertexId v = 0; v < r.tin.vertex_count(); ++v) vertex_of[r.point_of_vertex[v]] = v;
+  for (constraints::Piece& p : job.pieces) p = {vertex_of[p.a], vertex_of[p.b], p.source};
+  for (constraints::Segment& s : job.given_segments) s = {vertex_of[s.a], vertex_of[s.b], s.source};
+  for (constraints::Crossing& x : job.crossings) x.vertex = vertex_of[x.vertex];
+  // Merged duplicates may lose their vertex: the diagnostics keep where they were.
+  job.duplicate_at.clear();
+  for (delaunay::DelaunayResult::Duplicate& d : job.mesh.duplicates) {
+    const Point2 at = full.point(d.vertex);
+    job.duplicate_at.push_back({at.x, at.y, full.z(d.vertex)});
+    d.vertex = vertex_of[d.vertex];
+  }
+  release(job.mesh.vertex_of_point);
+  job.mesh.tin = std::move(r.tin);
+
+  BuildReport::Simplify& s = job.report.simplify;
+  s.ran = true;
+  s.points = r.report.points;
+  s.vertices = r.report.vertices;
+  s.max_error = r.report.max_error;
+  s.rmse = r.report.rmse;
+  s.stopped_at_max_vertices = r.report.stopped_at_max_vertices;
+  job.debug("simplify: " + std::to_string(r.report.kept_vertices) +
+            " vertices kept for the features and the hull, " + std::to_string(r.report.inserted) +
+            " points inserted" +
+            (r.report.stopped_at_max_vertices ? " (stopped at --max-vertices)" : ""));
+}
+
+}  // namespace
+
+extern const Stage simplify_stage{"simplify", "simplify", wanted, run};
+
+}  // namespace tincdt::pipeline
