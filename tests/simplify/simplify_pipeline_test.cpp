@@ -31,7 +31,7 @@ class SimplifyStage : public ::testing::Test {
   void SetUp() override {
     if (!fs::exists(kLas) || !fs::exists(kContours))
       GTEST_SKIP() << "shared data not found: " << kLas << ", " << kContours;
-    dir_ = test::fresh_dir(fs::path(TINCDT_TEST_TMP) / "simplify_stage");
+    dir_ = test::scratch_dir("simplify");  // per test: ctest runs them side by side
   }
   pipeline::BuildOptions options(const std::string& out) const {
     pipeline::BuildOptions o;
