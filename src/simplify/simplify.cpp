@@ -100,19 +100,22 @@ struct Fan {
   double apex_z;
   const Point2* ring;   // m + 1 points; ring[m] == ring[0] when cyclic
   const Point2* spoke;  // ring[i] - apex, rounded
+  const double* bound;  // spoke i's filter bound (below)
   const Cone* cones;    // m
   int m;
   bool cyclic;  // the apex is inside the hull (else the cones stop at the hull)
 
-  // orient2d(apex, ring[i], q), given d = q - apex (rounded): the differences are shared by
-  // every spoke a point meets. The filter's bound covers their rounding (three rounded factors
-  // per term and the subtraction: 4u, doubled); an uncertain sign goes to the exact predicate.
+  // orient2d(apex, ring[i], q), given d = q - apex (rounded), by a filter with one bound per
+  // spoke. With S = ring[i] - apex and D = q - apex exact, the computed det differs from
+  // S.x D.y - S.y D.x by at most (1 + u)^4 - 1 < 4.01u times |S.x D.y| + |S.y D.x| (two rounded
+  // differences, a product and the subtraction), which is at most (|S.x| + |S.y|) M, M the
+  // largest |coordinate| of a spoke: every point of the fan lies in the box of its corners.
+  // bound[i] = 2^-50 (|s.x| + |s.y|) M + 2^-1000 covers that, its own rounding and underflow;
+  // an uncertain sign (and overflow: NaN fails both tests) goes to the exact predicate.
   int side(int i, Point2 d, Point2 q) const {
-    const double left = spoke[i].x * d.y, right = spoke[i].y * d.x;
-    const double det = left - right;
-    const double bound = 0x1p-50 * (std::fabs(left) + std::fabs(right)) + 0x1p-1000;
-    if (std::fabs(det) > bound) [[likely]]
-      return (det > 0) - (det < 0);
+    const double det = spoke[i].x * d.y - spoke[i].y * d.x;
+    if (det > bound[i]) return 1;
+    if (det < -bound[i]) return -1;
     return orient2d(apex, ring[i], q);
   }
 
@@ -445,6 +448,7 @@ class Simplifier {
   // computes never depends on the thread that runs it, so neither does the result.
   static constexpr std::size_t kChunkPoints = 1 << 13;
   static constexpr std::size_t kMaxChunks = 16;
+  static constexpr std::size_t kPrefetch = 16;  // points ahead
 
   Point2 pt(VertexId v) const { return tin_.point(v); }
 
@@ -543,7 +547,14 @@ class Simplifier {
     for (std::size_t i = 0; i < (cyclic ? k : k - 1); ++i)
       ring_.push_back(pt(tin_.dest(star_[(first + i) % k])));
     if (cyclic) ring_.push_back(ring_.front());
-    for (const Point2& r : ring_) spokes_.push_back({r.x - at.x, r.y - at.y});
+    double reach = 0;
+    for (const Point2& r : ring_) {
+      spokes_.push_back({r.x - at.x, r.y - at.y});
+      reach = std::max({reach, std::fabs(spokes_.back().x), std::fabs(spokes_.back().y)});
+    }
+    bounds_.clear();
+    for (const Point2& d : spokes_)
+      bounds_.push_back(0x1p-50 * (std::fabs(d.x) + std::fabs(d.y)) * reach + 0x1p-1000);
     for (std::size_t i = 0; i < (cyclic ? k : k - 2); ++i) {
       const EdgeId s = star_[(first + i) % k];
       const VertexId a = tin_.dest(s), b = tin_.apex(s);
@@ -565,9 +576,14 @@ class Simplifier {
       worst_error_[u] = -1.0;
       sum_sq_[u] = 0;
     }
-    const Fan fan{
-        at,    z_[p], ring_.data(), spokes_.data(), cones_.data(), static_cast<int>(cones_.size()),
-        cyclic};
+    const Fan fan{at,
+                  z_[p],
+                  ring_.data(),
+                  spokes_.data(),
+                  bounds_.data(),
+                  cones_.data(),
+                  static_cast<int>(cones_.size()),
+                  cyclic};
     if (cones_.size() < 255)
       redistribute(fan, p, total, cone8_, std::uint8_t{255});
     else
@@ -649,6 +665,10 @@ class Simplifier {
     const Point2* xy = xy_.data();
     const double* z = z_.data();
     for (std::size_t i = 0; i < count; ++i) {
+      if (i + kPrefetch < count) {  // the points are scattered: ask for them ahead
+        __builtin_prefetch(xy + ids[i + kPrefetch]);
+        __builtin_prefetch(z + ids[i + kPrefetch]);
+      }
       const std::uint32_t q = ids[i];
       if (q == p) {
         cone[i] = skip;
@@ -716,6 +736,7 @@ class Simplifier {
   // Scratch of insert().
   std::vector<EdgeId> star_;
   std::vector<Point2> ring_, spokes_;
+  std::vector<double> bounds_;
   std::vector<Cone> cones_;
   std::vector<Range> old_;
   std::vector<std::uint8_t> cone8_;
