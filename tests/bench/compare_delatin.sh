@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # tincdt's simplification next to delatin (../shared/bench/node/delatin_run.mjs) on the same
 # heights and tolerances, run round-robin in one session; prints every run and a table of
-# medians: vertex counts, their ratio, time ratio (delatin / tincdt) and peak RSS.
+# medians: vertex counts, their ratio, time ratio (delatin / tincdt) and peak RSS. The time is
+# each tool's own timing of the simplification (wall clock); the CPU time is the whole process's
+# (user + system, reading the grid included), which a busy machine disturbs less.
 #   tests/bench/compare_delatin.sh [BUILD_DIR] [ROUNDS]
 # Grids: ../shared/bench gen.py's contours/dem.tif (1000 x 1000, made if missing) at 0.1, 0.5
 # and 1 m, and a 4096 x 4096 synthetic terrain this script writes (smooth hills and four octaves
@@ -71,10 +73,11 @@ run() {
       /usr/bin/time -v node "$shared/node/delatin_run.mjs" "$grid" "$w" "$h" "$e" > "$work/out" \
         2> "$work/time"
     fi
-    local line rss
+    local line rss cpu
     line=$(grep '^RESULT' "$work/out")
     rss=$(awk -F: '/Maximum resident set size/ {gsub(/ /, "", $2); print $2}' "$work/time")
-    echo "$tag e=$e $tool $line peak_rss_kb=$rss" | tee -a "$runs"
+    cpu=$(awk -F: '/(User|System) time \(seconds\)/ {s += $2} END {printf "%.3f", s}' "$work/time")
+    echo "$tag e=$e $tool $line peak_rss_kb=$rss process_cpu_s=$cpu" | tee -a "$runs"
   done
 }
 for ((round = 0; round < rounds; ++round)); do
@@ -91,16 +94,17 @@ for line in open(sys.argv[1]):
     f = dict(re.findall(r"(\w+)=([\d.]+)", line))
     r = rows.setdefault((tag, float(e[2:])), {}).setdefault(tool, [])
     r.append((float(f["run_s"]), int(f["vertices"]), float(f["achieved_max_error"]),
-              int(f["peak_rss_kb"])))
+              int(f["peak_rss_kb"]), float(f["process_cpu_s"])))
 print("| grid | max error | delatin vertices | tincdt vertices | ratio | delatin s | tincdt s "
-      "| speed-up | delatin peak MB | tincdt peak MB |")
-print("|---|---|---|---|---|---|---|---|---|---|")
+      "| speed-up | CPU-time ratio | delatin peak MB | tincdt peak MB |")
+print("|---|---|---|---|---|---|---|---|---|---|---|")
 for (tag, e), tools in rows.items():
     d, t = tools["delatin"], tools["tincdt"]
     med = lambda xs, k: statistics.median(x[k] for x in xs)
     # The speed-up is the median of the per-round ratios (each round runs both back to back).
     speed = statistics.median(a[0] / b[0] for a, b in zip(d, t))
+    cpu = statistics.median(a[4] / b[4] for a, b in zip(d, t))
     print(f"| {tag} | {e:g} | {d[0][1]} | {t[0][1]} | {t[0][1] / d[0][1]:.3f} | "
-          f"{med(d, 0):.3f} | {med(t, 0):.3f} | {speed:.2f}x | {med(d, 3) / 1024:.0f} | "
-          f"{med(t, 3) / 1024:.0f} |")
+          f"{med(d, 0):.3f} | {med(t, 0):.3f} | {speed:.2f}x | {cpu:.2f}x | "
+          f"{med(d, 3) / 1024:.0f} | {med(t, 3) / 1024:.0f} |")
 EOF
