@@ -27,31 +27,27 @@ std::vector<std::uint32_t> hull_corners(std::span<const Point2> xy) {
   // strictly left of every edge of a closed chain of input points lies in their hull, and is
   // none of them. Which points are extreme may be decided inexactly (x + y rounds); F only
   // depends on them being input points.
+  // Directions counter-clockwise from the left: -x, -x-y, -y, x-y, x, x+y, y, y-x.
   std::uint32_t ext[8] = {0, 0, 0, 0, 0, 0, 0, 0};
-  const auto key = [&](std::uint32_t i, int d) {
-    const Point2 p = xy[i];
-    switch (d) {
-      case 0:
-        return -p.x;  // left
-      case 1:
-        return -p.x - p.y;  // bottom left
-      case 2:
-        return -p.y;  // bottom
-      case 3:
-        return p.x - p.y;  // bottom right
-      case 4:
-        return p.x;  // right
-      case 5:
-        return p.x + p.y;  // top right
-      case 6:
-        return p.y;  // top
-      default:
-        return p.y - p.x;  // top left
-    }
+  double best[8];
+  const auto keys = [](Point2 p, double(&k)[8]) {
+    k[0] = -p.x, k[1] = -p.x - p.y, k[2] = -p.y, k[3] = p.x - p.y;
+    k[4] = p.x, k[5] = p.x + p.y, k[6] = p.y, k[7] = p.y - p.x;
   };
-  for (std::uint32_t i = 1; i < n; ++i)
-    for (int d = 0; d < 8; ++d)
-      if (key(i, d) > key(ext[d], d)) ext[d] = i;
+  keys(xy[0], best);
+  for (std::uint32_t i = 1; i < n; ++i) {
+    double k[8];
+    keys(xy[i], k);
+    for (int d = 0; d < 8; ++d) {
+      if (k[d] > best[d]) {
+        best[d] = k[d];
+        ext[d] = i;
+      }
+    }
+  }
+  // The box of the points, for the fast test below: from the axis extremes.
+  const double min_x = xy[ext[0]].x, max_x = xy[ext[4]].x;
+  const double min_y = xy[ext[2]].y, max_y = xy[ext[6]].y;
   // Repeated extremes (one point extreme in several directions) would give edges of length 0.
   std::uint32_t chain[8];
   int m = 0;
@@ -66,13 +62,6 @@ std::vector<std::uint32_t> hull_corners(std::span<const Point2> xy) {
   };
   // Most points are far inside: a box checked to lie in F (convex, so its corners suffice)
   // settles them with four comparisons.
-  double min_x = xy[0].x, max_x = xy[0].x, min_y = xy[0].y, max_y = xy[0].y;
-  for (const Point2& p : xy) {
-    min_x = std::min(min_x, p.x);
-    max_x = std::max(max_x, p.x);
-    min_y = std::min(min_y, p.y);
-    max_y = std::max(max_y, p.y);
-  }
   double box[4] = {0, -1, 0, -1};  // lo_x, hi_x, lo_y, hi_y; empty
   for (double margin : {1.0 / 1024, 1.0 / 16, 1.0 / 4}) {
     const double lx = min_x + (max_x - min_x) * margin, hx = max_x - (max_x - min_x) * margin;
