@@ -48,6 +48,10 @@ void run(Job& job) {
   s.max_error = r.report.max_error;
   s.rmse = r.report.rmse;
   s.stopped_at_max_vertices = r.report.stopped_at_max_vertices;
+  if (options.max_vertices > 0 && r.report.kept_vertices > options.max_vertices)
+    job.warn("--max-vertices " + std::to_string(options.max_vertices) + ": the lines, rings and " +
+             "hull corners alone need " + std::to_string(r.report.kept_vertices) +
+             " vertices; the TIN keeps them all");
   job.debug("simplify: " + std::to_string(r.report.kept_vertices) +
             " vertices kept for the features and the hull, " + std::to_string(r.report.inserted) +
             " points inserted" +

@@ -88,6 +88,18 @@ TEST_F(SimplifyStage, MaxVerticesAloneStopsThere) {
   EXPECT_GT(r.simplify.max_error, 0);
 }
 
+TEST_F(SimplifyStage, MaxVerticesBelowTheLinesKeepsTheLinesAndWarns) {
+  pipeline::BuildOptions o = options("lines.obj");
+  o.max_vertices = 100;
+  std::string warnings;
+  const pipeline::BuildReport r =
+      pipeline::build(o, nullptr, [&](int level, const std::string& message) {
+        if (level == pipeline::log_warn) warnings += message + "\n";
+      });
+  EXPECT_GT(r.vertices, r.line_vertices / 2);  // every contour vertex, far above 100
+  EXPECT_NE(warnings.find("--max-vertices 100"), std::string::npos) << warnings;
+}
+
 // The binary: options parsed, the summary line, the stats block.
 TEST_F(SimplifyStage, CommandLine) {
   const fs::path out = dir_ / "cli.ply", stats = dir_ / "cli.json", log = dir_ / "cli.log";
