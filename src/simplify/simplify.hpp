@@ -21,7 +21,7 @@ namespace tincdt::simplify {
 struct SimplifyOptions {
   double max_error = 0;          // vertical tolerance, in z units; >= 0
   std::size_t max_vertices = 0;  // stop when the TIN has this many vertices; 0 = no limit
-  unsigned threads = 0;          // for the initial point location; 0 = all cores
+  unsigned threads = 0;          // 0 = all cores; the result does not depend on it
 };
 
 struct SimplifyReport {
@@ -45,8 +45,10 @@ struct SimplifyResult {
 // merge_duplicates). Points `kept` stay as vertices, and every segment (its ends are point
 // indices) becomes a chain of constrained edges: two crossing segments meet at a new vertex;
 // a point lying on a segment splits it when it is inserted. The corners of the points' convex
-// hull are kept too, so the result covers every point. Throws GeometryError when the points
-// are all collinear or fewer than 3, or when two points share x, y.
+// hull are kept too, so the result covers every point. Ties in error go by x, then y: the
+// result depends neither on the order of the points nor on the thread count. Throws
+// GeometryError when the points are all collinear or fewer than 3, or when a point that must
+// become a vertex shares x, y with another.
 SimplifyResult simplify(std::span<const Point2> xy, std::span<const double> z,
                         std::span<const std::uint32_t> kept,
                         std::span<const constraints::Segment> segments,
