@@ -166,12 +166,20 @@ class FullJob : public ::testing::Test {
 
   // Every stage of the pipeline wanted; every output asked for.
   static std::vector<std::string> args(const std::string& max_edge = "30") {
-    return {"pts.xyz",      "--a-srs",           "EPSG:32633",  "--contours",    "contours.geojson",
-            "--soft-lines", "soft.geojson",      "--clip",      "clip.geojson",  "--erase",
-            "hole.geojson", "--replace",         "pad.geojson", "--fix-flats",   "--max-edge",
-            max_edge,       "--validate",        "-o",          "tin.ply",       "--stats",
-            "s.json",       "--constraints-out", "c.geojson",   "--diagnostics", "d.gpkg",
-            "--overwrite"};
+    return {"pts.xyz",          "--a-srs",
+            "EPSG:32633",       "--contours",
+            "contours.geojson", "--soft-lines",
+            "soft.geojson",     "--clip",
+            "clip.geojson",     "--erase",
+            "hole.geojson",     "--replace",
+            "pad.geojson",      "--fix-flats",
+            "--max-edge",       max_edge,
+            "--validate",       "-o",
+            "tin.ply",          "--stats",
+            "s.json",           "--constraints-out",
+            "c.geojson",        "--diagnostics",
+            "d.gpkg",           "--overwrite",
+            "--max-error",      "0"};
   }
 
   std::string dir_;
