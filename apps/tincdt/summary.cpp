@@ -114,8 +114,8 @@ void log_summary(const pipeline::BuildOptions& options, const pipeline::BuildRep
     w += buf;
   }
   spdlog::info(w + ")");
-  if (!r.constraints_out.empty()) spdlog::info("wrote {}", r.constraints_out);
-  if (!r.diagnostics.empty()) spdlog::info("wrote {}", r.diagnostics);
+  for (const pipeline::BuildReport::Output& o : r.outputs)
+    if (o.kind != "tin" && o.kind != "prj") spdlog::info("wrote {}", o.path);
   if (!options.stats_path.empty()) spdlog::info("wrote {}", options.stats_path);
 }
 

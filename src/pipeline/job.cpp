@@ -41,10 +41,6 @@ Job::Job(const BuildOptions& job_options, const CheckedOptions& checked, const P
     };
 }
 
-io::OutputFile& Job::add_output(const std::string& path, std::string kind) {
-  return outputs.add(path, std::move(kind));
-}
-
 void Job::finish_output(io::OutputFile& out) {
   out.close();
   for (const io::OutputSet::Entry& e : outputs.entries())

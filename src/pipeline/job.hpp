@@ -88,9 +88,19 @@ struct Job {
   // build() moves all of them into place after the last stage, or none.
   io::OutputSet outputs;
   // A new output of the set; throws OutputError as OutputSet::add().
-  io::OutputFile& add_output(const std::string& path, std::string kind);
+  io::OutputFile& add_output(const std::string& path, std::string kind) {
+    return outputs.add(path, std::move(kind));
+  }
   // Closes OUT (complete on disk) and lists it in report.outputs.
   void finish_output(io::OutputFile& out);
+  // The two around WRITER(io::OutputFile&), which writes the file; returns it, for its size.
+  template <class Writer>
+  const io::OutputFile& write_output(const std::string& path, std::string kind, Writer&& writer) {
+    io::OutputFile& out = add_output(path, std::move(kind));
+    writer(out);
+    finish_output(out);
+    return out;
+  }
 
   // ---- messages and progress ------------------------------------------------------------------
   void debug(const std::string& message) const { emit(log_debug, message); }

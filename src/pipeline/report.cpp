@@ -176,6 +176,12 @@ std::string_view version() {
   return TINCDT_VERSION;
 }
 
+std::string BuildReport::output_of(std::string_view kind) const {
+  for (const Output& o : outputs)
+    if (o.kind == kind) return o.path;
+  return {};
+}
+
 void BuildReport::Timings::add(std::string_view key, double seconds) {
   const std::pair<std::string_view, double*> fields[] = {
       {"read", &read},       {"delaunay", &delaunay}, {"constraints", &constraints},
@@ -196,35 +202,33 @@ void BuildReport::Timings::add(std::string_view key, double seconds) {
 
 namespace {
 
-void put_flats(JsonWriter& j, const BuildReport::Flats& flats) {
-  j.begin_object("flats")
-      .field("counted", flats.counted)
-      .field("fixed", flats.fixed)
-      .field("before", flats.before)
-      .field("after_swaps", flats.after_swaps)
-      .field("after", flats.after)
-      .field("swaps", flats.swaps)
-      .field("vertices_added", flats.vertices_added)
-      .field("vertices_interpolated", flats.vertices_interpolated)
-      .field("vertices_extrapolated", flats.vertices_extrapolated)
-      .field("left_no_level", flats.left_no_level)
-      .field("left_unplaced", flats.left_unplaced)
-      .field("non_delaunay_edges", flats.non_delaunay_edges)
-      .end_object();
+void put_flats(JsonWriter& j, const BuildReport::Flats& f) {
+  j.begin_object("flats").field("counted", f.counted).field("fixed", f.fixed);
+  const std::pair<const char*, std::uint64_t> counts[] = {
+      {"before", f.before},
+      {"after_swaps", f.after_swaps},
+      {"after", f.after},
+      {"swaps", f.swaps},
+      {"vertices_added", f.vertices_added},
+      {"vertices_interpolated", f.vertices_interpolated},
+      {"vertices_extrapolated", f.vertices_extrapolated},
+      {"left_no_level", f.left_no_level},
+      {"left_unplaced", f.left_unplaced},
+      {"non_delaunay_edges", f.non_delaunay_edges}};
+  for (const auto& [key, n] : counts) j.field(key, n);
+  j.end_object();
 }
 
-// timings_s, then every stage's own entry.
+// timings_s (the keys every report has, then the later stages' own, then the total), then
+// every stage's own entry.
 void put_timings(JsonWriter& j, const BuildReport& r) {
   const BuildReport::Timings& t = r.timings_s;
-  j.begin_object("timings_s")
-      .field("read", t.read)
-      .field("delaunay", t.delaunay)
-      .field("constraints", t.constraints)
-      .field("surface", t.surface)
-      .field("terrain", t.terrain)
-      .field("validate", t.validate)
-      .field("quality", t.quality)
-      .field("write", t.write);
+  const std::pair<const char*, double> fixed[] = {
+      {"read", t.read},       {"delaunay", t.delaunay}, {"constraints", t.constraints},
+      {"surface", t.surface}, {"terrain", t.terrain},   {"validate", t.validate},
+      {"quality", t.quality}, {"write", t.write}};
+  j.begin_object("timings_s");
+  for (const auto& [key, seconds] : fixed) j.field(key, seconds);
   for (const auto& [key, seconds] : t.more) j.field(key, seconds);
   j.field("total", t.total).end_object();
   j.begin_array("stages");
@@ -270,8 +274,8 @@ void put_outputs(JsonWriter& j, const BuildReport& r) {
   j.field("output", r.output);
   j.field("output_format", r.output_format);
   j.field("output_bytes", r.output_bytes);
-  j.field("constraints_out", r.constraints_out);
-  j.field("diagnostics", r.diagnostics);
+  j.field("constraints_out", r.output_of("constraint_lines"));
+  j.field("diagnostics", r.output_of("diagnostics"));
   j.begin_array("outputs");
   for (const BuildReport::Output& o : r.outputs)
     j.begin_object()
@@ -301,15 +305,17 @@ std::string BuildReport::to_json() const {
       {"constraint_segments", constraint_segments},
       {"zero_length_segments", zero_length_segments},
       {"constraint_segments_split", constraint_segments_split},
-      {"crossings", crossings}};
+      {"crossings", crossings},
+      {"surface_features", surface_features},
+      {"soft_line_vertices", soft_line_vertices},
+      {"draped_vertices", draped_vertices},
+      {"reused_vertices", reused_vertices},
+      {"replaced_vertices", replaced_vertices},
+      {"trimmed_triangles", trimmed_triangles},
+      {"clipped_triangles", clipped_triangles},
+      {"erased_triangles", erased_triangles}};
   for (const auto& [key, n] : counts) j.field(key, n);
   j.field("max_z_disagreement", max_z_disagreement);
-  const std::pair<const char*, std::uint64_t> surface[] = {
-      {"surface_features", surface_features},   {"soft_line_vertices", soft_line_vertices},
-      {"draped_vertices", draped_vertices},     {"reused_vertices", reused_vertices},
-      {"replaced_vertices", replaced_vertices}, {"trimmed_triangles", trimmed_triangles},
-      {"clipped_triangles", clipped_triangles}, {"erased_triangles", erased_triangles}};
-  for (const auto& [key, n] : surface) j.field(key, n);
   if (simplify.ran)
     j.begin_object("simplify")
         .field("points", simplify.points)

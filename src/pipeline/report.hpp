@@ -98,15 +98,17 @@ struct BuildReport {
   std::string output;
   std::string output_format;  // "obj", "ply", "geojson"
   std::uint64_t output_bytes = 0;
-  std::string constraints_out;  // written files, "" when not asked for
-  std::string diagnostics;
-  // Every file written but the stats document itself, in the order the stages made them.
+  // Every file written but the stats document itself, in the order the stages made them. (The
+  // stats document also names the constraint lines and the diagnostics on their own, as
+  // "constraints_out" and "diagnostics".)
   struct Output {
     std::string path;
     std::string kind;  // "tin", "prj", "constraint_lines", "diagnostics", ...
     std::uint64_t bytes = 0;
   };
   std::vector<Output> outputs;
+  // The path of the output of KIND, "" when none was written.
+  std::string output_of(std::string_view kind) const;
   Point3 offset{0, 0, 0};     // subtracted from the written coordinates
   std::vector<Input> inputs;  // point files first, then vector sources in the order read
 

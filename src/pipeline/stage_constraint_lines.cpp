@@ -35,10 +35,9 @@ void run(Job& job) {
     features.push_back({job.sources.file(i), job.sources.fid(i)});
   io::TinWriteOptions write = job.write;
   write.format = io::TinFormat::geojson;
-  io::OutputFile& out = job.add_output(job.options.constraints_out, "constraint_lines");
-  io::write_constraint_lines(out, tin, edges, features, write);
-  job.finish_output(out);
-  job.report.constraints_out = job.options.constraints_out;
+  job.write_output(job.options.constraints_out, "constraint_lines", [&](io::OutputFile& out) {
+    io::write_constraint_lines(out, tin, edges, features, write);
+  });
 }
 
 void plan(const BuildOptions& o, FilePlan& files) {

@@ -49,10 +49,8 @@ void run(Job& job) {
     records.dropped = input->data.dropped;
     io::add_line_diagnostics(records, d);
   }
-  io::OutputFile& out = job.add_output(job.options.diagnostics, "diagnostics");
-  io::write_diagnostics(out, d, job.crs_wkt);
-  job.finish_output(out);
-  job.report.diagnostics = job.options.diagnostics;
+  job.write_output(job.options.diagnostics, "diagnostics",
+                   [&](io::OutputFile& out) { io::write_diagnostics(out, d, job.crs_wkt); });
 }
 
 void plan(const BuildOptions& o, FilePlan& files) {

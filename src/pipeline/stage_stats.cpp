@@ -12,7 +12,8 @@ bool wanted(const BuildOptions& o) {
 void run(Job& job) {
   job.report.timings_s.total = seconds_since(job.started);
   job.report.peak_rss_bytes = peak_rss_bytes();
-  io::OutputFile& out = job.add_output(job.options.stats_path, "stats");
+  // Not through Job::write_output: the document does not list itself among the outputs.
+  io::OutputFile& out = job.outputs.add(job.options.stats_path, "stats");
   out.write(job.report.to_json());
   out.close();
 }

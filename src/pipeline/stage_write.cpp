@@ -48,14 +48,12 @@ void run(Job& job) {
   report.triangles = tin.triangle_count();
   report.constraints = kept_constraints(tin);
 
-  io::OutputFile& out = job.add_output(job.options.output, "tin");
-  const io::TinWriteStats ws = io::write_tin(out, tin, job.write);
-  job.finish_output(out);
-  if (job.write_prj) {
-    io::OutputFile& prj = job.add_output(io::prj_path(job.options.output), "prj");
-    io::write_prj(prj, job.crs_wkt);
-    job.finish_output(prj);
-  }
+  io::TinWriteStats ws;
+  const io::OutputFile& out = job.write_output(
+      job.options.output, "tin", [&](io::OutputFile& f) { ws = io::write_tin(f, tin, job.write); });
+  if (job.write_prj)
+    job.write_output(io::prj_path(job.options.output), "prj",
+                     [&](io::OutputFile& f) { io::write_prj(f, job.crs_wkt); });
   report.output_bytes = out.bytes_written();
   report.vertices = ws.vertices;
   if (ws.triangles != report.triangles)

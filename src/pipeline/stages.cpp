@@ -1,5 +1,6 @@
 // The stages of a build, in the order they run. Each is defined in its own file
-// (stage_<name>.cpp); a stage whose options are not set is skipped.
+// (stage_<name>.cpp; replace, clip and erase share stage_polygons.cpp); a stage whose options
+// are not set is skipped.
 #include <chrono>
 
 #include "pipeline/stage.hpp"

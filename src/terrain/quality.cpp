@@ -292,10 +292,11 @@ std::string QualityReport::to_json() const {
   std::string out = "{";
   put_field(out, "triangles", triangles);
   put_field(out, "vertices", vertices);
-  put_field(out, "area_2d", area_2d);
-  put_field(out, "area_3d", area_3d);
-  put_field(out, "min_angle_deg", min_angle_deg);
-  put_field(out, "max_angle_deg", max_angle_deg);
+  const std::pair<const char*, double> shape[] = {{"area_2d", area_2d},
+                                                  {"area_3d", area_3d},
+                                                  {"min_angle_deg", min_angle_deg},
+                                                  {"max_angle_deg", max_angle_deg}};
+  for (const auto& [key, v] : shape) put_field(out, key, v);
   put_field(out, "angle_bin_width_deg", std::uint64_t{10});
   put_array(out, "angle_histogram", angle_histogram);
   put_field(out, "triangles_below_20deg", triangles_below_20deg);
@@ -304,9 +305,10 @@ std::string QualityReport::to_json() const {
   out += ",\"flat_rule\":";
   out += flats_need_contours ? "\"equal z, all corners on contours\"" : "\"equal z\"";
   put_field(out, "edges", edges);
-  put_field(out, "min_edge_length", min_edge_length);
-  put_field(out, "mean_edge_length", mean_edge_length);
-  put_field(out, "max_edge_length", max_edge_length);
+  const std::pair<const char*, double> lengths[] = {{"min_edge_length", min_edge_length},
+                                                    {"mean_edge_length", mean_edge_length},
+                                                    {"max_edge_length", max_edge_length}};
+  for (const auto& [key, v] : lengths) put_field(out, key, v);
   put_array(out, "edge_length_bin_edges", edge_length_bin_edges);
   put_array(out, "edge_length_histogram", edge_length_histogram);
   out += '}';

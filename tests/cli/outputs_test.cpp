@@ -138,10 +138,16 @@ std::string feature(const std::string& type, const std::string& coordinates) {
          R"(", "coordinates": )" + coordinates + "}}";
 }
 
-class FullJob : public ::testing::Test {
+// A fresh folder per test, where the binary runs.
+class InScratch : public ::testing::Test {
+ protected:
+  std::string path(const std::string& name) const { return (fs::path(dir_) / name).string(); }
+  const std::string dir_ = tincdt::test::scratch_dir("cli-outputs");
+};
+
+class FullJob : public InScratch {
  protected:
   void SetUp() override {
-    dir_ = tincdt::test::scratch_dir("cli-outputs");
     spit(path("pts.xyz"), grid_xyz(30, 10));
     spit(path("contours.geojson"),
          collection(feature("LineString", "[[15.5, 50.5, 110], [280.5, 50.5, 110]]") + ", " +
@@ -162,8 +168,6 @@ class FullJob : public ::testing::Test {
                             "99], [60.5, 240.5, 99], [60.5, 200.5, 99]]]")));
   }
 
-  std::string path(const std::string& name) const { return (fs::path(dir_) / name).string(); }
-
   // Every stage of the pipeline wanted; every output asked for.
   static std::vector<std::string> args(const std::string& max_edge = "30") {
     return {"pts.xyz",          "--a-srs",
@@ -181,8 +185,6 @@ class FullJob : public ::testing::Test {
             "d.gpkg",           "--overwrite",
             "--max-error",      "0"};
   }
-
-  std::string dir_;
 };
 
 TEST_F(FullJob, WantsEveryStage) {
@@ -246,15 +248,13 @@ TEST_F(FullJob, ALaterOutputFailingChangesNoFile) {
 
 // ---- outputs that are inputs -----------------------------------------------------------------
 
-class Inputs : public ::testing::Test {
+class Inputs : public InScratch {
  protected:
   void SetUp() override {
-    dir_ = tincdt::test::scratch_dir("cli-outputs");
     spit(path("pts.xyz"), grid_xyz(12, 10));
     spit(path("c.geojson"),
          collection(feature("LineString", "[[15.5, 50.5, 110], [80.5, 50.5, 110]]")));
   }
-  std::string path(const std::string& name) const { return (fs::path(dir_) / name).string(); }
 
   // A run refused with a usage error naming OUTPUT as an input; no file changed.
   void expect_refused(const std::vector<std::string>& args, const std::string& output) {
@@ -271,8 +271,6 @@ class Inputs : public ::testing::Test {
       EXPECT_TRUE(snapshot(dir_) == before) << names(snapshot(dir_));
     }
   }
-
-  std::string dir_;
 };
 
 // Makes a GeoPackage at PATH with a line layer LAYER, or a shapefile (with a .prj in EPSG) when

@@ -374,6 +374,15 @@ std::string shared_las(const char* name) {
   return (fs::path(TINCDT_SHARED_DATA) / "las" / name).string();
 }
 
+// Builds O; the warnings it logged.
+std::vector<std::string> warnings_of(const pipeline::BuildOptions& o, pipeline::BuildReport& r) {
+  std::vector<std::string> warnings;
+  r = pipeline::build(o, nullptr, [&](int level, const std::string& m) {
+    if (level == pipeline::log_warn) warnings.push_back(m);
+  });
+  return warnings;
+}
+
 TEST_F(Pipeline, DifferentCrsIsAnErrorNamingBoth) {
   if (!fs::exists(shared_las("Topography.las"))) GTEST_SKIP() << "shared data not found";
   pipeline::BuildOptions o;
@@ -399,10 +408,8 @@ TEST_F(Pipeline, FileWithoutCrsTakesTheKnownOneWithAWarning) {
   o.inputs = {xyz, shared_las("Topography.las")};
   o.output = path("t.ply");
   o.filter.keep_classes = {2};
-  std::vector<std::string> warnings;
-  const auto r = pipeline::build(o, nullptr, [&](int level, const std::string& m) {
-    if (level == pipeline::log_warn) warnings.push_back(m);
-  });
+  pipeline::BuildReport r;
+  const std::vector<std::string> warnings = warnings_of(o, r);
   EXPECT_EQ(r.crs, "EPSG:2949");
   ASSERT_EQ(warnings.size(), 1u);
   EXPECT_NE(warnings[0].find("Topography_ground.xyz"), std::string::npos) << warnings[0];
@@ -417,10 +424,8 @@ TEST_F(Pipeline, AssignedCrsOverridesWithAWarning) {
   o.inputs = {shared_las("Topography.las"), shared_las("wontcompress3.las")};
   o.output = path("t.ply");
   o.assign_srs = "EPSG:2949";
-  std::vector<std::string> warnings;
-  const auto r = pipeline::build(o, nullptr, [&](int level, const std::string& m) {
-    if (level == pipeline::log_warn) warnings.push_back(m);
-  });
+  pipeline::BuildReport r;
+  const std::vector<std::string> warnings = warnings_of(o, r);
   EXPECT_EQ(r.crs, "EPSG:2949");
   ASSERT_EQ(warnings.size(), 1u);
   EXPECT_NE(warnings[0].find("wontcompress3.las"), std::string::npos) << warnings[0];

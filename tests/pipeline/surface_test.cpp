@@ -589,7 +589,7 @@ TEST_F(Surface, ConstraintLinesOpenWithGdalWithTheirSources) {
   o.soft_lines = {write("soft.geojson", collection({{line({{80.5, 80.5}, {90.5, 10.5}}), ""}}))};
   o.constraints_out = path("c.geojson");
   const auto r = pipeline::build(o);
-  EXPECT_EQ(r.constraints_out, o.constraints_out);
+  EXPECT_EQ(r.output_of("constraint_lines"), o.constraints_out);
 
   GDALAllRegister();
   GDALDatasetH ds =
@@ -631,7 +631,7 @@ TEST_F(Surface, DiagnosticsListTheCrossingAndTheSkippedAndDropped) {
   o.validate = true;
   const auto r = pipeline::build(o);
   EXPECT_EQ(r.crossings, 1u);
-  EXPECT_EQ(r.diagnostics, o.diagnostics);
+  EXPECT_EQ(r.output_of("diagnostics"), o.diagnostics);
 
   GDALAllRegister();
   GDALDatasetH ds = GDALOpenEx(o.diagnostics.c_str(), GDAL_OF_VECTOR, nullptr, nullptr, nullptr);

@@ -1,0 +1,67 @@
+// The polygon stages, alike but for what they do inside or outside the polygons:
+//   replace: --replace, every vertex on or inside a polygon gets the polygon's z (later win);
+//   clip:    --clip, the triangles outside every clip polygon are removed;
+//   erase:   --erase, the triangles inside an erase polygon are removed (erase wins over clip).
+// The rings are constrained edges by now (the surface stage), so the classification is exact.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "pipeline/stage.hpp"
+#include "pipeline/surface.hpp"
+#include "terrain/polygons.hpp"
+
+namespace tincdt::pipeline {
+namespace {
+
+struct PolygonStage {
+  const std::vector<std::string> BuildOptions::*sources;
+  detail::SurfaceInput Job::*polygons;
+  std::uint64_t BuildReport::*count;
+  std::uint64_t (*apply)(mesh::Triangulation&, const std::vector<terrain::Polygon>&,
+                         const terrain::PolygonOptions&);
+  const char* counted;  // for the log: what `count` counts
+  bool removes;         // removes triangles (a TIN may be left empty)
+};
+
+constexpr PolygonStage kReplace{&BuildOptions::replace,
+                                &Job::replace,
+                                &BuildReport::replaced_vertices,
+                                &terrain::set_polygon_z_inside,
+                                "vertices set to the polygon's z",
+                                false};
+constexpr PolygonStage kClip{&BuildOptions::clip,
+                             &Job::clip,
+                             &BuildReport::clipped_triangles,
+                             &terrain::remove_outside,
+                             "triangles outside the clip polygons removed",
+                             true};
+constexpr PolygonStage kErase{&BuildOptions::erase,
+                              &Job::erase,
+                              &BuildReport::erased_triangles,
+                              &terrain::remove_inside,
+                              "triangles inside the erase polygons removed",
+                              true};
+
+template <const PolygonStage& S>
+bool wanted(const BuildOptions& o) {
+  return !(o.*S.sources).empty();
+}
+
+template <const PolygonStage& S>
+void run(Job& job) {
+  const detail::SurfaceInput& input = job.*S.polygons;
+  if (input.data.features.empty()) return;
+  std::uint64_t& count = job.report.*S.count;
+  count = S.apply(job.tin(), detail::polygons_of(input.data), {});
+  job.debug(std::string(job.stage()) + ": " + std::to_string(count) + " " + S.counted);
+  if (S.removes) check_triangles_left(job);
+}
+
+}  // namespace
+
+extern const Stage replace_stage{"replace", "terrain", wanted<kReplace>, run<kReplace>};
+extern const Stage clip_stage{"clip", "terrain", wanted<kClip>, run<kClip>};
+extern const Stage erase_stage{"erase", "terrain", wanted<kErase>, run<kErase>};
+
+}  // namespace tincdt::pipeline
