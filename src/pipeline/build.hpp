@@ -16,18 +16,17 @@
 
 namespace tincdt::pipeline {
 
-// Runs the job; throws tincdt::Error (InputError, OutputError, GeometryError, Cancelled).
-// The outputs (TIN, stats, constraint lines, diagnostics) are checked before anything is read,
-// so a long job does not fail at its end because of an existing or unwritable output. On
-// failure nothing is written: outputs already written by this run are removed again.
-// Log lines go through `log` (may be empty) so the library stays free of spdlog.
+// Runs the job: check_options(), the checks on every planned output (writable, not an input),
+// then every wanted stage of stages(), then moves all outputs into place together. Throws
+// tincdt::Error: UsageError (options), InputError, OutputError, GeometryError, InternalError
+// (a bug), Cancelled (the progress callback said stop). On any of them no existing file has
+// changed and no temporary is left. Progress is reported under the running stage's name, and
+// under "commit" just before the outputs move. Log lines go through `log` (may be empty) so the
+// library stays free of spdlog.
 enum LogLevel : int { log_debug = 0, log_info = 1, log_warn = 2 };
 using LogFn = std::function<void(int level /*0 debug,1 info,2 warn*/, const std::string&)>;
 BuildReport build(const BuildOptions& options, const ProgressFn* progress = nullptr,
                   const LogFn& log = {});
-
-// Writes report.to_json() to PATH through a temporary file renamed at the end.
-void write_stats(const BuildReport& report, const std::string& path, bool overwrite);
 
 // For a signal handler that ends the process at once (a second Ctrl-C): removes the temporary
 // files of the outputs under way; async-signal-safe. Returns false, removing nothing, while the

@@ -5,7 +5,6 @@
 #include <string>
 #include <string_view>
 
-#include "io/output_file.hpp"
 #include "pipeline/build.hpp"
 #include "pipeline/report.hpp"
 
@@ -344,12 +343,6 @@ std::string BuildReport::to_json() const {
   put_inputs(j, inputs);
   j.end_object();
   return j.str();
-}
-
-void write_stats(const BuildReport& report, const std::string& path, bool overwrite) {
-  io::OutputFile file(path, overwrite);
-  file.write(report.to_json());
-  file.commit();
 }
 
 }  // namespace tincdt::pipeline
