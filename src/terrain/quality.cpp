@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <charconv>
 #include <cmath>
 #include <numbers>
@@ -68,14 +69,31 @@ const std::vector<double>& bin_edges() {
   return edges;
 }
 
-// The bin of a length l > 0: bin_edges()[k] <= l < bin_edges()[k + 1]. A first guess from the
-// binary exponent (log10 2 = 0.30103: four bins per decade are 1.204 per octave), settled
-// against the tabled edges, so the counts agree with the bins as printed.
-std::size_t length_bin(double l, const std::vector<double>& edge) {
-  const double guess = std::floor(1.2041199826559248 * std::ilogb(l));
-  int k = static_cast<int>(std::clamp(guess, double{kLowest + 1}, double{kHighest - 1}));
-  while (k > kLowest && l < edge[static_cast<std::size_t>(k - kLowest)]) --k;
-  while (k < kHighest && l >= edge[static_cast<std::size_t>(k + 1 - kLowest)]) ++k;
+// The bins of the lengths 2^(f - 1023), by the raw exponent field f of a double.
+const std::vector<int>& octave_bins() {
+  static const std::vector<int> bins = [] {
+    const std::vector<double>& edge = bin_edges();
+    std::vector<int> b(2048);
+    for (int f = 0; f < 2048; ++f) {
+      const double l = std::ldexp(1.0, std::clamp(f, 1, 2046) - 1023);
+      int k = kLowest;
+      while (k < kHighest && l >= edge[static_cast<std::size_t>(k + 1 - kLowest)]) ++k;
+      b[static_cast<std::size_t>(f)] = k;
+    }
+    return b;
+  }();
+  return bins;
+}
+
+// The bin of a length l > 0: bin_edges()[k] <= l < bin_edges()[k + 1]. The bin of l's octave
+// (its binary exponent), then at most two steps up, since an octave spans 1.2 bins, taken
+// without a branch; so the counts agree with the bins as printed.
+inline std::size_t length_bin(double l, const std::vector<double>& edge,
+                              const std::vector<int>& octave) {
+  int k = octave[static_cast<std::size_t>(std::bit_cast<std::uint64_t>(l) >> 52 & 0x7ff)];
+  while (k > kLowest && l < edge[static_cast<std::size_t>(k - kLowest)]) --k;  // subnormal
+  k += static_cast<int>(k < kHighest && l >= edge[static_cast<std::size_t>(k + 1 - kLowest)]);
+  k += static_cast<int>(k < kHighest && l >= edge[static_cast<std::size_t>(k + 1 - kLowest)]);
   return static_cast<std::size_t>(k - kLowest);
 }
 
@@ -115,44 +133,99 @@ double corner_degrees(const mesh::Triangulation& tin, const Corner& c) {
   return std::atan2(std::fabs(bx * dy - by * dx), bx * dx + by * dy) * 180 / std::numbers::pi;
 }
 
-// What one thread measures of its share of the triangles; counts, minima and maxima merge in
-// any order. Sums of doubles go per block (Sums) so that they do not depend on the threads.
-struct Partial {
+// Counts, minima and maxima: they merge in any order. A block keeps its own on the stack (so
+// that they can live in registers) and adds it to its thread's at the end.
+struct Tally {
   std::uint64_t triangles = 0, below_20 = 0, flats = 0, edges = 0;
+  std::uint64_t removed = 0;  // real triangles that are removed (trimmed, clipped, erased)
   std::array<std::uint64_t, 18> angles{};
-  std::vector<std::uint64_t> lengths = std::vector<std::uint64_t>(kLengthBins, 0);
   double min_length = HUGE_VAL, max_length = 0, max_ratio = 0;
   Corner smallest{kNoId, 0, -2}, largest{kNoId, 0, 2};  // by angle_key
 };
 
+// Sums of doubles go per block, so that they do not depend on the threads.
 struct Sums {
   double area_2d = 0, area_3d = 0, length = 0;
 };
 
+// What one thread measures of its share of the triangles.
+struct Partial {
+  Tally tally;
+  std::vector<std::uint64_t> lengths = std::vector<std::uint64_t>(kLengthBins, 0);
+};
+
+void merge(Tally& into, const Tally& p) {
+  into.triangles += p.triangles;
+  into.below_20 += p.below_20;
+  into.flats += p.flats;
+  into.edges += p.edges;
+  into.removed += p.removed;
+  for (std::size_t k = 0; k < into.angles.size(); ++k) into.angles[k] += p.angles[k];
+  into.min_length = std::min(into.min_length, p.min_length);
+  into.max_length = std::max(into.max_length, p.max_length);
+  into.max_ratio = std::max(into.max_ratio, p.max_ratio);
+  // Ties go to the lower triangle id, so that the corner does not depend on the threads.
+  const auto better = [](const Corner& a, const Corner& b, bool larger_key) {
+    if (a.key != b.key) return larger_key ? a.key > b.key : a.key < b.key;
+    return a.t < b.t;
+  };
+  if (p.smallest.t != kNoId && better(p.smallest, into.smallest, true)) into.smallest = p.smallest;
+  if (p.largest.t != kNoId && better(p.largest, into.largest, false)) into.largest = p.largest;
+}
+
 constexpr std::size_t kBlock = 1 << 16;  // triangle slots per block of sums
+
+// Edge lengths waiting to be binned. The triangle loop only appends them (a store to a known
+// address); binning them there, a store to a computed address, held up every load after it.
+struct Lengths {
+  static constexpr std::size_t kPending = 4096;
+  std::uint64_t* histogram;
+  std::size_t n;
+  double pending[kPending + 1];
+};
 
 class Measurer {
  public:
-  Measurer(const mesh::Triangulation& tin, const std::vector<std::uint8_t>* on_contour,
-           std::vector<std::uint8_t>& used)
-      : tin_(tin), on_contour_(on_contour), used_(used), edge_(bin_edges()) {}
+  Measurer(const mesh::Triangulation& tin, const std::vector<std::uint8_t>* on_contour)
+      : tin_(tin), on_contour_(on_contour), edge_(bin_edges()), octave_(octave_bins()) {}
 
-  void block(std::size_t b, Partial& p, Sums& s) const {
+  void block(std::size_t b, Partial& into, Sums& s) const {
+    Tally p;
+    Lengths lengths{into.lengths.data(), 0, {}};
     const std::size_t end = std::min(tin_.triangle_slots(), (b + 1) * kBlock);
     for (std::size_t t = b * kBlock; t < end; ++t) {
       const auto id = static_cast<TriangleId>(t);
-      if (!tin_.is_kept(id)) continue;
-      triangle(id, p, s);
+      if (tin_.is_kept(id)) {
+        triangle(id, p, s, lengths);
+      } else {
+        if (!tin_.is_ghost(id)) ++p.removed;
+        boundary(id, p, s, lengths);
+      }
     }
+    flush(lengths, p, s);
+    merge(into.tally, p);
   }
 
  private:
-  void triangle(TriangleId t, Partial& p, Sums& s) const {
+  // Every edge is counted once: from a kept triangle where it runs from the smaller vertex id
+  // to the larger, or, when its other side is not kept (a ghost on the hull, a removed
+  // triangle), from that other side here. So the hot loop never looks at a neighbour.
+  void boundary(TriangleId t, Tally& p, Sums& s, Lengths& lengths) const {
+    for (EdgeId e = 3 * t; e < 3 * t + 3; ++e) {
+      const EdgeId twin = tin_.twin(e);
+      const VertexId u = tin_.origin(e), v = tin_.dest(e);
+      if (!tin_.is_kept(mesh::triangle_of(twin)) || !(v > u)) continue;
+      const Point2 a = tin_.point(u), b = tin_.point(v);
+      const double dx = b.x - a.x, dy = b.y - a.y;
+      edge(std::sqrt(dx * dx + dy * dy), true, p, s, lengths);
+    }
+  }
+
+  void triangle(TriangleId t, Tally& p, Sums& s, Lengths& lengths) const {
     const std::array<VertexId, 3> c = tin_.triangle(t);
     ++p.triangles;
     Point3 q[3];
     for (int i = 0; i < 3; ++i) {
-      std::atomic_ref<std::uint8_t>(used_[c[i]]).store(1, std::memory_order_relaxed);
       const Point2 xy = tin_.point(c[i]);
       q[i] = {xy.x, xy.y, tin_.z(c[i])};
     }
@@ -165,9 +238,8 @@ class Measurer {
       ey[i] = b.y - a.y;
       l2[i] = ex[i] * ex[i] + ey[i] * ey[i];
       len[i] = std::sqrt(l2[i]);
-      // Count an edge from the side with the smaller origin, or from its only kept side.
-      if (c[i] < c[(i + 1) % 3] || !tin_.is_kept(mesh::triangle_of(tin_.twin(3 * t + i))))
-        edge(len[i], p, s);
+      // The other side of the rest: boundary().
+      edge(len[i], c[i] < c[(i + 1) % 3], p, s, lengths);
     }
     // Areas from coordinate differences (large map coordinates stay exact enough).
     const double uz = q[1].z - q[0].z, vz = q[2].z - q[0].z;
@@ -176,12 +248,14 @@ class Measurer {
     s.area_2d += 0.5 * area2;
     s.area_3d += 0.5 * std::sqrt((uy * vz - uz * vy) * (uy * vz - uz * vy) +
                                  (uz * vx - ux * vz) * (uz * vx - ux * vz) + area2 * area2);
-    // Corner i lies between edge i (outgoing) and edge i - 1 (incoming, reversed).
+    // Corner i lies between edge i (outgoing) and edge i - 1 (incoming, reversed); its cos^2 is
+    // dot^2 / (l2[i] l2[i - 1]) = dot^2 l2[i + 1] / (l2[0] l2[1] l2[2]): one division for three.
+    const double inverse = 1 / (l2[0] * l2[1] * l2[2]);
     double smallest_key = -2;
     for (int i = 0; i < 3; ++i) {
       const int in = (i + 2) % 3;
       const double dot = -(ex[i] * ex[in] + ey[i] * ey[in]);
-      const double cos2 = dot * dot / (l2[i] * l2[in]);
+      const double cos2 = dot * dot * l2[(i + 1) % 3] * inverse;
       ++p.angles[angle_bin(dot, cos2)];
       const double key = angle_key(dot, cos2);
       smallest_key = std::max(smallest_key, key);
@@ -196,40 +270,38 @@ class Measurer {
     if (is_flat(tin_, c, on_contour_)) ++p.flats;
   }
 
-  void edge(double l, Partial& p, Sums& s) const {
-    ++p.edges;
-    p.min_length = std::min(p.min_length, l);
-    p.max_length = std::max(p.max_length, l);
-    s.length += l;
-    ++p.lengths[length_bin(l, edge_)];
+  // Queues an edge of length L when COUNTED, without a branch: half the edges of a triangle are
+  // counted and half are not, in no order a predictor could learn.
+  void edge(double l, bool counted, Tally& p, Sums& s, Lengths& lengths) const {
+    lengths.pending[lengths.n] = l;
+    lengths.n += counted;
+    if (lengths.n == Lengths::kPending) flush(lengths, p, s);
+  }
+  void flush(Lengths& lengths, Tally& p, Sums& s) const {
+    for (std::size_t i = 0; i < lengths.n; ++i) {
+      const double l = lengths.pending[i];
+      p.min_length = std::min(p.min_length, l);
+      p.max_length = std::max(p.max_length, l);
+      s.length += l;
+      ++lengths.histogram[length_bin(l, edge_, octave_)];
+    }
+    p.edges += lengths.n;
+    lengths.n = 0;
   }
 
   const mesh::Triangulation& tin_;
   const std::vector<std::uint8_t>* on_contour_;
-  std::vector<std::uint8_t>& used_;
   const std::vector<double>& edge_;
+  const std::vector<int>& octave_;
 };
 
 void merge(Partial& into, const Partial& p) {
-  into.triangles += p.triangles;
-  into.below_20 += p.below_20;
-  into.flats += p.flats;
-  into.edges += p.edges;
-  for (std::size_t k = 0; k < into.angles.size(); ++k) into.angles[k] += p.angles[k];
+  merge(into.tally, p.tally);
   for (std::size_t k = 0; k < kLengthBins; ++k) into.lengths[k] += p.lengths[k];
-  into.min_length = std::min(into.min_length, p.min_length);
-  into.max_length = std::max(into.max_length, p.max_length);
-  into.max_ratio = std::max(into.max_ratio, p.max_ratio);
-  // Ties go to the lower triangle id, so that the corner does not depend on the threads.
-  const auto better = [](const Corner& a, const Corner& b, bool larger_key) {
-    if (a.key != b.key) return larger_key ? a.key > b.key : a.key < b.key;
-    return a.t < b.t;
-  };
-  if (p.smallest.t != kNoId && better(p.smallest, into.smallest, true)) into.smallest = p.smallest;
-  if (p.largest.t != kNoId && better(p.largest, into.largest, false)) into.largest = p.largest;
 }
 
-void fill(QualityReport& q, const Partial& p, const mesh::Triangulation& tin) {
+void fill(QualityReport& q, const Partial& all, const mesh::Triangulation& tin) {
+  const Tally& p = all.tally;
   q.triangles = p.triangles;
   q.triangles_below_20deg = p.below_20;
   q.flat_triangles = p.flats;
@@ -244,13 +316,31 @@ void fill(QualityReport& q, const Partial& p, const mesh::Triangulation& tin) {
   q.min_edge_length = p.min_length;
   q.max_edge_length = p.max_length;
   std::size_t first = 0, last = kLengthBins - 1;
-  while (p.lengths[first] == 0) ++first;
-  while (p.lengths[last] == 0) --last;
+  const std::vector<std::uint64_t>& lengths = all.lengths;
+  while (lengths[first] == 0) ++first;
+  while (lengths[last] == 0) --last;
   const std::vector<double>& edge = bin_edges();
   q.edge_length_bin_edges.assign(edge.begin() + static_cast<std::ptrdiff_t>(first),
                                  edge.begin() + static_cast<std::ptrdiff_t>(last) + 2);
-  q.edge_length_histogram.assign(p.lengths.begin() + static_cast<std::ptrdiff_t>(first),
-                                 p.lengths.begin() + static_cast<std::ptrdiff_t>(last) + 1);
+  q.edge_length_histogram.assign(lengths.begin() + static_cast<std::ptrdiff_t>(first),
+                                 lengths.begin() + static_cast<std::ptrdiff_t>(last) + 1);
+}
+
+// Vertices that are a corner of a kept triangle. Every vertex of a TIN without removed triangles
+// is; with removed ones, the kept triangles mark theirs.
+std::uint64_t used_vertices(const mesh::Triangulation& tin, bool removed, unsigned threads) {
+  if (!removed) return tin.vertex_count();
+  std::vector<std::uint8_t> used(tin.vertex_count(), 0);
+  parallel_chunks(threads, tin.triangle_slots(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t t = begin; t < end; ++t) {
+      if (!tin.is_kept(static_cast<TriangleId>(t))) continue;
+      for (VertexId v : tin.triangle(static_cast<TriangleId>(t)))
+        std::atomic_ref<std::uint8_t>(used[v]).store(1, std::memory_order_relaxed);
+    }
+  });
+  std::uint64_t n = 0;
+  for (std::uint8_t u : used) n += u;
+  return n;
 }
 
 }  // namespace
@@ -259,14 +349,13 @@ QualityReport measure_quality(const mesh::Triangulation& tin,
                               const std::vector<std::uint8_t>* on_contour, unsigned threads) {
   QualityReport q;
   q.flats_need_contours = on_contour != nullptr;
-  std::vector<std::uint8_t> used(tin.vertex_count(), 0);
   const std::size_t blocks = (tin.triangle_slots() + kBlock - 1) / kBlock;
   std::vector<Sums> sums(blocks);
   // One chunk of blocks per thread, each with its own Partial.
   const std::size_t chunks = std::clamp<std::size_t>(blocks, 1, thread_count(threads));
   std::vector<Partial> partial(chunks);
   std::atomic<std::size_t> next{0};
-  const Measurer measurer(tin, on_contour, used);
+  const Measurer measurer(tin, on_contour);
   parallel_chunks(
       chunks, blocks,
       [&](std::size_t begin, std::size_t end) {
@@ -277,14 +366,14 @@ QualityReport measure_quality(const mesh::Triangulation& tin,
   Partial all;
   for (const Partial& p : partial) merge(all, p);
   fill(q, all, tin);
+  double length = 0;
   for (const Sums& s : sums) {
     q.area_2d += s.area_2d;
     q.area_3d += s.area_3d;
+    length += s.length;
   }
-  double length = 0;
-  for (const Sums& s : sums) length += s.length;
   if (q.edges) q.mean_edge_length = length / static_cast<double>(q.edges);
-  for (std::uint8_t u : used) q.vertices += u;
+  q.vertices = used_vertices(tin, all.tally.removed > 0, threads);
   return q;
 }
 
