@@ -808,6 +808,11 @@ struct LineJob {
   std::vector<std::string> args;  // relative to the shared data folder, "@" marks a path
 };
 
+// What GoogleTest and CTest print for a case: its name, not the object's bytes.
+void PrintTo(const LineJob& job, std::ostream* os) {
+  *os << job.name;
+}
+
 class RealLines : public ::testing::TestWithParam<LineJob> {
  protected:
   Scratch s;
