@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "support/files.hpp"
+#include "support/las_writer.hpp"
 #include "support/mesh_files.hpp"
 #include "support/stats_json.hpp"
 
@@ -74,43 +75,23 @@ void put(std::string& buf, std::size_t offset, T value) {
   std::memcpy(buf.data() + offset, &value, sizeof value);
 }
 
+// Millimetre coordinates around (500000, 4000000), all single returns.
 std::string make_las(const std::vector<LasPoint>& points) {
-  constexpr std::uint16_t kHeader = 227;
-  constexpr std::uint16_t kRecord = 20;
-  const double scale = 0.001, ox = 500000, oy = 4000000, oz = 0;
-  std::string buf(kHeader + kRecord * points.size(), '\0');
-  std::memcpy(buf.data(), "LASF", 4);
-  buf[24] = 1;
-  buf[25] = 2;
-  std::memcpy(buf.data() + 26, "tincdt cli_test", 15);
-  std::memcpy(buf.data() + 58, "tincdt cli_test", 15);
-  put<std::uint16_t>(buf, 94, kHeader);
-  put<std::uint32_t>(buf, 96, kHeader);
-  put<std::uint32_t>(buf, 100, 0);
-  put<std::uint8_t>(buf, 104, 0);
-  put<std::uint16_t>(buf, 105, kRecord);
-  put<std::uint32_t>(buf, 107, static_cast<std::uint32_t>(points.size()));
-  put<std::uint32_t>(buf, 111, static_cast<std::uint32_t>(points.size()));  // all first returns
-  double min_x = 1e300, min_y = 1e300, min_z = 1e300, max_x = -1e300, max_y = -1e300,
-         max_z = -1e300;
+  namespace las = tincdt::test::las;
+  las::Header h;
+  h.software = "tincdt cli_test";
+  h.scale = {0.001, 0.001, 0.001};
+  h.offset = {500000, 4000000, 0};
+  std::vector<las::Record> records;
   for (const LasPoint& p : points) {
-    min_x = std::min(min_x, p.x), max_x = std::max(max_x, p.x);
-    min_y = std::min(min_y, p.y), max_y = std::max(max_y, p.y);
-    min_z = std::min(min_z, p.z), max_z = std::max(max_z, p.z);
+    las::Record r;
+    r.x = las::quantize(p.x, h.scale[0], h.offset[0]);
+    r.y = las::quantize(p.y, h.scale[1], h.offset[1]);
+    r.z = las::quantize(p.z, h.scale[2], h.offset[2]);
+    r.classification = p.cls;
+    records.push_back(r);
   }
-  const double header_doubles[] = {scale, scale, scale, ox,    oy,    oz,
-                                   max_x, min_x, max_y, min_y, max_z, min_z};
-  for (std::size_t i = 0; i < 12; ++i) put<double>(buf, 131 + 8 * i, header_doubles[i]);
-  std::size_t at = kHeader;
-  for (const LasPoint& p : points) {
-    put<std::int32_t>(buf, at, static_cast<std::int32_t>(std::lround((p.x - ox) / scale)));
-    put<std::int32_t>(buf, at + 4, static_cast<std::int32_t>(std::lround((p.y - oy) / scale)));
-    put<std::int32_t>(buf, at + 8, static_cast<std::int32_t>(std::lround((p.z - oz) / scale)));
-    put<std::uint8_t>(buf, at + 14, 0x09);  // return 1 of 1
-    put<std::uint8_t>(buf, at + 15, p.cls);
-    at += kRecord;
-  }
-  return buf;
+  return las::file(h, records);
 }
 
 // A jittered 20 x 20 grid at UTM magnitudes; every other point is ground (class 2).
