@@ -1,5 +1,5 @@
 // Independent references for Delaunay tests: the hull size by monotone chain and the empty-circle
-// property by brute force.
+// property by brute force; and whether an input takes the two-thread path.
 #pragma once
 
 #include <algorithm>
@@ -7,6 +7,7 @@
 #include <tuple>
 #include <vector>
 
+#include "delaunay/parallel_delaunay.hpp"
 #include "mesh/triangulation.hpp"
 #include "predicates/predicates.hpp"
 
@@ -41,6 +42,14 @@ inline bool globally_delaunay(const mesh::Triangulation& tin) {
         ok = false;
   });
   return ok;
+}
+
+// Whether triangulate() splits POINTS in two for two threads, rather than falling back to one.
+inline bool takes_parallel_path(std::vector<Point3> points) {
+  BBox box;
+  for (const Point3& p : points) box.add(p.x, p.y);
+  delaunay::DelaunayResult result;
+  return delaunay::triangulate_in_two(points, box, {}, nullptr, result);
 }
 
 }  // namespace tincdt::test
