@@ -22,7 +22,6 @@
 namespace tincdt::delaunay {
 namespace {
 
-using mesh::Triangulation;
 using test::globally_delaunay;
 using test::hull_vertex_count;
 using test::takes_parallel_path;
@@ -75,7 +74,7 @@ class Delaunay : public ::testing::TestWithParam<Path> {
   void expect_valid(const std::vector<Point3>& points, bool brute_force,
                     DuplicatePolicy policy = DuplicatePolicy::mean) const {
     const DelaunayResult r = run(points, policy);
-    const Triangulation& tin = r.tin;
+    const mesh::Triangulation& tin = r.tin;
     ASSERT_EQ(tin.validate(), "");
     const std::size_t nv = tin.vertex_count();
     EXPECT_EQ(nv + r.duplicates_merged, points.size());
@@ -232,14 +231,7 @@ TEST_P(Delaunay, OneUlpPerturbationsAtUtmMagnitude) {
   for (unsigned seed = 0; seed < 50; ++seed) {
     std::mt19937_64 rng(seed);
     std::vector<Point3> pts;
-    for (int j = 0; j < 12; ++j)
-      for (int i = 0; i < 12; ++i) {
-        double x = 500000.0 + i, y = 4000000.0 + j;
-        const int dx = static_cast<int>(rng() % 3) - 1, dy = static_cast<int>(rng() % 3) - 1;
-        if (dx) x = std::nextafter(x, dx > 0 ? 1e300 : -1e300);
-        if (dy) y = std::nextafter(y, dy > 0 ? 1e300 : -1e300);
-        pts.push_back({x, y, 0});
-      }
+    for (const Point2 p : test::one_ulp_lattice(12, rng)) pts.push_back({p.x, p.y, 0});
     SCOPED_TRACE("seed " + std::to_string(seed));
     expect_valid(pts, true);
   }

@@ -59,6 +59,15 @@ void expect_merge_valid(const std::vector<Point2>& left, const std::vector<Point
   }
 }
 
+// The same merge mirrored in x (and shifted by SHIFT): RIGHT's mirror image becomes the left half.
+void expect_mirrored_merge_valid(const std::vector<Point2>& left, const std::vector<Point2>& right,
+                                 double shift) {
+  std::vector<Point2> mirrored_left, mirrored_right;
+  for (Point2 p : right) mirrored_left.push_back({-p.x, p.y});
+  for (Point2 p : left) mirrored_right.push_back({-p.x + shift, p.y});
+  expect_merge_valid(mirrored_left, mirrored_right, true);
+}
+
 // Distinct points, sorted, split at `m`; each side shuffled into a random insertion order.
 void expect_split_valid(std::vector<Point2> points, std::size_t m, std::mt19937_64& rng,
                         bool brute_force) {
@@ -131,11 +140,7 @@ TEST(Merge, CollinearHalvesAndTwoLines) {
         for (int i = 0; i < b + 1; ++i) right.push_back({a + 1 + ux(rng), dy + u(rng)});
         if (all_collinear(right)) continue;
         expect_merge_valid(left, right, true);
-        // Mirrored: the blob left, the segment right.
-        std::vector<Point2> ml, mr;
-        for (Point2 p : right) ml.push_back({-p.x, p.y});
-        for (Point2 p : left) mr.push_back({-p.x + 1000, p.y});
-        expect_merge_valid(ml, mr, true);
+        expect_mirrored_merge_valid(left, right, 1000);  // the blob left, the segment right
       }
     }
 }
@@ -152,11 +157,7 @@ TEST(Merge, HalfInsideTheOthersWedge) {
     expect_merge_valid(seg, right, true);
     std::vector<Point2> two = {{0, 0}, {3, 0}};
     expect_merge_valid(two, right, true);
-    // Mirrored: the right half inside the left one's wedge.
-    std::vector<Point2> ml, mr;
-    for (Point2 p : right) ml.push_back({-p.x, p.y});
-    for (Point2 p : tri) mr.push_back({-p.x + 30, p.y});
-    expect_merge_valid(ml, mr, true);
+    expect_mirrored_merge_valid(tri, right, 30);  // the right half inside the left one's wedge
   }
 }
 
@@ -206,15 +207,7 @@ TEST(Merge, CocircularAcrossTheSplit) {
 TEST(Merge, OneUlpPerturbedLattices) {
   for (unsigned seed = 0; seed < 60; ++seed) {
     std::mt19937_64 rng(seed);
-    std::vector<Point2> pts;
-    for (int j = 0; j < 9; ++j)
-      for (int i = 0; i < 9; ++i) {
-        double x = 500000.0 + i, y = 4000000.0 + j;
-        const int dx = static_cast<int>(rng() % 3) - 1, dy = static_cast<int>(rng() % 3) - 1;
-        if (dx) x = std::nextafter(x, dx > 0 ? 1e300 : -1e300);
-        if (dy) y = std::nextafter(y, dy > 0 ? 1e300 : -1e300);
-        pts.push_back({x, y});
-      }
+    const std::vector<Point2> pts = test::one_ulp_lattice(9, rng);
     SCOPED_TRACE("seed " + std::to_string(seed));
     expect_split_valid(pts, 2 + rng() % 77, rng, true);
   }
