@@ -9,10 +9,10 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <functional>
 #include <regex>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "support/files.hpp"
@@ -100,99 +100,53 @@ TEST(ReadmeCommands, RefusesAMissingFile) {
 
 // ---- broken copies of it ----
 
-// Replaces the first FROM in TEXT by TO; fails the test when there is none.
-std::string replace_first(std::string text, const std::string& from, const std::string& to) {
-  const std::size_t at = text.find(from);
-  EXPECT_NE(at, std::string::npos) << "the README has no '" << from << "' to break";
-  if (at != std::string::npos) text.replace(at, from.size(), to);
-  return text;
-}
-
-// The quick-start block's body (between the fences) of README text.
-std::string block_of(const std::string& text) {
-  const std::size_t heading = text.find("## Quick start\n");
-  const std::size_t open = text.find("```sh\n", heading);
-  const std::size_t close = text.find("```\n", open + 6);
-  EXPECT_TRUE(heading != std::string::npos && open != std::string::npos &&
-              close != std::string::npos)
-      << "the README has no quick-start block to break";
-  return text.substr(open + 6, close - open - 6);
-}
-
+// A way to break the README: each edit replaces the first FROM with TO; the script must fail
+// with MESSAGE. The quick-start block is the README's first, so "--preset test\n```" is its end.
 struct Breakage {
   std::string name;
-  std::function<std::string(const std::string&)> apply;
-  std::string message;  // part of what the script must say
+  std::vector<std::pair<std::string, std::string>> edits;
+  std::string message;
 };
 
 std::ostream& operator<<(std::ostream& os, const Breakage& b) {
   return os << b.name;
 }
 
+const std::string kCommand2 = "cmake/setup.sh && cmake --workflow --preset test";
+const std::string kBlockEnd = "--preset test\n```\n";
+
 const std::vector<Breakage> kBreakages = {
-    {"formatter_heading",
-     [](const std::string& t) { return replace_first(t, "# tincdt\n", "#tincdt\n"); },
-     "heading without a space after '#'"},
+    // What a code formatter does to Markdown.
+    {"formatter_heading", {{"# tincdt\n", "#tincdt\n"}}, "heading without a space after '#'"},
     {"formatter_torn_options",
-     [](const std::string& t) {
-       return replace_first(t, "cmake --workflow --preset", "cmake-- workflow-- preset");
-     },
+     {{"cmake --workflow --preset", "cmake-- workflow-- preset"}},
      "'-- word'"},
     {"formatter_torn_path",
-     [](const std::string& t) {
-       return replace_first(t, "```sh\ncmake/setup.sh", "```sh\ncmake / setup.sh");
-     },
+     {{"```sh\ncmake/setup.sh", "```sh\ncmake / setup.sh"}},
      "path torn apart"},
     {"formatter_torn_short_option",
-     [](const std::string& t) {
-       return replace_first(t, " -o sample_tin.ply", " - o sample_tin.ply");
-     },
+     {{" -o sample_tin.ply", " - o sample_tin.ply"}},
      "'word - word'"},
     {"formatter_text_on_the_fence",
-     [](const std::string& t) {
-       return replace_first(t, "```sh\ncmake/setup.sh", "```sh cmake/setup.sh");
-     },
+     {{"```sh\ncmake/setup.sh", "```sh cmake/setup.sh"}},
      "must open alone on its line"},
-    {"missing_block",
-     [](const std::string& t) {
-       const std::string block = block_of(t);
-       return replace_first(t, "```sh\n" + block + "```\n", "");
-     },
-     "no fenced block under '## Quick start'"},
+    // What an edit does.
     {"missing_heading",
-     [](const std::string& t) {
-       return replace_first(t, "## Quick start\n", "## Getting started\n");
-     },
+     {{"## Quick start\n", "## Getting started\n"}},
      "no '## Quick start' heading"},
+    {"missing_block",
+     {{"```sh\ncmake/setup.sh", "cmake/setup.sh"}, {kBlockEnd, "--preset test\n"}},
+     "no fenced block under '## Quick start'"},
+    {"one_command", {{"\n" + kCommand2 + "\n```", "\n```"}}, "holds 1 commands, not 2"},
     {"three_commands",
-     [](const std::string& t) {
-       const std::string block = block_of(t);
-       return replace_first(t, block, block + "ctest --preset test\n");
-     },
+     {{kBlockEnd, "--preset test\nctest --preset test\n```\n"}},
      "holds 3 commands, not 2"},
-    {"one_command",
-     [](const std::string& t) {
-       const std::string block = block_of(t);
-       return replace_first(t, block, block.substr(0, block.find('\n') + 1));
-     },
-     "holds 1 commands, not 2"},
     {"unparsable_command",
-     [](const std::string& t) {
-       return replace_first(t, "cmake/setup.sh && cmake --workflow --preset test",
-                            "cmake/setup.sh && && cmake --workflow --preset test");
-     },
+     {{kCommand2, "cmake/setup.sh && && cmake --workflow --preset test"}},
      "command 2 does not parse as shell"},
-    {"unclosed_block",
-     [](const std::string& t) {
-       const std::string block = block_of(t);
-       return replace_first(t, block + "```\n", block);
-     },
-     "never closed"},
+    {"unclosed_block", {{kBlockEnd, "--preset test\n"}}, "never closed"},
     {"second_block",
-     [](const std::string& t) {
-       const std::string block = block_of(t);
-       return replace_first(t, block + "```\n", block + "```\n\n```sh\nctest --preset test\n```\n");
-     },
+     {{kBlockEnd, kBlockEnd + "\n```sh\nctest --preset test\n```\n"}},
      "a second fenced block"},
 };
 
@@ -200,13 +154,16 @@ class BrokenReadme : public ::testing::TestWithParam<Breakage> {};
 
 TEST_P(BrokenReadme, FailsNamingTheProblem) {
   const Breakage& b = GetParam();
-  const std::string original = test::slurp(kSource / "README.md");
-  ASSERT_FALSE(original.empty());
-  const std::string broken = b.apply(original);
-  ASSERT_NE(broken, original);
+  std::string text = test::slurp(kSource / "README.md");
+  ASSERT_FALSE(text.empty());
+  for (const auto& [from, to] : b.edits) {
+    const std::size_t at = text.find(from);
+    ASSERT_NE(at, std::string::npos) << "the README has no '" << from << "' to break";
+    text.replace(at, from.size(), to);
+  }
   fs::create_directories(kTmp);
   const fs::path copy = kTmp / (b.name + ".md");
-  test::spit(copy, broken);
+  test::spit(copy, text);
   for (const std::string action : {"check", "print 1"}) {
     const Outcome r = readme_commands(copy, action);
     EXPECT_EQ(r.exit_code, 1) << action << ": " << r.output;
