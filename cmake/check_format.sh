@@ -3,6 +3,8 @@
 #   cmake/check_format.sh          check; lists the files that differ and fails
 #   cmake/check_format.sh --fix    reformat those files in place
 # CLANG_FORMAT=clang-format-14 picks another binary.
+# C++ files only, on purpose: never Markdown or any other prose. A formatter run over README.md
+# once tore its commands apart (`cmake / setup.sh`); CI now runs those commands from it.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 

@@ -10,8 +10,9 @@
 // on an in-memory raster of the same terrain. Same binary, same bytes: the RNG is our own
 // SplitMix64, and the DBF header date is fixed.
 //
-// The LAS writer is our own, from the ASPRS LAS 1.2 specification; it does not share code with
-// src/io (which reads LAS), so the sample is an independent check of that reader.
+// The LAS writer is the project's synthetic-LAS writer (tests/support/las_writer.hpp, from the
+// ASPRS LAS 1.2 specification), shared with the tests and benchmarks; it does not share code
+// with src/io (which reads LAS), so the sample is an independent check of that reader.
 
 #include <gdal.h>
 #include <gdal_alg.h>
@@ -33,11 +34,14 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
-#include <type_traits>
 #include <utility>
 #include <vector>
 
+#include "support/las_writer.hpp"
+
 namespace {
+
+namespace las = tincdt::test::las;
 
 namespace fs = std::filesystem;
 
@@ -104,31 +108,15 @@ class Rng {
 // Points
 // ---------------------------------------------------------------------------------------------
 
-struct LasPoint {
-  std::int32_t x = 0, y = 0, z = 0;  // scaled integers, as stored
-  std::uint16_t intensity = 0;
-  std::uint8_t return_number = 1;
-  std::uint8_t number_of_returns = 1;
-  std::uint8_t classification = 2;
-  std::int8_t scan_angle = 0;
-  std::uint16_t point_source_id = 1;
-  double gps_time = 0.0;
-};
-
-std::int32_t quantize(double value, double offset) {
-  const double scaled = std::round((value - offset) / kScale);
-  if (!(scaled >= -2147483648.0 && scaled <= 2147483647.0)) {
-    throw std::runtime_error("coordinate out of LAS int32 range");
-  }
-  return static_cast<std::int32_t>(scaled);
-}
+using LasPoint = las::Record;  // x, y, z as stored: scaled integers
 
 LasPoint make_point(Rng& rng, double u, double v, double z, std::uint8_t cls, std::uint8_t ret,
                     std::uint8_t nret, int intensity_lo, int intensity_hi) {
   LasPoint p;
-  p.x = quantize(kOriginX + u, kOffset[0]);
-  p.y = quantize(kOriginY + v, kOffset[1]);
-  p.z = quantize(z, kOffset[2]);
+  p.x = las::quantize(kOriginX + u, kScale, kOffset[0]);
+  p.y = las::quantize(kOriginY + v, kScale, kOffset[1]);
+  p.z = las::quantize(z, kScale, kOffset[2]);
+  p.point_source_id = 1;  // flight line 1
   p.intensity = static_cast<std::uint16_t>(rng.uniform_int(intensity_lo, intensity_hi));
   p.return_number = ret;
   p.number_of_returns = nret;
@@ -212,36 +200,8 @@ std::vector<LasPoint> make_points() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// LAS 1.2 writer (ASPRS LAS Specification 1.2, 2008): public header block (227 bytes), one
-// GeoKeyDirectoryTag VLR, point data records of format 1 (28 bytes each). Little-endian.
+// LAS 1.2, point format 1, with one GeoKeyDirectoryTag record
 // ---------------------------------------------------------------------------------------------
-
-class ByteWriter {
- public:
-  template <typename T>
-  void put(T value) {
-    static_assert(std::is_integral_v<T>);
-    using U = std::make_unsigned_t<T>;
-    const auto bits = static_cast<U>(value);
-    for (std::size_t i = 0; i < sizeof(T); ++i) {
-      bytes_.push_back(static_cast<char>((bits >> (8 * i)) & 0xFFu));
-    }
-  }
-  void put_double(double value) {
-    std::uint64_t bits = 0;
-    static_assert(sizeof bits == sizeof value);
-    std::memcpy(&bits, &value, sizeof bits);
-    put(bits);
-  }
-  void put_chars(std::string_view text, std::size_t width) {  // NUL-padded, truncated to width
-    for (std::size_t i = 0; i < width; ++i) bytes_.push_back(i < text.size() ? text[i] : '\0');
-  }
-  std::size_t size() const { return bytes_.size(); }
-  const std::string& bytes() const { return bytes_; }
-
- private:
-  std::string bytes_;
-};
 
 struct LasSummary {
   std::map<int, std::size_t> classes;
@@ -249,105 +209,28 @@ struct LasSummary {
 };
 
 LasSummary write_las(const fs::path& path, const std::vector<LasPoint>& pts) {
-  // GeoKeyDirectoryTag: header {version 1, revision 1.0, key count} + sorted key entries
-  // {KeyID, TIFFTagLocation (0 = value inline), Count, Value}.
-  const std::vector<std::array<std::uint16_t, 4>> keys = {
+  las::Header header;
+  header.point_format = 1;
+  header.software = "tincdt_make_sample";
+  header.scale = {kScale, kScale, kScale};
+  header.offset = kOffset;
+  header.geokeys = {
       {1024, 0, 1, 1},                                  // GTModelTypeGeoKey = ModelTypeProjected
       {1025, 0, 1, 1},                                  // GTRasterTypeGeoKey = RasterPixelIsArea
       {3072, 0, 1, static_cast<std::uint16_t>(kEpsg)},  // ProjectedCSTypeGeoKey
       {3076, 0, 1, 9001},                               // ProjLinearUnitsGeoKey = metre
       {4099, 0, 1, 9001},                               // VerticalUnitsGeoKey = metre
   };
-  ByteWriter geokeys;
-  geokeys.put<std::uint16_t>(1);
-  geokeys.put<std::uint16_t>(1);
-  geokeys.put<std::uint16_t>(0);
-  geokeys.put(static_cast<std::uint16_t>(keys.size()));
-  for (const auto& key : keys) {
-    for (const std::uint16_t field : key) geokeys.put(field);
-  }
-
-  constexpr std::uint16_t kHeaderSize = 227;
-  constexpr std::uint16_t kVlrHeaderSize = 54;
-  constexpr std::uint8_t kPointFormat = 1;
-  constexpr std::uint16_t kPointRecordLength = 28;
-  const auto offset_to_points =
-      static_cast<std::uint32_t>(kHeaderSize + kVlrHeaderSize + geokeys.size());
-
-  LasSummary summary;
-  std::array<std::uint32_t, 5> by_return{};
-  std::array<double, 3> lo{HUGE_VAL, HUGE_VAL, HUGE_VAL};
-  std::array<double, 3> hi{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-  for (const LasPoint& p : pts) {
-    const std::array<std::int32_t, 3> xyz{p.x, p.y, p.z};
-    for (std::size_t a = 0; a < 3; ++a) {
-      const double value = xyz[a] * kScale + kOffset[a];  // exactly what a reader computes
-      lo[a] = std::min(lo[a], value);
-      hi[a] = std::max(hi[a], value);
-    }
-    ++by_return[p.return_number - 1u];
-    ++summary.classes[p.classification];
-  }
-  summary.bounds = {lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]};
-
-  ByteWriter w;
-  // Public header block.
-  w.put_chars("LASF", 4);                               // file signature
-  w.put<std::uint16_t>(0);                              // file source ID
-  w.put<std::uint16_t>(0);                              // global encoding: GPS week time
-  for (int i = 0; i < 16; ++i) w.put<std::uint8_t>(0);  // project ID (GUID)
-  w.put<std::uint8_t>(1);                               // version major
-  w.put<std::uint8_t>(2);                               // version minor
-  w.put_chars("OTHER", 32);                             // system identifier: synthetic data
-  w.put_chars("tincdt_make_sample", 32);                // generating software
-  w.put<std::uint16_t>(1);     // creation day of year (fixed: reproducible)
-  w.put<std::uint16_t>(2025);  // creation year
-  w.put(kHeaderSize);
-  w.put(offset_to_points);
-  w.put<std::uint32_t>(1);  // number of VLRs
-  w.put(kPointFormat);
-  w.put(kPointRecordLength);
-  w.put(static_cast<std::uint32_t>(pts.size()));
-  for (const std::uint32_t n : by_return) w.put(n);
-  for (int a = 0; a < 3; ++a) w.put_double(kScale);
-  for (const double o : kOffset) w.put_double(o);
-  for (std::size_t a = 0; a < 3; ++a) {  // max X, min X, max Y, min Y, max Z, min Z
-    w.put_double(hi[a]);
-    w.put_double(lo[a]);
-  }
-  if (w.size() != kHeaderSize) throw std::logic_error("LAS header size mismatch");
-
-  // Variable length record: LASF_Projection / 34735 (GeoKeyDirectoryTag).
-  w.put<std::uint16_t>(0);  // reserved
-  w.put_chars("LASF_Projection", 16);
-  w.put<std::uint16_t>(34735);
-  w.put(static_cast<std::uint16_t>(geokeys.size()));
-  w.put_chars("GeoTIFF GeoKeyDirectoryTag", 32);
-  for (const char c : geokeys.bytes()) w.put(static_cast<std::uint8_t>(c));
-  if (w.size() != offset_to_points) throw std::logic_error("LAS VLR size mismatch");
-
-  // Point data records, format 1.
-  for (const LasPoint& p : pts) {
-    w.put(p.x);
-    w.put(p.y);
-    w.put(p.z);
-    w.put(p.intensity);
-    // return number (bits 0-2), number of returns (3-5), scan direction (6), edge of line (7)
-    w.put(static_cast<std::uint8_t>(p.return_number | (p.number_of_returns << 3)));
-    w.put(p.classification);  // class in bits 0-4; synthetic/key-point/withheld flags clear
-    w.put(p.scan_angle);
-    w.put<std::uint8_t>(0);  // user data
-    w.put(p.point_source_id);
-    w.put_double(p.gps_time);
-  }
-  if (w.size() != offset_to_points + pts.size() * kPointRecordLength) {
-    throw std::logic_error("LAS point record size mismatch");
-  }
-
+  const std::string bytes = las::file(header, pts);
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out.write(w.bytes().data(), static_cast<std::streamsize>(w.size()));
+  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
   out.close();
   if (!out) throw std::runtime_error("cannot write " + path.string());
+
+  const las::Header h = las::summarize(header, pts);
+  LasSummary summary;
+  for (const LasPoint& p : pts) ++summary.classes[p.classification];
+  summary.bounds = {h.min[0], h.min[1], h.min[2], h.max[0], h.max[1], h.max[2]};
   return summary;
 }
 

@@ -48,15 +48,6 @@ bool import_wkt(OGRSpatialReference& srs, const std::string& wkt) {
   return srs.importFromWkt(wkt.c_str()) == OGRERR_NONE;
 }
 
-GdalQuiet::GdalQuiet() {
-  CPLPushErrorHandler(CPLQuietErrorHandler);
-  CPLErrorReset();
-}
-
-GdalQuiet::~GdalQuiet() {
-  CPLPopErrorHandler();
-}
-
 GdalMessages::GdalMessages() {
   CPLPushErrorHandlerEx(&GdalMessages::handle, this);
   CPLErrorReset();

@@ -46,18 +46,9 @@ OGRSpatialReference gis_order_srs();
 bool import_wkt(OGRSpatialReference& srs, const std::string& wkt);
 
 // For the scope: GDAL prints nothing, and its last message starts empty (last_gdal_message()
-// then tells only what happened inside).
-class GdalQuiet {
- public:
-  GdalQuiet();
-  GdalQuiet(const GdalQuiet&) = delete;
-  GdalQuiet& operator=(const GdalQuiet&) = delete;
-  ~GdalQuiet();
-};
-
-// For the scope: GDAL prints nothing; its warnings are kept (the first 20, each on one line) for
-// the caller to log, and its first failure is remembered, so that a driver that gives up in the
-// middle of a layer is not mistaken for the layer's end.
+// then tells only what happened inside). Its warnings are kept (the first 20, each on one line)
+// for the caller to log, and its first failure is remembered, so that a driver that gives up in
+// the middle of a layer is not mistaken for the layer's end.
 class GdalMessages {
  public:
   GdalMessages();
@@ -80,5 +71,8 @@ class GdalMessages {
   std::string failure_;
   std::vector<std::string> warnings_;
 };
+
+// For a scope that wants GDAL silent and its last message fresh, and no more.
+using GdalQuiet = GdalMessages;
 
 }  // namespace tincdt::io::detail

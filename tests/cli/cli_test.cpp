@@ -27,7 +27,9 @@
 #include <vector>
 
 #include "support/files.hpp"
+#include "support/las_writer.hpp"
 #include "support/mesh_files.hpp"
+#include "support/stats_json.hpp"
 
 extern char** environ;
 
@@ -55,11 +57,10 @@ std::string sanitize(std::string s) {
   return s;
 }
 
+// The whole number at KEY (a top-level member, or a path like "flats/before") of a --stats file;
+// UINT64_MAX when there is none.
 std::uint64_t stats_number(const std::string& json, const std::string& key) {
-  const std::regex re("\"" + key + "\": (\\d+)");
-  std::smatch m;
-  if (!std::regex_search(json, m, re)) return UINT64_MAX;
-  return std::stoull(m[1]);
+  return tincdt::test::StatsJson(json).count(key);
 }
 
 // ---- synthetic LAS 1.2, point format 0 --------------------------------------------------------
@@ -74,43 +75,23 @@ void put(std::string& buf, std::size_t offset, T value) {
   std::memcpy(buf.data() + offset, &value, sizeof value);
 }
 
+// Millimetre coordinates around (500000, 4000000), all single returns.
 std::string make_las(const std::vector<LasPoint>& points) {
-  constexpr std::uint16_t kHeader = 227;
-  constexpr std::uint16_t kRecord = 20;
-  const double scale = 0.001, ox = 500000, oy = 4000000, oz = 0;
-  std::string buf(kHeader + kRecord * points.size(), '\0');
-  std::memcpy(buf.data(), "LASF", 4);
-  buf[24] = 1;
-  buf[25] = 2;
-  std::memcpy(buf.data() + 26, "tincdt cli_test", 15);
-  std::memcpy(buf.data() + 58, "tincdt cli_test", 15);
-  put<std::uint16_t>(buf, 94, kHeader);
-  put<std::uint32_t>(buf, 96, kHeader);
-  put<std::uint32_t>(buf, 100, 0);
-  put<std::uint8_t>(buf, 104, 0);
-  put<std::uint16_t>(buf, 105, kRecord);
-  put<std::uint32_t>(buf, 107, static_cast<std::uint32_t>(points.size()));
-  put<std::uint32_t>(buf, 111, static_cast<std::uint32_t>(points.size()));  // all first returns
-  double min_x = 1e300, min_y = 1e300, min_z = 1e300, max_x = -1e300, max_y = -1e300,
-         max_z = -1e300;
+  namespace las = tincdt::test::las;
+  las::Header h;
+  h.software = "tincdt cli_test";
+  h.scale = {0.001, 0.001, 0.001};
+  h.offset = {500000, 4000000, 0};
+  std::vector<las::Record> records;
   for (const LasPoint& p : points) {
-    min_x = std::min(min_x, p.x), max_x = std::max(max_x, p.x);
-    min_y = std::min(min_y, p.y), max_y = std::max(max_y, p.y);
-    min_z = std::min(min_z, p.z), max_z = std::max(max_z, p.z);
+    las::Record r;
+    r.x = las::quantize(p.x, h.scale[0], h.offset[0]);
+    r.y = las::quantize(p.y, h.scale[1], h.offset[1]);
+    r.z = las::quantize(p.z, h.scale[2], h.offset[2]);
+    r.classification = p.cls;
+    records.push_back(r);
   }
-  const double header_doubles[] = {scale, scale, scale, ox,    oy,    oz,
-                                   max_x, min_x, max_y, min_y, max_z, min_z};
-  for (std::size_t i = 0; i < 12; ++i) put<double>(buf, 131 + 8 * i, header_doubles[i]);
-  std::size_t at = kHeader;
-  for (const LasPoint& p : points) {
-    put<std::int32_t>(buf, at, static_cast<std::int32_t>(std::lround((p.x - ox) / scale)));
-    put<std::int32_t>(buf, at + 4, static_cast<std::int32_t>(std::lround((p.y - oy) / scale)));
-    put<std::int32_t>(buf, at + 8, static_cast<std::int32_t>(std::lround((p.z - oz) / scale)));
-    put<std::uint8_t>(buf, at + 14, 0x09);  // return 1 of 1
-    put<std::uint8_t>(buf, at + 15, p.cls);
-    at += kRecord;
-  }
-  return buf;
+  return las::file(h, records);
 }
 
 // A jittered 20 x 20 grid at UTM magnitudes; every other point is ground (class 2).
@@ -515,16 +496,16 @@ TEST_F(Cli, XyzToEveryFormatWithStats) {
     EXPECT_NE(r.err.find("TIN: 400 vertices"), std::string::npos) << r;
     EXPECT_NE(r.err.find("wrote " + out), std::string::npos) << r;
     const std::string json = slurp(stats);
+    const tincdt::test::StatsJson report(json);
+    ASSERT_TRUE(report.ok()) << json;
     for (const char* key :
          {"points_read", "points_kept", "duplicates_merged", "vertices", "triangles", "constraints",
           "steiner_vertices", "peak_rss_bytes", "tincdt_version"})
-      EXPECT_NE(json.find(std::string("\"") + key + "\": "), std::string::npos) << key << json;
-    EXPECT_TRUE(std::regex_search(
-        json, std::regex("\"timings_s\": \\{\\s*\"read\": [-0-9.e]+,\\s*\"delaunay\": [-0-9.e]+,"
-                         "\\s*\"constraints\": [-0-9.e]+,[^}]*\"write\": [-0-9.e]+,\\s*"
-                         "\"total\": [-0-9.e]+\\s*\\}")))
-        << json;
-    EXPECT_TRUE(std::regex_search(json, std::regex("\"crs\": \"\""))) << json;
+      EXPECT_TRUE(report.has(key)) << key << json;
+    for (const char* stage : {"read", "delaunay", "constraints", "write", "total"})
+      EXPECT_GE(report.number(std::string("timings_s/") + stage).value_or(-1), 0.0)
+          << stage << json;
+    EXPECT_EQ(report.text("crs"), "") << json;
     EXPECT_EQ(stats_number(json, "points_read"), 400u);
     EXPECT_EQ(stats_number(json, "vertices"), 400u);
     EXPECT_GT(stats_number(json, "peak_rss_bytes"), 0u);
@@ -636,8 +617,8 @@ TEST_F(Cli, PlyAsciiAndOffsetAuto) {
   ASSERT_EQ(r.exit_code, 0) << r;
   const std::string ply = slurp(s.path("t.ply"));
   EXPECT_NE(ply.find("format ascii 1.0"), std::string::npos);
-  EXPECT_TRUE(std::regex_search(slurp(s.path("s.json")),
-                                std::regex("\"offset\": \\[\\s*500000,\\s*4000000,\\s*0\\s*\\]")))
+  EXPECT_EQ(tincdt::test::StatsJson(slurp(s.path("s.json"))).numbers("offset"),
+            (std::vector<double>{500000, 4000000, 0}))
       << slurp(s.path("s.json"));
 }
 
@@ -647,7 +628,7 @@ TEST_F(Cli, AssignedCrsGoesToPrjAndStats) {
                            "--stats", s.path("s.json")});
   ASSERT_EQ(r.exit_code, 0) << r;
   EXPECT_TRUE(fs::is_regular_file(s.path("t.prj")));
-  EXPECT_NE(slurp(s.path("s.json")).find("\"crs\": \"EPSG:32633\""), std::string::npos);
+  EXPECT_EQ(tincdt::test::StatsJson(slurp(s.path("s.json"))).text("crs"), "EPSG:32633");
 }
 
 TEST_F(Cli, ReprojectWithoutCrsFails) {
@@ -807,6 +788,11 @@ struct LineJob {
   std::string name;
   std::vector<std::string> args;  // relative to the shared data folder, "@" marks a path
 };
+
+// What GoogleTest and CTest print for a case: its name, not the object's bytes.
+void PrintTo(const LineJob& job, std::ostream* os) {
+  *os << job.name;
+}
 
 class RealLines : public ::testing::TestWithParam<LineJob> {
  protected:

@@ -1,7 +1,8 @@
 // Property tests of the two-thread Delaunay path (parallel_delaunay.hpp): the merge of two
-// triangulations on its own, on every kind of split, and triangulate() forced onto the parallel
-// path at small sizes, each result checked by validate(), by the triangle count 2n - 2 - h and
-// against the sequential result.
+// triangulations on its own, on every kind of split, each result checked by validate() and the
+// triangle count 2n - 2 - h; and what only triangulate()'s parallel path does (the default
+// threshold, the fallback, the merged-duplicate list against the sequential one). The property
+// tests of triangulate() run on both paths in delaunay_test.cpp.
 #include "delaunay/parallel_delaunay.hpp"
 
 #include <gtest/gtest.h>
@@ -24,18 +25,12 @@ namespace {
 using mesh::Triangulation;
 using test::globally_delaunay;
 using test::hull_vertex_count;
+using test::takes_parallel_path;
 
 constexpr std::size_t kNever = std::numeric_limits<std::size_t>::max();
 
 bool lex_less(Point2 a, Point2 b) {
   return std::tie(a.x, a.y) < std::tie(b.x, b.y);
-}
-
-std::vector<Point2> xy_of(const std::vector<Point3>& points) {
-  std::vector<Point2> xy;
-  xy.reserve(points.size());
-  for (const Point3& p : points) xy.push_back({p.x, p.y});
-  return xy;
 }
 
 // ---- the merge on its own
@@ -62,6 +57,15 @@ void expect_merge_valid(const std::vector<Point2>& left, const std::vector<Point
   if (brute_force) {
     EXPECT_TRUE(globally_delaunay(tin));
   }
+}
+
+// The same merge mirrored in x (and shifted by SHIFT): RIGHT's mirror image becomes the left half.
+void expect_mirrored_merge_valid(const std::vector<Point2>& left, const std::vector<Point2>& right,
+                                 double shift) {
+  std::vector<Point2> mirrored_left, mirrored_right;
+  for (Point2 p : right) mirrored_left.push_back({-p.x, p.y});
+  for (Point2 p : left) mirrored_right.push_back({-p.x + shift, p.y});
+  expect_merge_valid(mirrored_left, mirrored_right, true);
 }
 
 // Distinct points, sorted, split at `m`; each side shuffled into a random insertion order.
@@ -136,11 +140,7 @@ TEST(Merge, CollinearHalvesAndTwoLines) {
         for (int i = 0; i < b + 1; ++i) right.push_back({a + 1 + ux(rng), dy + u(rng)});
         if (all_collinear(right)) continue;
         expect_merge_valid(left, right, true);
-        // Mirrored: the blob left, the segment right.
-        std::vector<Point2> ml, mr;
-        for (Point2 p : right) ml.push_back({-p.x, p.y});
-        for (Point2 p : left) mr.push_back({-p.x + 1000, p.y});
-        expect_merge_valid(ml, mr, true);
+        expect_mirrored_merge_valid(left, right, 1000);  // the blob left, the segment right
       }
     }
 }
@@ -157,11 +157,7 @@ TEST(Merge, HalfInsideTheOthersWedge) {
     expect_merge_valid(seg, right, true);
     std::vector<Point2> two = {{0, 0}, {3, 0}};
     expect_merge_valid(two, right, true);
-    // Mirrored: the right half inside the left one's wedge.
-    std::vector<Point2> ml, mr;
-    for (Point2 p : right) ml.push_back({-p.x, p.y});
-    for (Point2 p : tri) mr.push_back({-p.x + 30, p.y});
-    expect_merge_valid(ml, mr, true);
+    expect_mirrored_merge_valid(tri, right, 30);  // the right half inside the left one's wedge
   }
 }
 
@@ -211,229 +207,30 @@ TEST(Merge, CocircularAcrossTheSplit) {
 TEST(Merge, OneUlpPerturbedLattices) {
   for (unsigned seed = 0; seed < 60; ++seed) {
     std::mt19937_64 rng(seed);
-    std::vector<Point2> pts;
-    for (int j = 0; j < 9; ++j)
-      for (int i = 0; i < 9; ++i) {
-        double x = 500000.0 + i, y = 4000000.0 + j;
-        const int dx = static_cast<int>(rng() % 3) - 1, dy = static_cast<int>(rng() % 3) - 1;
-        if (dx) x = std::nextafter(x, dx > 0 ? 1e300 : -1e300);
-        if (dy) y = std::nextafter(y, dy > 0 ? 1e300 : -1e300);
-        pts.push_back({x, y});
-      }
+    const std::vector<Point2> pts = test::one_ulp_lattice(9, rng);
     SCOPED_TRACE("seed " + std::to_string(seed));
     expect_split_valid(pts, 2 + rng() % 77, rng, true);
   }
 }
 
-// ---- triangulate() on the parallel path
-// -------------------------------------------------------------
+// ---- triangulate() on the parallel path: what only it does (every property test of
+// triangulate() runs on both paths, in delaunay_test.cpp) ----
 
-DelaunayResult run(std::vector<Point3> points, std::size_t parallel_min_points,
-                   DuplicatePolicy policy = DuplicatePolicy::mean) {
+DelaunayResult run(std::vector<Point3> points, std::size_t parallel_min_points) {
   DelaunayOptions options;
-  options.on_duplicate = policy;
-  options.keep_point_map = true;
   options.parallel_min_points = parallel_min_points;
   return triangulate(std::move(points), options);
 }
 
-bool takes_parallel_path(std::vector<Point3> points) {
-  BBox box;
-  for (const Point3& p : points) box.add(p.x, p.y);
-  DelaunayResult result;
-  return triangulate_in_two(points, box, {}, nullptr, result);
-}
-
-void expect_parallel_valid(const std::vector<Point3>& points, bool brute_force,
-                           DuplicatePolicy policy = DuplicatePolicy::mean) {
-  EXPECT_TRUE(takes_parallel_path(points));
-  const DelaunayResult par = run(points, 0, policy);
-  const DelaunayResult seq = run(points, kNever, policy);
-  const Triangulation& tin = par.tin;
-  ASSERT_EQ(tin.validate(), "");
-  const std::size_t nv = tin.vertex_count();
-  EXPECT_EQ(nv, seq.tin.vertex_count());
-  EXPECT_EQ(par.duplicates_merged, seq.duplicates_merged);
-  EXPECT_EQ(nv + par.duplicates_merged, points.size());
-  EXPECT_EQ(tin.triangle_count(), 2 * nv - 2 - hull_vertex_count(xy_of(points)));
-  EXPECT_EQ(tin.triangle_count(), seq.tin.triangle_count());
-  ASSERT_EQ(par.vertex_of_point.size(), points.size());
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    ASSERT_EQ(tin.point(par.vertex_of_point[i]), (Point2{points[i].x, points[i].y}));
-    ASSERT_EQ(tin.z(par.vertex_of_point[i]), seq.tin.z(seq.vertex_of_point[i]));
-  }
-  if (brute_force) {
-    EXPECT_TRUE(globally_delaunay(tin));
-  }
-}
-
-TEST(ParallelDelaunay, RandomUniformManySeeds) {
-  for (unsigned seed = 0; seed < 400; ++seed) {
-    std::mt19937_64 rng(seed);
-    const std::size_t n = 8 + rng() % 400;
-    std::uniform_real_distribution<double> u(0, 100);
-    std::vector<Point3> pts;
-    for (std::size_t i = 0; i < n; ++i) pts.push_back({u(rng), u(rng), u(rng)});
-    SCOPED_TRACE("seed " + std::to_string(seed));
-    expect_parallel_valid(pts, n < 150);
-  }
-}
-
-TEST(ParallelDelaunay, UtmOffsetsAndLargeRandom) {
+TEST(ParallelDelaunay, TheDefaultThresholdSplitsLargeInputs) {
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> u(0, 10000);
   std::vector<Point3> pts;
   for (int i = 0; i < 60000; ++i) pts.push_back({500000 + u(rng), 4000000 + u(rng), u(rng)});
-  expect_parallel_valid(pts, false);
-  // At the default threshold triangulate() takes the parallel path by itself.
+  ASSERT_GE(pts.size(), DelaunayOptions{}.parallel_min_points);
+  EXPECT_TRUE(takes_parallel_path(pts));
   const DelaunayResult r = triangulate(std::move(pts));
   EXPECT_EQ(r.tin.validate(), "");
-}
-
-TEST(ParallelDelaunay, RowMajorLattices) {
-  for (int k : {3, 5, 17, 64, 150}) {
-    for (double origin_x : {0.0, 500000.0}) {
-      for (int extra : {0, 1, 7}) {
-        std::vector<Point3> pts;  // row-major, like a raster export
-        for (int j = 0; j < k; ++j)
-          for (int i = 0; i < k + extra; ++i)
-            pts.push_back({origin_x + i * 0.5, 4000000.0 + j * 0.5, 1.0});
-        SCOPED_TRACE("k " + std::to_string(k) + " extra " + std::to_string(extra));
-        expect_parallel_valid(pts, k <= 17);
-      }
-    }
-  }
-}
-
-TEST(ParallelDelaunay, TallLatticesSplitInsideAColumn) {
-  // Three or five columns: no split between two columns is near the middle, so the halves meet
-  // inside the middle column and each hull has a long slanted edge facing the other half.
-  for (int columns : {2, 3, 5}) {
-    for (int rows : {40, 301}) {
-      std::vector<Point3> pts;
-      for (int j = 0; j < rows; ++j)
-        for (int i = 0; i < columns; ++i) pts.push_back({500000.0 + i, 4000000.0 + j, 0});
-      SCOPED_TRACE(std::to_string(columns) + " x " + std::to_string(rows));
-      expect_parallel_valid(pts, rows < 50);
-    }
-  }
-}
-
-TEST(ParallelDelaunay, CollinearRunsAndHullCollinearPoints) {
-  for (unsigned seed = 0; seed < 100; ++seed) {
-    std::mt19937_64 rng(seed);
-    std::vector<Point3> pts;
-    const int m = 2 + static_cast<int>(rng() % 20);
-    for (int i = 0; i <= m; ++i) {
-      const double s = 10.0 * i / m;
-      pts.push_back({s, 0, 0});
-      pts.push_back({s, 10, 0});
-      pts.push_back({0, s, 0});
-      pts.push_back({10, s, 0});
-      pts.push_back({s, s, 0});
-      pts.push_back({s, 10 - s, 0});
-      pts.push_back({s, 5 + 1e-9 * i, 0});
-    }
-    std::shuffle(pts.begin(), pts.end(), rng);
-    SCOPED_TRACE("seed " + std::to_string(seed));
-    expect_parallel_valid(pts, true);
-  }
-}
-
-TEST(ParallelDelaunay, PointsOnTwoVerticalLines) {
-  for (int a : {2, 3, 10, 101}) {
-    for (int b : {2, 5, 100}) {
-      for (double shift : {0.0, 0.25, 1000.0}) {
-        std::vector<Point3> pts;
-        for (int i = 0; i < a; ++i) pts.push_back({500000.0, 4000000.0 + i, 0});
-        for (int i = 0; i < b; ++i) pts.push_back({500001.0, 4000000.0 + shift + i, 0});
-        SCOPED_TRACE(std::to_string(a) + " " + std::to_string(b) + " " + std::to_string(shift));
-        expect_parallel_valid(pts, a + b < 150);
-      }
-    }
-  }
-}
-
-TEST(ParallelDelaunay, HalvesOfDifferentShapes) {
-  for (unsigned seed = 0; seed < 60; ++seed) {
-    std::mt19937_64 rng(seed);
-    std::uniform_real_distribution<double> u(0, 1);
-    std::vector<Point3> pts;
-    const int n = 50 + static_cast<int>(rng() % 300);
-    const double lift = seed % 2 ? 1e4 : -300;
-    for (int i = 0; i < n; ++i) {
-      pts.push_back({1e-3 * u(rng), 100 * u(rng), 0});               // thin vertical sliver
-      pts.push_back({10 + 1000 * u(rng), lift + 1000 * u(rng), 0});  // a wide blob, higher or lower
-    }
-    SCOPED_TRACE("seed " + std::to_string(seed));
-    expect_parallel_valid(pts, n < 70);
-  }
-}
-
-TEST(ParallelDelaunay, HalvesOfDifferentSizesThroughDuplicates) {
-  // The pivot splits the points, not the distinct ones: a few heavily repeated points on one side.
-  for (unsigned seed = 0; seed < 40; ++seed) {
-    std::mt19937_64 rng(seed);
-    std::uniform_real_distribution<double> u(0, 1);
-    std::vector<Point3> pts;
-    const int few = 2 + static_cast<int>(seed % 4);
-    for (int k = 0; k < few; ++k) {
-      const Point3 p{u(rng), u(rng), u(rng)};
-      for (int r = 0; r < 20; ++r) pts.push_back({p.x, p.y, p.z + r});
-    }
-    for (int i = 0; i < 300; ++i) pts.push_back({2 + u(rng), 10 * u(rng) - 5, u(rng)});
-    std::shuffle(pts.begin(), pts.end(), rng);
-    SCOPED_TRACE("seed " + std::to_string(seed));
-    for (DuplicatePolicy policy : {DuplicatePolicy::first, DuplicatePolicy::min,
-                                   DuplicatePolicy::max, DuplicatePolicy::mean})
-      expect_parallel_valid(pts, false, policy);
-  }
-}
-
-TEST(ParallelDelaunay, KeepDuplicatesInBothHalves) {
-  // One group in each half (the pivot splits near x = 50), so the right one's vertex is offset.
-  for (unsigned seed = 0; seed < 20; ++seed) {
-    std::mt19937_64 rng(seed);
-    std::uniform_real_distribution<double> u(0, 100);
-    std::vector<Point3> pts;
-    for (int i = 0; i < 300; ++i) pts.push_back({u(rng), u(rng), 0});
-    for (double z : {5.0, 1.0, 9.0}) pts.push_back({10.5, 20.25, z});
-    for (double z : {-3.0, 4.0}) pts.push_back({90.5, 70.25, z});
-    std::shuffle(pts.begin(), pts.end(), rng);
-    SCOPED_TRACE("seed " + std::to_string(seed));
-    ASSERT_TRUE(takes_parallel_path(pts));
-    DelaunayOptions options;
-    options.keep_duplicates = true;
-    options.keep_point_map = true;
-    for (std::size_t threshold : {std::size_t{0}, kNever}) {
-      options.parallel_min_points = threshold;
-      std::vector<Point3> copy = pts;
-      const DelaunayResult r = triangulate(std::move(copy), options);
-      ASSERT_EQ(r.tin.validate(), "");
-      EXPECT_EQ(r.duplicates_merged, 3u);
-      ASSERT_EQ(r.duplicates.size(), 2u);
-      std::uint64_t merged = 0;
-      for (const DelaunayResult::Duplicate& d : r.duplicates) merged += d.points - 1;
-      EXPECT_EQ(merged, r.duplicates_merged);
-      const DelaunayResult::Duplicate a = r.duplicates[0], b = r.duplicates[1];  // vertex order
-      EXPECT_EQ(r.tin.point(a.vertex), (Point2{10.5, 20.25}));
-      EXPECT_EQ(a.points, 3u);
-      EXPECT_EQ(a.z_min, 1.0);
-      EXPECT_EQ(a.z_max, 9.0);
-      EXPECT_EQ(r.tin.point(b.vertex), (Point2{90.5, 70.25}));
-      EXPECT_EQ(b.points, 2u);
-      EXPECT_EQ(b.z_min, -3.0);
-      EXPECT_EQ(b.z_max, 4.0);
-      for (std::size_t i = 0; i < pts.size(); ++i) {
-        if (pts[i].x == 10.5 && pts[i].y == 20.25) {
-          EXPECT_EQ(r.vertex_of_point[i], a.vertex);
-        }
-        if (pts[i].x == 90.5 && pts[i].y == 70.25) {
-          EXPECT_EQ(r.vertex_of_point[i], b.vertex);
-        }
-      }
-    }
-  }
 }
 
 TEST(ParallelDelaunay, KeepDuplicatesMatchesTheSequentialPath) {
@@ -473,22 +270,6 @@ TEST(ParallelDelaunay, KeepDuplicatesMatchesTheSequentialPath) {
   }
 }
 
-TEST(ParallelDelaunay, CocircularPoints) {
-  std::vector<Point3> pts;
-  const int r = 1105;
-  for (int x = -r; x <= r; ++x) {
-    const int y2 = r * r - x * x;
-    const int y = static_cast<int>(std::lround(std::sqrt(static_cast<double>(y2))));
-    if (y * y == y2) {
-      pts.push_back({500000.0 + x, 4000000.0 + y, 0});
-      if (y) pts.push_back({500000.0 + x, 4000000.0 - y, 0});
-    }
-  }
-  expect_parallel_valid(pts, true);
-  pts.push_back({500000.0, 4000000.0, 0});
-  expect_parallel_valid(pts, true);
-}
-
 TEST(ParallelDelaunay, FallsBackWhenTheSplitIsUseless) {
   // All collinear: the sequential path's error.
   std::vector<Point3> line;
@@ -504,20 +285,6 @@ TEST(ParallelDelaunay, FallsBackWhenTheSplitIsUseless) {
   EXPECT_EQ(r.tin.vertex_count(), 101u);
   EXPECT_THROW(run({{0, 0, 0}, {1, 1, 1}, {0, 0, 5}, {1, 1, 2}}, 0), GeometryError);
   EXPECT_THROW(run({}, 0), GeometryError);
-}
-
-TEST(ParallelDelaunay, ProgressCanCancel) {
-  std::vector<Point3> pts;
-  for (int i = 0; i < 60000; ++i) pts.push_back({std::sin(i) * 100, std::cos(i * 1.3) * 100, 0});
-  int calls = 0;
-  ProgressFn fn = [&](std::string_view stage, double) {
-    EXPECT_EQ(stage, "delaunay");
-    return ++calls < 3;
-  };
-  DelaunayOptions options;
-  options.parallel_min_points = 0;
-  EXPECT_THROW(triangulate(std::move(pts), options, &fn), Cancelled);
-  EXPECT_EQ(calls, 3);
 }
 
 }  // namespace

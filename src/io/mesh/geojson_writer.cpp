@@ -68,11 +68,7 @@ std::string json_string(std::string_view s) {
 
 void put_position(BlockWriter& w, const Point3& p) {
   w.put('[');
-  w.put_double(p.x);
-  w.put(',');
-  w.put_double(p.y);
-  w.put(',');
-  w.put_double(p.z);
+  w.put_xyz(p, ',');
   w.put(']');
 }
 

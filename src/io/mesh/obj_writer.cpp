@@ -24,11 +24,7 @@ TinWriteStats write_obj(OutputFile& out, const mesh::Triangulation& tin,
   for (std::size_t i = 0; i < nv; ++i) {
     const Point3 p = shifted_vertex(path, tin, number.vertex(i), options.offset);
     w.put(std::string_view("v "));
-    w.put_double(p.x);
-    w.put(' ');
-    w.put_double(p.y);
-    w.put(' ');
-    w.put_double(p.z);
+    w.put_xyz(p, ' ');
     w.put('\n');
   }
   const auto face = [&w](VertexId a, VertexId b, VertexId c) {

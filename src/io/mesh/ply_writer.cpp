@@ -50,11 +50,7 @@ TinWriteStats write_ply(OutputFile& out, const mesh::Triangulation& tin,
   for (std::size_t i = 0; i < nv; ++i) {
     const Point3 p = shifted_vertex(path, tin, number.vertex(i), options.offset);
     if (ascii) {
-      w.put_double(p.x);
-      w.put(' ');
-      w.put_double(p.y);
-      w.put(' ');
-      w.put_double(p.z);
+      w.put_xyz(p, ' ');
       w.put('\n');
     } else {
       w.put_le(p.x);

@@ -68,6 +68,14 @@ class BlockWriter {
     pos_ = static_cast<std::size_t>(
         format_double(buf_.get() + pos_, buf_.get() + pos_ + kMaxItem, v) - buf_.get());
   }
+  // "x<SEP>y<SEP>z", each in shortest round-trip form (OBJ and PLY lines, GeoJSON positions).
+  void put_xyz(const Point3& p, char sep) {
+    put_double(p.x);
+    put(sep);
+    put_double(p.y);
+    put(sep);
+    put_double(p.z);
+  }
   void put_uint(std::uint64_t v) {
     room();
     pos_ = static_cast<std::size_t>(

@@ -81,12 +81,18 @@ class GpkgBuilder {
     if (ds_->CommitTransaction() != OGRERR_NONE) fail("", "cannot commit the transaction");
   }
 
-  // Adds F to LAYER as a new feature (entry I of the input, for the error message).
-  void add(OGRLayer& layer, OGRFeature& f, std::size_t i) {
-    f.SetFID(OGRNullFID);
-    if (layer.CreateFeature(&f) != OGRERR_NONE)
-      fail(std::string("layer ") + layer.GetName() + ", entry " + std::to_string(i),
-           "cannot write the feature");
+  // Adds one feature to LAYER per item of ITEMS, FILL(feature, item) setting its geometry and
+  // fields (one feature object, refilled for each).
+  template <class Item, class Fill>
+  void add_all(OGRLayer& layer, const std::vector<Item>& items, Fill&& fill) {
+    const detail::OgrFeature f(OGRFeature::CreateFeature(layer.GetLayerDefn()));
+    for (std::size_t i = 0; i < items.size(); ++i) {
+      fill(*f, items[i]);
+      f->SetFID(OGRNullFID);
+      if (layer.CreateFeature(f.get()) != OGRERR_NONE)
+        fail(std::string("layer ") + layer.GetName() + ", entry " + std::to_string(i),
+             "cannot write the feature");
+    }
   }
 
   void close() {
@@ -132,10 +138,6 @@ class Location {
   OGRPoint point_{0, 0, 0};
 };
 
-detail::OgrFeature new_feature(OGRLayer& layer) {
-  return detail::OgrFeature(OGRFeature::CreateFeature(layer.GetLayerDefn()));
-}
-
 void write_layers(GpkgBuilder& b, const Diagnostics& d) {
   OGRLayer& crossings =
       b.layer(kCrossings, "Crossing points of two constraint lines, inserted as TIN vertices",
@@ -158,54 +160,34 @@ void write_layers(GpkgBuilder& b, const Diagnostics& d) {
 
   Location location;
   b.begin();
-  {
-    const detail::OgrFeature f = new_feature(crossings);
-    for (std::size_t i = 0; i < d.crossings.size(); ++i) {
-      const Diagnostics::Crossing& c = d.crossings[i];
-      f->SetGeometry(location(c.at));
-      f->SetField(0, c.file_a.c_str());
-      f->SetField(1, static_cast<GIntBig>(c.fid_a));
-      f->SetField(2, c.file_b.c_str());
-      f->SetField(3, static_cast<GIntBig>(c.fid_b));
-      f->SetField(4, c.z_a);
-      f->SetField(5, c.z_b);
-      f->SetField(6, std::fabs(c.z_a - c.z_b));
-      b.add(crossings, *f, i);
-    }
-  }
-  {
-    const detail::OgrFeature f = new_feature(duplicates);
-    for (std::size_t i = 0; i < d.duplicates.size(); ++i) {
-      const Diagnostics::Duplicate& m = d.duplicates[i];
-      f->SetGeometry(location(m.at));
-      f->SetField(0, static_cast<GIntBig>(m.points));
-      f->SetField(1, m.z_min);
-      f->SetField(2, m.z_max);
-      b.add(duplicates, *f, i);
-    }
-  }
-  {
-    const detail::OgrFeature f = new_feature(skipped);
-    for (std::size_t i = 0; i < d.skipped_segments.size(); ++i) {
-      const Diagnostics::SkippedSegment& s = d.skipped_segments[i];
-      f->SetGeometry(location(s.at));
-      f->SetField(0, s.file.c_str());
-      f->SetField(1, static_cast<GIntBig>(s.fid));
-      b.add(skipped, *f, i);
-    }
-  }
-  {
-    const detail::OgrFeature f = new_feature(dropped);
-    for (std::size_t i = 0; i < d.dropped_features.size(); ++i) {
-      const Diagnostics::DroppedFeature& x = d.dropped_features[i];
-      const OGRGeometry* at = x.has_at ? location(x.at) : nullptr;
-      f->SetGeometry(at);
-      f->SetField(0, x.file.c_str());
-      f->SetField(1, static_cast<GIntBig>(x.fid));
-      f->SetField(2, x.reason.c_str());
-      b.add(dropped, *f, i);
-    }
-  }
+  b.add_all(crossings, d.crossings, [&](OGRFeature& f, const Diagnostics::Crossing& c) {
+    f.SetGeometry(location(c.at));
+    f.SetField(0, c.file_a.c_str());
+    f.SetField(1, static_cast<GIntBig>(c.fid_a));
+    f.SetField(2, c.file_b.c_str());
+    f.SetField(3, static_cast<GIntBig>(c.fid_b));
+    f.SetField(4, c.z_a);
+    f.SetField(5, c.z_b);
+    f.SetField(6, std::fabs(c.z_a - c.z_b));
+  });
+  b.add_all(duplicates, d.duplicates, [&](OGRFeature& f, const Diagnostics::Duplicate& m) {
+    f.SetGeometry(location(m.at));
+    f.SetField(0, static_cast<GIntBig>(m.points));
+    f.SetField(1, m.z_min);
+    f.SetField(2, m.z_max);
+  });
+  b.add_all(skipped, d.skipped_segments, [&](OGRFeature& f, const Diagnostics::SkippedSegment& s) {
+    f.SetGeometry(location(s.at));
+    f.SetField(0, s.file.c_str());
+    f.SetField(1, static_cast<GIntBig>(s.fid));
+  });
+  b.add_all(dropped, d.dropped_features, [&](OGRFeature& f, const Diagnostics::DroppedFeature& x) {
+    const OGRGeometry* at = x.has_at ? location(x.at) : nullptr;
+    f.SetGeometry(at);
+    f.SetField(0, x.file.c_str());
+    f.SetField(1, static_cast<GIntBig>(x.fid));
+    f.SetField(2, x.reason.c_str());
+  });
   b.commit();
 }
 
