@@ -94,11 +94,11 @@ void Triangulation::flip(EdgeId e) {
     constrained_[f1] = k_db;
     constrained_[f2] = k_bc;
   }
-  if (!vertex_edge_.empty()) {
-    vertex_edge_[a] = e2;
-    vertex_edge_[b] = f2;
-    vertex_edge_[c] = e1;
-    vertex_edge_[d] = f1;
+  if (!vertex_edge_.empty()) {  // a flip between ghosts (outside the hull) moves kInfinite too
+    if (a != kInfinite) vertex_edge_[a] = e2;
+    if (b != kInfinite) vertex_edge_[b] = f2;
+    if (c != kInfinite) vertex_edge_[c] = e1;
+    if (d != kInfinite) vertex_edge_[d] = f1;
   }
 }
 

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "mesh/geometry.hpp"
+#include "mesh/point_insertion.hpp"
 
 namespace tincdt::mesh {
 namespace {
@@ -85,6 +86,24 @@ TEST(Triangulation, ValidateFindsBrokenTopologyAndOrientation) {
     tin.add_vertex({5, 5}, 0);  // a vertex in no triangle
     EXPECT_NE(tin.validate(), "");
   }
+}
+
+// Issue 9: a point inserted outside the hull flips edges between ghosts, whose vertex is
+// kInfinite; with the vertex index on (the surface-feature stage), flip() wrote past its end.
+TEST(Triangulation, InsertingOutsideTheHullKeepsTheVertexIndex) {
+  Triangulation tin = square();
+  tin.build_vertex_index();
+  PointInserter inserter(tin);
+  // Each sees several hull edges, so the fan is mended by flips between ghosts.
+  for (const Point2 p : {Point2{3, 0.5}, Point2{-2, -2}, Point2{0.5, 4}, Point2{6, 6}}) {
+    const VertexId v = tin.add_vertex(p, 0);
+    inserter.insert(v);
+  }
+  tin.recount();
+  EXPECT_EQ(tin.validate(), "");
+  for (VertexId v = 0; v < tin.vertex_count(); ++v) EXPECT_EQ(tin.origin(tin.edge_from(v)), v);
+  EXPECT_NE(tin.find_edge(4, 1), kNoId);  // (3, 0.5) now joins both right-hand corners
+  EXPECT_NE(tin.find_edge(4, 2), kNoId);
 }
 
 }  // namespace
