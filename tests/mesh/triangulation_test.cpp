@@ -106,5 +106,33 @@ TEST(Triangulation, InsertingOutsideTheHullKeepsTheVertexIndex) {
   EXPECT_NE(tin.find_edge(4, 2), kNoId);
 }
 
+// Issue 9: a LAS X scale of 5e-324 makes every x a multiple of the smallest subnormal. The TIN
+// is valid (checked exactly), but summing atan2 turning angles called its thin hull unwound.
+TEST(Triangulation, ValidateIsExactForAHullOfSubnormalWidth) {
+  constexpr double kTiny = 4.9406564584124654e-324;  // 2^-1074
+  Triangulation tin;
+  tin.add_vertex({0, 0}, 0);
+  tin.add_vertex({20 * kTiny, 500}, 0);
+  tin.add_vertex({0, 1000}, 0);
+  PointInserter inserter(tin);
+  inserter.start(0, 1, 2);
+  std::uint64_t state = 88172645463325252ULL;
+  const auto next = [&] {
+    state ^= state << 13;
+    state ^= state >> 7;
+    state ^= state << 17;
+    return state;
+  };
+  for (int i = 0; i < 300; ++i) {
+    const Point2 p{static_cast<double>(next() % 41) * kTiny,
+                   static_cast<double>(next() % 100001) / 100};
+    if (inserter.locate(p).kind == Location::on_vertex) continue;
+    inserter.insert(tin.add_vertex(p, 0));
+  }
+  tin.recount();
+  EXPECT_GT(tin.triangle_count(), 100u);
+  EXPECT_EQ(tin.validate(), "");
+}
+
 }  // namespace
 }  // namespace tincdt::mesh
