@@ -489,9 +489,13 @@ PointReadStats read_mapped(const std::string& path, std::vector<Point3>& out) {
 
 PointReadStats read_stream(int fd, const std::string& name, std::vector<Point3>& out) {
   const unsigned threads = thread_count();
-  // Fixed: larger than kMaxLineBytes, so a full buffer always holds a line end (or an error).
-  const std::size_t capacity = kPieceBytes * threads;
-  auto buffer = std::make_unique<char[]>(capacity);
+  // The buffer starts small (stdin often holds a few lines) and doubles each time the input
+  // fills it, up to one window of parallel parsing: larger than kMaxLineBytes, so that a full
+  // buffer always holds a line end or an over-long line.
+  const std::size_t max_capacity = kPieceBytes * threads;
+  std::size_t capacity = std::size_t{1} << 16;
+  std::unique_ptr<char[]> buffer(new char[capacity]);
+  bool was_full = false;
   std::size_t filled = 0;
   bool eof = false;
   bool any_input = false;
@@ -502,6 +506,12 @@ PointReadStats read_stream(int fd, const std::string& name, std::vector<Point3>&
   PointReadStats stats;
   stats.format = "xyz";
   while (!eof || filled > 0) {
+    if (was_full && capacity < max_capacity) {
+      capacity *= 2;
+      std::unique_ptr<char[]> bigger(new char[capacity]);
+      std::memcpy(bigger.get(), buffer.get(), filled);
+      buffer = std::move(bigger);
+    }
     while (!eof && filled < capacity) {
       const ssize_t n = ::read(fd, buffer.get() + filled, capacity - filled);
       if (n < 0) {
@@ -512,6 +522,7 @@ PointReadStats read_stream(int fd, const std::string& name, std::vector<Point3>&
       filled += static_cast<std::size_t>(n);
       if (n > 0) any_input = true;
     }
+    was_full = filled == capacity;
     const char* b = buffer.get();
     const char* e = b + filled;
     if (!started) {
