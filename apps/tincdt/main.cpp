@@ -676,7 +676,9 @@ int run(int argc, char** argv) {
   }
 
   Terminal::get().enable_progress(!cli.quiet && ::isatty(STDERR_FILENO) == 1);
-  const ProgressFn progress = [](std::string_view stage, double fraction) {
+  std::string stage_now = "read";  // the stage last heard of, for "out of memory"
+  const ProgressFn progress = [&stage_now](std::string_view stage, double fraction) {
+    if (stage_now != stage) stage_now = stage;
     if (g_signal != 0) return false;
     Terminal::get().progress(stage, fraction);
     return true;
@@ -723,7 +725,7 @@ int run(int argc, char** argv) {
     return kExitFailure;
   } catch (const std::bad_alloc&) {
     Terminal::get().erase_progress();
-    spdlog::error("out of memory");
+    spdlog::error("out of memory in the " + stage_now + " stage");
     return kExitFailure;
   } catch (const std::exception& e) {
     Terminal::get().erase_progress();
