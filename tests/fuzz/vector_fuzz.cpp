@@ -5,6 +5,9 @@
 // grid of points spread over the middle of the features' extent (so that they stick out of its
 // hull) and validates the TIN. A finding is a crash, a sanitizer report or an internal error
 // (a TIN that fails validation is one).
+//
+// To see a finding with the tool: TINCDT_FUZZ_KEEP=DIR vector_fuzz_replay FILE keeps the points
+// and the document in DIR and prints the equivalent tincdt command.
 #include <unistd.h>
 
 #include <algorithm>
@@ -14,6 +17,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "core/coordinates.hpp"
 #include "core/error.hpp"
@@ -28,9 +33,17 @@ using namespace tincdt;
 
 const char* const kVector = "/vsimem/vector_fuzz.geojson";
 
-// A scratch folder for the points and the outputs, removed at exit.
+const char* keep_dir() {
+  return std::getenv("TINCDT_FUZZ_KEEP");
+}
+
+// A scratch folder for the points and the outputs, removed at exit (unless kept).
 const fs::path& scratch() {
   static const fs::path dir = [] {
+    if (keep_dir() != nullptr) {
+      fs::create_directories(keep_dir());
+      return fs::path(keep_dir());
+    }
     const fs::path base =
         fs::is_directory("/dev/shm") ? fs::path("/dev/shm") : fs::temp_directory_path();
     fs::path d = base / ("tincdt_vector_fuzz_" + std::to_string(::getpid()));
@@ -42,6 +55,23 @@ const fs::path& scratch() {
     return d;
   }();
   return dir;
+}
+
+// The tincdt command that runs the same job (for TINCDT_FUZZ_KEEP).
+std::string command_of(const pipeline::BuildOptions& o, const std::string& document) {
+  std::string c = "tincdt";
+  for (const std::string& in : o.inputs) c += " " + in;
+  const std::pair<const std::vector<std::string>*, const char*> lists[] = {
+      {&o.contours, "--contours"}, {&o.breaklines, "--hard-lines"}, {&o.soft_lines, "--soft-lines"},
+      {&o.clip, "--clip"},         {&o.erase, "--erase"},           {&o.replace, "--replace"}};
+  for (const auto& [list, flag] : lists)
+    if (!list->empty()) c += std::string(" ") + flag + " " + document;
+  const char* const restore[] = {"delaunay", "aspect", "none"};
+  c += std::string(" --restore ") + restore[static_cast<int>(o.constraint.restore)];
+  if (o.constraint.on_crossing == constraints::OnCrossing::error) c += " --on-crossing error";
+  if (o.fix_flats) c += " --fix-flats";
+  if (o.max_edge > 0) c += " --max-edge " + std::to_string(o.max_edge);
+  return c + " --validate --overwrite -o " + o.output;
 }
 
 // The features' extent, from every layer GDAL sees in the document; false when there is none.
@@ -159,6 +189,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   o.output = (scratch() / "tin.ply").string();
   o.write.overwrite = true;
   o.validate = true;
+  if (keep_dir() != nullptr) {
+    const fs::path document = scratch() / "vector.geojson";
+    write_file(document, std::string(reinterpret_cast<const char*>(data + 1), size - 1));
+    std::fprintf(stderr, "%s\n", command_of(o, document.string()).c_str());
+  }
   try {
     pipeline::build(o);
   } catch (const Error& e) {
