@@ -11,7 +11,13 @@ if(TINCDT_SANITIZE)
   target_link_options(tincdt_settings INTERFACE -fsanitize=address,undefined)
   # GCC 12 reports false -Wmaybe-uninitialized inside libstdc++ (<regex>, std::function) once
   # ASan instruments -O1 code; the plain build keeps the warning, so nothing goes unchecked.
-  target_compile_options(tincdt_settings INTERFACE -Wno-maybe-uninitialized)
+  if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+    target_compile_options(tincdt_settings INTERFACE -Wno-maybe-uninitialized)
+  endif()
+endif()
+if(TINCDT_FUZZ)
+  # Coverage feedback for libFuzzer in every module; the targets link -fsanitize=fuzzer.
+  target_compile_options(tincdt_settings INTERFACE -fsanitize=fuzzer-no-link)
 endif()
 # The exact predicates rely on IEEE double rounding: no -ffast-math, no x87 excess precision.
 target_compile_options(tincdt_settings INTERFACE -fno-fast-math -ffp-contract=off)

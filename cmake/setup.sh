@@ -2,7 +2,8 @@
 # Installs what tincdt needs to build, test and format, from Debian 12 (bookworm) packages.
 # Idempotent: when everything is installed it only checks, quickly, and changes nothing.
 # Runs apt-get as root, or through sudo otherwise.
-# Usage: cmake/setup.sh [EXTRA_PACKAGE...]   (the benchmark script adds CGAL and friends)
+# Usage: cmake/setup.sh [EXTRA_PACKAGE...]   (the benchmark script adds CGAL and friends; the
+# fuzz step of .ci/run adds clang libclang-rt-14-dev)
 set -euo pipefail
 
 # Keep in step with README.md ("Dependencies").

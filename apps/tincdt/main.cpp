@@ -115,7 +115,9 @@ void log_line(int level, const std::string& message) {
 int build(const pipeline::BuildOptions& options, bool quiet) {
   cli::Terminal::get().enable_progress(!quiet && ::isatty(STDERR_FILENO) == 1);
   SignalHook hook = SignalHook::from_environment();
-  const ProgressFn progress = [&hook](std::string_view stage, double fraction) {
+  std::string stage_now = "read";  // the stage last heard of, for "out of memory"
+  const ProgressFn progress = [&hook, &stage_now](std::string_view stage, double fraction) {
+    if (stage_now != stage) stage_now = stage;
     hook.at(stage, fraction);
     if (g_signal != 0) return false;
     cli::Terminal::get().progress(stage, fraction);
@@ -142,6 +144,10 @@ int build(const pipeline::BuildOptions& options, bool quiet) {
     const int sig = g_signal;
     ::signal(sig, SIG_DFL);
     ::raise(sig);
+    return kExitFailure;
+  } catch (const std::bad_alloc&) {
+    cli::Terminal::get().erase_progress();
+    spdlog::error("out of memory in the " + stage_now + " stage");
     return kExitFailure;
   }
 }

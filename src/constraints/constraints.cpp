@@ -287,6 +287,14 @@ class ConstraintInserter {
 
     VertexId w;
     const mesh::Location loc = points_.locate(at, triangle_of(tin_.find_edge(r, l)));
+    // Rounding can also put the crossing on another constraint's edge, which the insertion then
+    // splits: its pieces must be split too, or they name an edge that is gone.
+    VertexId split_u = kNoId, split_v = kNoId;
+    if (loc.kind == mesh::Location::on_edge && tin_.is_constrained(loc.edge) &&
+        edge_key(tin_.origin(loc.edge), tin_.dest(loc.edge)) != edge_key(r, l)) {
+      split_u = tin_.origin(loc.edge);
+      split_v = tin_.dest(loc.edge);
+    }
     if (loc.kind == mesh::Location::on_vertex) {
       w = tin_.origin(loc.edge);  // rounding put the crossing on an existing vertex
     } else {
@@ -303,15 +311,23 @@ class ConstraintInserter {
       created_.assign(1, {r, l});
       restore();
     }
+    requeue_through(first_piece, r, l, w);
+    if (split_u != kNoId)
+      requeue_through(index_.find(edge_key(split_u, split_v)), split_u, split_v, w);
+    work_.push_back({w, s.b, s.source});
+    work_.push_back({s.a, w, s.source});
+  }
+
+  // Retires the pieces on edge u-v (the chain from FIRST_PIECE) and queues, for each source they
+  // carried, the halves u-w and w-v.
+  void requeue_through(std::uint32_t first_piece, VertexId u, VertexId v, VertexId w) {
     for (std::uint32_t p = first_piece; p != kNoId; p = next_piece_[p]) {
       Piece& piece = result_.pieces[p];
       if (piece.source == kNoId) continue;
-      if (w != r) work_.push_back({r, w, piece.source});
-      if (w != l) work_.push_back({w, l, piece.source});
+      if (w != u) work_.push_back({u, w, piece.source});
+      if (w != v) work_.push_back({w, v, piece.source});
       piece.source = kNoId;  // retired; removed at the end
     }
-    work_.push_back({w, s.b, s.source});
-    work_.push_back({s.a, w, s.source});
   }
 
   Triangulation& tin_;

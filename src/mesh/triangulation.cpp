@@ -3,7 +3,6 @@
 #include <atomic>
 #include <cassert>
 #include <cmath>
-#include <numbers>
 #include <sstream>
 
 #include "core/memory.hpp"
@@ -102,11 +101,11 @@ void Triangulation::flip(EdgeId e) {
     constrained_[f1] = k_db;
     constrained_[f2] = k_bc;
   }
-  if (!vertex_edge_.empty()) {
-    vertex_edge_[a] = e2;
-    vertex_edge_[b] = f2;
-    vertex_edge_[c] = e1;
-    vertex_edge_[d] = f1;
+  if (!vertex_edge_.empty()) {  // a flip between ghosts (outside the hull) moves kInfinite too
+    if (a != kInfinite) vertex_edge_[a] = e2;
+    if (b != kInfinite) vertex_edge_[b] = f2;
+    if (c != kInfinite) vertex_edge_[c] = e1;
+    if (d != kInfinite) vertex_edge_[d] = f1;
   }
 }
 
@@ -219,8 +218,15 @@ std::string Triangulation::validate(ValidateOptions options) const {
   }
   if (slots + 2 != 2 * nv) return "Euler's formula fails: wrong number of triangles";
 
-  // The hull: ghosts chain into one convex polygon that winds once.
-  double turning = 0;
+  // The hull: ghosts chain into one polygon that winds once (its convexity is checked with the
+  // edges between ghosts below). Exactly, in signs only: the direction of hull edge u -> v turns
+  // at v by less than half a turn either way (orient2d tells which way, and a collinear edge
+  // turns by 0 or doubles back), so the winding number is the count of the turns that carry the
+  // direction across the +x axis counter-clockwise, less those that carry it back. A direction
+  // is above the axis when dy > 0 or (dy = 0 and dx > 0); the sign of a difference of doubles
+  // is exact, so even coordinates 1e-320 apart (a LAS scale of 5e-324) are judged right.
+  const auto upper = [](Point2 a, Point2 b) { return b.y > a.y || (b.y == a.y && b.x > a.x); };
+  long long winding = 0;
   for (std::size_t i = 0; i < corner_.size(); ++i) {
     const auto e = static_cast<EdgeId>(i);
     if (apex(e) != kInfinite) continue;
@@ -230,12 +236,20 @@ std::string Triangulation::validate(ValidateOptions options) const {
     if (origin(g) != v || apex(g) != kInfinite)
       return describe_edge(*this, e) + ": hull ghosts are not chained";
     const Point2 pu = xy_[u], pv = xy_[v], pw = xy_[dest(g)];
-    double d = std::atan2(pw.y - pv.y, pw.x - pv.x) - std::atan2(pv.y - pu.y, pv.x - pu.x);
-    while (d > std::numbers::pi) d -= 2 * std::numbers::pi;
-    while (d < -std::numbers::pi) d += 2 * std::numbers::pi;
-    turning += d;
+    const int turn = predicates::orient2d(pu, pv, pw);
+    const bool up_in = upper(pu, pv), up_out = upper(pv, pw);
+    if (turn == 0) {
+      // Straight on, or back along itself (a hull that folds: never valid).
+      if ((pv.x < pu.x) != (pw.x < pv.x) || (pv.x > pu.x) != (pw.x > pv.x) ||
+          (pv.y < pu.y) != (pw.y < pv.y) || (pv.y > pu.y) != (pw.y > pv.y))
+        return describe_edge(*this, e) + ": the hull doubles back on itself";
+    } else if (turn > 0 && !up_in && up_out) {
+      ++winding;
+    } else if (turn < 0 && up_in && !up_out) {
+      --winding;
+    }
   }
-  if (ghosts > 0 && std::fabs(std::fabs(turning) - 2 * std::numbers::pi) > 1e-6)
+  if (ghosts > 0 && winding != 1 && winding != -1)
     return "the hull does not wind once around the triangulation";
 
   // Local Delaunay (or hull convexity, for the edges between two ghosts).

@@ -43,6 +43,9 @@ void run(Job& job) {
             std::to_string(sr.reused) + " on existing vertices), " + std::to_string(sr.segments) +
             " segments, " + std::to_string(c.crossings.size()) + " crossings (" +
             std::to_string(sr.crossings_with_hard_z) + " at a hard line's z)");
+  if (sr.rings_cut + sr.rings_outside > 0)
+    job.debug(std::to_string(sr.rings_cut) + " clip / erase rings cut to the TIN's hull, " +
+              std::to_string(sr.rings_outside) + " wholly outside it left out");
 }
 
 }  // namespace

@@ -70,13 +70,18 @@ struct SurfaceResult {
   std::uint64_t soft_line_vertices = 0;       // draped soft-line vertices
   std::uint64_t segments = 0;                 // surface-feature segments given
   std::uint64_t crossings_with_hard_z = 0;    // crossing vertices given the hard line's z
+  std::uint64_t rings_cut = 0;                // clip and erase rings cut to the TIN's hull
+  std::uint64_t rings_outside = 0;            // clip and erase rings wholly outside it: left out
   std::vector<constraints::Segment> given;    // the surface-feature segments inserted
 };
 
 // The surface-feature stage on the constrained TIN of points and hard lines:
+//  0. cuts clip and erase rings to the TIN's convex hull (z along the ring for 3D rings), and
+//     leaves out those wholly outside it; a polygon ring that encloses no area, and clip
+//     polygons that all lie outside the TIN, are InputErrors naming the feature / file;
 //  1. drapes every vertex of a draped feature on the TIN as it is (linear interpolation), all
 //     before any is inserted, so each takes its z from the TIN without the surface features;
-//     a vertex outside the TIN is an InputError naming the feature;
+//     a vertex outside the TIN (soft lines, replace rings) is an InputError naming the feature;
 //  2. inserts the vertices (mesh::PointInserter); one on an existing vertex reuses it;
 //  3. inserts the hard pieces again (they are edges already: only their sources are recorded,
 //     so that crossings find them) and then every surface-feature segment, splitting crossings;

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "mesh/geometry.hpp"
+#include "mesh/point_insertion.hpp"
 
 namespace tincdt::mesh {
 namespace {
@@ -85,6 +86,52 @@ TEST(Triangulation, ValidateFindsBrokenTopologyAndOrientation) {
     tin.add_vertex({5, 5}, 0);  // a vertex in no triangle
     EXPECT_NE(tin.validate(), "");
   }
+}
+
+// Issue 9: a point inserted outside the hull flips edges between ghosts, whose vertex is
+// kInfinite; with the vertex index on (the surface-feature stage), flip() wrote past its end.
+TEST(Triangulation, InsertingOutsideTheHullKeepsTheVertexIndex) {
+  Triangulation tin = square();
+  tin.build_vertex_index();
+  PointInserter inserter(tin);
+  // Each sees several hull edges, so the fan is mended by flips between ghosts.
+  for (const Point2 p : {Point2{3, 0.5}, Point2{-2, -2}, Point2{0.5, 4}, Point2{6, 6}}) {
+    const VertexId v = tin.add_vertex(p, 0);
+    inserter.insert(v);
+  }
+  tin.recount();
+  EXPECT_EQ(tin.validate(), "");
+  for (VertexId v = 0; v < tin.vertex_count(); ++v) EXPECT_EQ(tin.origin(tin.edge_from(v)), v);
+  EXPECT_NE(tin.find_edge(4, 1), kNoId);  // (3, 0.5) now joins both right-hand corners
+  EXPECT_NE(tin.find_edge(4, 2), kNoId);
+}
+
+// Issue 9: a LAS X scale of 5e-324 makes every x a multiple of the smallest subnormal. The TIN
+// is valid (checked exactly), but summing atan2 turning angles called its thin hull unwound.
+TEST(Triangulation, ValidateIsExactForAHullOfSubnormalWidth) {
+  constexpr double kTiny = 4.9406564584124654e-324;  // 2^-1074
+  Triangulation tin;
+  tin.add_vertex({0, 0}, 0);
+  tin.add_vertex({20 * kTiny, 500}, 0);
+  tin.add_vertex({0, 1000}, 0);
+  PointInserter inserter(tin);
+  inserter.start(0, 1, 2);
+  std::uint64_t state = 88172645463325252ULL;
+  const auto next = [&] {
+    state ^= state << 13;
+    state ^= state >> 7;
+    state ^= state << 17;
+    return state;
+  };
+  for (int i = 0; i < 300; ++i) {
+    const Point2 p{static_cast<double>(next() % 41) * kTiny,
+                   static_cast<double>(next() % 100001) / 100};
+    if (inserter.locate(p).kind == Location::on_vertex) continue;
+    inserter.insert(tin.add_vertex(p, 0));
+  }
+  tin.recount();
+  EXPECT_GT(tin.triangle_count(), 100u);
+  EXPECT_EQ(tin.validate(), "");
 }
 
 }  // namespace

@@ -8,10 +8,13 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
+#include <new>
 #include <string>
 #include <vector>
 
+#include "core/coordinates.hpp"
 #include "core/error.hpp"
 #include "io/crs_detail.hpp"
 #include "io/mapped_file.hpp"
@@ -110,8 +113,10 @@ LasHeader parse_header(const std::string& path, const std::uint8_t* d, std::size
     // the format is 6-10, and some writers fill only the legacy one.
     if (count64 != 0) h.point_count = count64;
   }
-  // Bits 7 (LASzip) and 6 (older LAZ writers) of the format byte mark compressed records.
-  if ((format_byte & 0xC0) != 0) throw InputError(path, "", kLazAdvice);
+  // Bits 7 (LASzip) and 6 (older LAZ writers) of the format byte mark compressed records of the
+  // format in the low bits; 255 and the like are no format at all.
+  if ((format_byte & 0xC0) != 0 && (format_byte & 0x3F) < kFormatSize.size())
+    throw InputError(path, "", kLazAdvice);
   h.point_format = format_byte;
   if (h.point_format >= kFormatSize.size()) {
     throw InputError(path, "header",
@@ -131,6 +136,7 @@ LasHeader parse_header(const std::string& path, const std::uint8_t* d, std::size
                        std::string("invalid ") + kAxis[i] + " scale factor / offset (" +
                            std::to_string(h.scale[i]) + " / " + std::to_string(h.offset[i]) + ")");
     }
+    h.offset[i] = without_signed_zero(h.offset[i]);  // so that no coordinate is -0
   }
   if (h.offset_to_points < h.header_size) {
     throw InputError(path, "header",
@@ -189,13 +195,13 @@ void take_record(const std::string& path, const std::string& uid, unsigned recor
       if (!wkt.empty()) crs.wkt = std::move(wkt);
       break;
     }
-    case 34735:
+    case 34735:  // (a record too short for one value leaves data() null: no memcpy)
       crs.geotiff.directory.resize(length / 2);
-      std::memcpy(crs.geotiff.directory.data(), payload, length / 2 * 2);
+      if (length >= 2) std::memcpy(crs.geotiff.directory.data(), payload, length / 2 * 2);
       break;
     case 34736:
       crs.geotiff.doubles.resize(length / 8);
-      std::memcpy(crs.geotiff.doubles.data(), payload, length / 8 * 8);
+      if (length >= 8) std::memcpy(crs.geotiff.doubles.data(), payload, length / 8 * 8);
       break;
     case 34737:
       crs.geotiff.ascii.assign(reinterpret_cast<const char*>(payload), length);
@@ -322,6 +328,34 @@ DecodeFn pick_decoder(bool extended, bool filter) {
   return filter ? decode<false, true> : decode<false, false>;
 }
 
+// Refuses the first of COUNT records at P (record FIRST onwards) with a coordinate outside the
+// range tincdt accepts. Needed only when the scale and offset allow one (in_range_by_header).
+void check_range(const std::string& path, const std::uint8_t* p, std::size_t count,
+                 std::size_t record_length, const Transform& t, std::uint64_t first) {
+  const double scale[3] = {t.sx, t.sy, t.sz}, offset[3] = {t.ox, t.oy, t.oz};
+  for (std::size_t i = 0; i < count; ++i, p += record_length) {
+    for (int k = 0; k < 3; ++k) {
+      const double v = load<std::int32_t>(p + 4 * k) * scale[k] + offset[k];
+      if (coordinate_in_range(v)) continue;
+      char text[64];
+      std::snprintf(text, sizeof text, "%g", v);
+      throw InputError(path, "point record " + std::to_string(first + i),
+                       std::string(1, "XYZ"[k]) + " = " + text + " is beyond +-" +
+                           kMaxCoordinateText +
+                           ", the coordinate range tincdt computes with (check the header's "
+                           "scale and offset)");
+    }
+  }
+}
+
+// Whether every coordinate the scale and offset can give is in range, whatever the records say.
+bool in_range_by_header(const Transform& t) {
+  const double largest = 2147483648.0;  // |int32|
+  return std::fabs(t.ox) + std::fabs(t.sx) * largest <= kMaxCoordinate &&
+         std::fabs(t.oy) + std::fabs(t.sy) * largest <= kMaxCoordinate &&
+         std::fabs(t.oz) + std::fabs(t.sz) * largest <= kMaxCoordinate;
+}
+
 std::string format_label(const LasHeader& h) {
   return "las " + std::to_string(h.version_major) + "." + std::to_string(h.version_minor) +
          " pdrf " + std::to_string(h.point_format);
@@ -381,7 +415,12 @@ PointReadStats read_las(const std::string& path, const PointFilter& filter,
 
   // Room for every record, even with a filter: capacity never touched costs address space only,
   // not memory.
-  out.reserve(out.size() + total);
+  try {
+    out.reserve(out.size() + total);
+  } catch (const std::bad_alloc&) {
+    throw Error(path, "", "out of memory: no room for its " + std::to_string(total) + " points");
+  }
+  const bool check = !in_range_by_header(t);
   detail::advise_huge_pages(out);
   file.advise_sequential(first_byte, first_byte + total * record_length);
   std::size_t done = 0;
@@ -389,6 +428,7 @@ PointReadStats read_las(const std::string& path, const PointFilter& filter,
   while (done < total) {
     const std::size_t n = std::min(chunk_records, total - done);
     const std::size_t begin = first_byte + done * record_length;
+    if (check) check_range(path, file.data() + begin, n, record_length, t, done);
     stats.points_kept += decode_fn(file.data() + begin, n, record_length, t, sel, out);
     done += n;
     file.release(released, begin + n * record_length);

@@ -5,7 +5,9 @@
 // The text is memory-mapped (or read from stdin in large blocks) and parsed with std::from_chars,
 // in windows of a few tens of MB. Each window is cut at newlines into one piece per core; the
 // pieces are parsed in parallel and appended in order, and the window's pages are then handed back
-// to the kernel, so resident memory stays near the size of the points, not of the text.
+// to the kernel, so resident memory stays near the size of the points, not of the text. A stream
+// is read through one buffer of fixed size: a line longer than kMaxLineBytes is an error, so no
+// input (/dev/zero, a binary file) makes it grow.
 
 #include <unistd.h>
 
@@ -18,11 +20,13 @@
 #include <cstring>
 #include <exception>
 #include <memory>
+#include <new>
 #include <string>
 #include <string_view>
 #include <thread>
 #include <vector>
 
+#include "core/coordinates.hpp"
 #include "core/error.hpp"
 #include "io/mapped_file.hpp"
 #include "io/points/point_reader.hpp"
@@ -33,6 +37,10 @@ namespace {
 constexpr std::size_t kPieceBytes = std::size_t{32} << 20;  // per thread and window
 constexpr std::size_t kMinPieceBytes = std::size_t{1} << 20;
 constexpr unsigned kMaxThreads = 8;
+// A text line of x y z and a few more columns takes tens of bytes; one of a megabyte is binary
+// data or a file without line ends, and would otherwise be buffered whole.
+constexpr std::size_t kMaxLineBytes = std::size_t{1} << 20;
+static_assert(kMaxLineBytes < kPieceBytes, "a stream buffer holds a whole line of maximal length");
 
 // How the columns of the file are laid out.
 struct Layout {
@@ -62,7 +70,17 @@ std::from_chars_result parse_double(const char* p, const char* end, double& valu
   return std::from_chars(p, end, value);
 }
 
-enum class Problem { kNone, kTooFewFields, kEmptyField, kNotANumber, kNotFinite, kNoDelimiter };
+enum class Problem {
+  kNone,
+  kTooFewFields,
+  kEmptyField,
+  kNotANumber,
+  kNotFinite,
+  kOutOfRange,
+  kNoDelimiter,
+  kBareCr,
+  kTooLong
+};
 
 // Where the first bad line of a piece is, and what is wrong with it.
 struct Failure {
@@ -98,19 +116,30 @@ Problem parse_line(const char* p, const char* eol, const Layout& layout, Point3&
       // The number must fill the field: "3.5abc" or "1,5" (decimal comma) is not a number.
       const bool whole = ec == std::errc() && (next == eol || is_blank(*next) ||
                                                (*next == layout.delimiter && *next != 0));
-      if (!whole || !std::isfinite(v[slot])) {
+      if (!whole || !coordinate_in_range(v[slot])) {
         where.field = p;
         where.field_end = field_end(p, eol, layout.delimiter);
         where.column = col;
         if (p == where.field_end) {
           return p == eol ? Problem::kTooFewFields : Problem::kEmptyField;
         }
-        return whole ? Problem::kNotFinite : Problem::kNotANumber;
+        if (!whole) return Problem::kNotANumber;
+        return std::isfinite(v[slot]) ? Problem::kOutOfRange : Problem::kNotFinite;
       }
     } else {
       end = field_end(p, eol, layout.delimiter);
     }
-    if (col == layout.last_column) break;
+    if (col == layout.last_column) {
+      // Columns after the last one used are ignored, but not a carriage return followed by more
+      // text: that is the next line of a file with CR-only line ends. (CR LF is the one check.)
+      const char* q = end;
+      while (q < eol && (*q == ' ' || *q == '\t')) ++q;
+      if (q < eol && *q == '\r') {
+        while (q < eol && *q == '\r') ++q;
+        if (q < eol) return Problem::kBareCr;
+      }
+      break;
+    }
     // Step over the separator to the next field.
     p = skip_blanks(end, eol);
     if (layout.delimiter != 0) {
@@ -130,7 +159,7 @@ Problem parse_line(const char* p, const char* eol, const Layout& layout, Point3&
       return Problem::kTooFewFields;
     }
   }
-  point = {v[0], v[1], v[2]};
+  point = without_signed_zero(Point3{v[0], v[1], v[2]});
   return Problem::kNone;
 }
 
@@ -144,6 +173,10 @@ void parse_piece(const char* b, const char* e, const Layout& layout, std::vector
       const auto* nl =
           static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(e - p)));
       const char* eol = nl != nullptr ? nl : e;
+      if (static_cast<std::size_t>(eol - p) > kMaxLineBytes) {
+        result.failure = {Problem::kTooLong, result.lines, p, eol, p, eol, 0};
+        return;
+      }
       const char* q = skip_blanks(p, eol);
       if (q != eol && *q != '#') {
         Point3 point;
@@ -176,8 +209,37 @@ std::string quote(const char* b, const char* e) {
   return s;
 }
 
+// Text with carriage returns in it, not binary data (which holds other control bytes).
+bool has_cr(const char* b, const char* e) {
+  bool cr = false;
+  for (const char* p = b; p < e; ++p) {
+    const auto c = static_cast<unsigned char>(*p);
+    if (c == '\r') cr = true;
+    if (c < 0x20 && c != '\r' && c != '\n' && c != '\t') return false;
+  }
+  return cr;
+}
+
+const char* const kCrOnlyAdvice =
+    "the file has CR-only line ends (classic Mac OS), so it reads as one line; convert them to "
+    "LF, e.g. with tr '\\r' '\\n'";
+
+[[noreturn]] void throw_too_long(const std::string& name, std::size_t line_number, bool cr) {
+  throw InputError(name, "line " + std::to_string(line_number),
+                   "longer than " + std::to_string(kMaxLineBytes) + " bytes: " +
+                       (cr ? std::string(kCrOnlyAdvice)
+                           : std::string("not XYZ text (binary data, or no line ends)")));
+}
+
 [[noreturn]] void throw_bad_line(const std::string& name, std::size_t line_number, const Failure& f,
                                  char delimiter) {
+  if (f.problem == Problem::kTooLong) {
+    throw_too_long(name, line_number, has_cr(f.line, f.line + kMaxLineBytes));
+  }
+  if (f.problem == Problem::kBareCr) {
+    throw InputError(name, "line " + std::to_string(line_number),
+                     "a carriage return (CR) inside the line: " + std::string(kCrOnlyAdvice));
+  }
   std::string why;
   const std::string field = quote(f.field, f.field_end);
   switch (f.problem) {
@@ -193,10 +255,16 @@ std::string quote(const char* b, const char* e) {
     case Problem::kNotFinite:
       why = "'" + field + "' is not a finite number";
       break;
+    case Problem::kOutOfRange:
+      why = "'" + field + "' is beyond +-" + kMaxCoordinateText +
+            ", the coordinate range tincdt computes with; wrong units or a corrupt value?";
+      break;
     case Problem::kNoDelimiter:
       why = std::string("no '") + delimiter + "' before '" + field + "'";
       break;
     case Problem::kNone:
+    case Problem::kBareCr:
+    case Problem::kTooLong:
       break;
   }
   throw InputError(
@@ -214,13 +282,26 @@ std::string lower_unquoted(std::string_view s) {
 
 // Where the data starts: past a UTF-8 byte-order mark, leading comments and blank lines, and the
 // header line if there is one; plus the column layout. `found` is false when [b, e) holds no
-// complete data line yet and more input may follow.
+// complete data line yet and more input may follow; `data` is then where the incomplete line
+// starts. `problem` (kTooLong, kBareCr) is a line before the data that cannot be read.
 struct Start {
   bool found = false;
   Layout layout;
   const char* data = nullptr;
-  std::size_t lines_before = 0;  // lines before `data`
+  std::size_t lines_before = 0;  // lines before `data` (and before the line with a problem)
+  Problem problem = Problem::kNone;
+  const char* problem_line = nullptr;
 };
+
+// A carriage return followed by more text in [b, e): CR-only line ends.
+bool has_bare_cr(const char* b, const char* e) {
+  for (const char* p = b; (p = static_cast<const char*>(std::memchr(
+                               p, '\r', static_cast<std::size_t>(e - p)))) != nullptr;) {
+    while (p < e && *p == '\r') ++p;
+    if (p < e) return true;
+  }
+  return false;
+}
 
 Start find_start(const char* b, const char* e, bool at_eof) {
   Start s;
@@ -229,9 +310,22 @@ Start find_start(const char* b, const char* e, bool at_eof) {
   while (p < e) {
     const auto* nl =
         static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(e - p)));
-    if (nl == nullptr && !at_eof) return s;  // the line may go on in the next block
     const char* eol = nl != nullptr ? nl : e;
+    if (static_cast<std::size_t>(eol - p) > kMaxLineBytes) {
+      s.problem = Problem::kTooLong;
+      s.problem_line = p;
+      return s;
+    }
+    if (nl == nullptr && !at_eof) {  // the line may go on in the next block
+      s.data = p;
+      return s;
+    }
     const char* next = nl != nullptr ? nl + 1 : e;
+    if (has_bare_cr(p, eol)) {
+      s.problem = Problem::kBareCr;
+      s.problem_line = p;
+      return s;
+    }
     const char* q = skip_blanks(p, eol);
     if (q == eol || *q == '#') {
       ++s.lines_before;
@@ -279,11 +373,19 @@ Start find_start(const char* b, const char* e, bool at_eof) {
     ++s.lines_before;
     return s;
   }
-  if (at_eof) {
-    s.found = true;
-    s.data = e;
-  }
+  s.found = at_eof;
+  s.data = e;
   return s;
+}
+
+// A line before the data that find_start could not read; LINE is its number.
+[[noreturn]] void throw_start_problem(const std::string& name, std::size_t line,
+                                      const Start& start) {
+  if (start.problem == Problem::kTooLong) {
+    throw_too_long(name, line, has_cr(start.problem_line, start.problem_line + kMaxLineBytes));
+  }
+  throw InputError(name, "line " + std::to_string(line),
+                   "a carriage return (CR) inside the line: " + std::string(kCrOnlyAdvice));
 }
 
 // THREADS, or every core for 0.
@@ -363,6 +465,7 @@ PointReadStats read_mapped(const std::string& path, std::vector<Point3>& out,
   const char* const e = b + file.size();
   file.advise_sequential(0, file.size());
   const Start start = find_start(b, e, true);
+  if (start.problem != Problem::kNone) throw_start_problem(path, start.lines_before + 1, start);
   PointReadStats stats;
   stats.format = "xyz";
   reserve_for(start.data, static_cast<std::size_t>(e - start.data), out);
@@ -389,8 +492,13 @@ PointReadStats read_mapped(const std::string& path, std::vector<Point3>& out,
 PointReadStats read_stream(int fd, const std::string& name, std::vector<Point3>& out,
                            unsigned threads_wanted) {
   const unsigned threads = thread_count(threads_wanted);
-  std::size_t capacity = kPieceBytes * threads;
-  auto buffer = std::make_unique<char[]>(capacity);
+  // The buffer starts small (stdin often holds a few lines) and doubles each time the input
+  // fills it, up to one window of parallel parsing: larger than kMaxLineBytes, so that a full
+  // buffer always holds a line end or an over-long line.
+  const std::size_t max_capacity = kPieceBytes * threads;
+  std::size_t capacity = std::size_t{1} << 16;
+  std::unique_ptr<char[]> buffer(new char[capacity]);
+  bool was_full = false;
   std::size_t filled = 0;
   bool eof = false;
   bool any_input = false;
@@ -401,12 +509,11 @@ PointReadStats read_stream(int fd, const std::string& name, std::vector<Point3>&
   PointReadStats stats;
   stats.format = "xyz";
   while (!eof || filled > 0) {
-    // Fill the buffer, growing it only for a line longer than the whole buffer.
-    if (filled == capacity) {
-      auto bigger = std::make_unique<char[]>(capacity * 2);
+    if (was_full && capacity < max_capacity) {
+      capacity *= 2;
+      std::unique_ptr<char[]> bigger(new char[capacity]);
       std::memcpy(bigger.get(), buffer.get(), filled);
       buffer = std::move(bigger);
-      capacity *= 2;
     }
     while (!eof && filled < capacity) {
       const ssize_t n = ::read(fd, buffer.get() + filled, capacity - filled);
@@ -418,27 +525,32 @@ PointReadStats read_stream(int fd, const std::string& name, std::vector<Point3>&
       filled += static_cast<std::size_t>(n);
       if (n > 0) any_input = true;
     }
+    was_full = filled == capacity;
     const char* b = buffer.get();
     const char* e = b + filled;
     if (!started) {
       const Start start = find_start(b, e, eof);
-      if (!start.found) continue;  // no complete first data line yet: read more
-      started = true;
-      layout = start.layout;
-      lines = start.lines_before;
-      // Drop the header and leading comments so that the buffer starts with data.
+      if (start.problem != Problem::kNone)
+        throw_start_problem(name, lines + start.lines_before + 1, start);
+      lines += start.lines_before;
+      // Drop the leading comments (and the header) so that the buffer starts with the line
+      // that is still incomplete, or with the data.
       filled = static_cast<std::size_t>(e - start.data);
       std::memmove(buffer.get(), start.data, filled);
       e = b + filled;
+      if (!start.found) continue;  // no complete first data line yet: read more
+      started = true;
+      layout = start.layout;
     }
     // Parse up to the last newline (everything, at the end of the input).
     const char* cut = e;
     if (!eof) {
       while (cut > b && cut[-1] != '\n') --cut;
-      if (cut == b) continue;  // no complete line yet
     }
-    stats.points_kept += parse_window(name, b, cut, layout, threads, lines, out, scratch);
+    if (cut > b)
+      stats.points_kept += parse_window(name, b, cut, layout, threads, lines, out, scratch);
     const auto rest = static_cast<std::size_t>(e - cut);
+    if (rest > kMaxLineBytes) throw_too_long(name, lines + 1, has_cr(cut, cut + kMaxLineBytes));
     std::memmove(buffer.get(), cut, rest);
     filled = rest;
   }
@@ -450,16 +562,22 @@ PointReadStats read_stream(int fd, const std::string& name, std::vector<Point3>&
 }  // namespace
 
 PointReadStats read_xyz(const std::string& path, std::vector<Point3>& out, unsigned threads) {
-  if (path == "-") return read_stream(STDIN_FILENO, "<stdin>", out, threads);
-  {
+  const std::size_t before = out.size();
+  try {
+    if (path == "-") return read_stream(STDIN_FILENO, "<stdin>", out, threads);
     // Pipes and devices (e.g. /dev/stdin, <(command)) cannot be mapped: stream them.
     struct stat st {};
     if (::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode)) {
       const detail::FileHandle file(path);
       return read_stream(file.fd(), path, out, threads);
     }
+    return read_mapped(path, out, threads);
+  } catch (const std::bad_alloc&) {
+    const std::size_t read = out.size() - before;
+    out.resize(before);  // frees nothing, but allocates nothing either
+    throw Error(path == "-" ? "<stdin>" : path, "",
+                "out of memory after reading " + std::to_string(read) + " of its points");
   }
-  return read_mapped(path, out, threads);
 }
 
 }  // namespace tincdt::io

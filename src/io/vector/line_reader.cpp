@@ -73,7 +73,7 @@ class LayerReader : public detail::FeatureReader {
     if (z_source_ == ZSource::kField) {
       for (std::size_t i = 0; i < n; ++i) p[i].z = z;
     }
-    check_finite(p, n, true);
+    check_coordinates(p, n, true);
 
     const Collapsed run = collapse(p, n, part.ring);
     stats_.repeated_vertices += run.repeats;
@@ -90,7 +90,6 @@ class LayerReader : public detail::FeatureReader {
     const auto first = static_cast<std::uint32_t>(base);
     const auto feature = static_cast<std::uint32_t>(out_.features.size());
     const std::size_t segment_count = run.closed ? k : k - 1;
-    out_.segments.reserve(out_.segments.size() + segment_count);
     for (std::uint32_t i = 0; i + 1 < k; ++i) {
       out_.segments.push_back({first + i, first + i + 1, feature});
     }
@@ -122,12 +121,10 @@ LineReadStats read_layer(const std::string& spec, const LineReadOptions& options
   // Only the geometry and the z field are needed: the drivers may skip the rest.
   layer.ignore_fields_except(z_field);
 
+  // No reserve() from the layer's feature count: a file may state any count (a GeoPackage's
+  // gpkg_ogr_contents says what it likes), and the features arrive one by one anyway.
   const auto file_index = static_cast<std::uint32_t>(out.files.size());
-  const GIntBig expected = layer.get().GetFeatureCount(FALSE);
-  if (expected > 0 && static_cast<std::uint64_t>(expected) < kMaxIndex) {
-    out.features.reserve(out.features.size() + static_cast<std::size_t>(expected));
-  }
-
+  const std::size_t features_before = out.features.size(), dropped_before = out.dropped.size();
   LayerReader reader(layer, z_source, z_field, file_index, out, stats);
   layer.read_features([&reader](const OGRFeature& feature, std::int64_t fid) {
     reader.read_feature(feature, fid);
@@ -135,6 +132,9 @@ LineReadStats read_layer(const std::string& spec, const LineReadOptions& options
 
   out.files.push_back(layer.spec());
   layer.add_warnings(reader.curves(), stats.warnings);
+  layer.check_usable({stats.features, out.features.size() - features_before, stats.degenerate_parts,
+                      "a line", "line"},
+                     out.dropped, dropped_before, stats.warnings);
   return stats;
 }
 

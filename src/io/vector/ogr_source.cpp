@@ -4,11 +4,14 @@
 #include <cpl_conv.h>
 #include <cpl_vsi.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "core/coordinates.hpp"
 #include "core/error.hpp"
 #include "io/crs_detail.hpp"
 
@@ -190,6 +193,45 @@ void OgrLayer::add_warnings(std::uint64_t curves, std::vector<std::string>& warn
   }
 }
 
+void OgrLayer::check_usable(const Yield& yield, const std::vector<LineDrop>& dropped,
+                            std::size_t first, std::vector<std::string>& warnings) const {
+  // "no geometry (3 features); Point geometry: only ... (1 feature)", in order of appearance.
+  std::vector<std::pair<std::string, std::uint64_t>> reasons;
+  for (std::size_t i = first; i < dropped.size(); ++i) {
+    auto it = std::find_if(reasons.begin(), reasons.end(),
+                           [&](const auto& r) { return r.first == dropped[i].reason; });
+    if (it == reasons.end()) {
+      reasons.emplace_back(dropped[i].reason, 1);
+    } else {
+      ++it->second;
+    }
+  }
+  std::string why;
+  for (const auto& [reason, count] : reasons) {
+    if (!why.empty()) why += "; ";
+    why += reason + " (" + std::to_string(count) + (count == 1 ? " feature)" : " features)");
+  }
+  const std::string where = "layer " + name_;
+  if (yield.used == 0) {
+    if (yield.features == 0) throw InputError(spec_.file, where, "the layer has no features");
+    throw InputError(spec_.file, where,
+                     "none of its " + std::to_string(yield.features) + " features gives " +
+                         yield.what + ": " + why);
+  }
+  const std::uint64_t lost = yield.features - yield.used;
+  if (lost == 0 && yield.degenerate_parts == 0) return;
+  std::string w = spec_.file + ": " + where + ": ";
+  if (lost > 0)
+    w += std::to_string(lost) + " of " + std::to_string(yield.features) +
+         " features dropped: " + why;
+  if (yield.degenerate_parts > 0) {
+    if (lost > 0) w += "; ";
+    w += std::to_string(yield.degenerate_parts) + " " + yield.part +
+         (yield.degenerate_parts == 1 ? "" : "s") + " with too few distinct vertices skipped";
+  }
+  warnings.push_back(w + " (--diagnostics lists them)");
+}
+
 // ---- FeatureReader ----
 
 FeatureReader::FeatureReader(const OgrLayer& layer, int z_field, std::uint32_t file_index,
@@ -327,14 +369,25 @@ double FeatureReader::field_z(const OGRFeature& feature) const {
     }
   }
   if (!std::isfinite(z)) fail("the z field " + name + " is not finite");
+  if (!coordinate_in_range(z))
+    fail("the z field " + name + " is beyond +-" + kMaxCoordinateText +
+         ", the coordinate range tincdt computes with");
   return z;
 }
 
-void FeatureReader::check_finite(const Point3* p, std::size_t n, bool check_z) const {
+void FeatureReader::check_coordinates(Point3* p, std::size_t n, bool check_z) const {
   for (std::size_t i = 0; i < n; ++i) {
-    if (!std::isfinite(p[i].x) || !std::isfinite(p[i].y) || (check_z && !std::isfinite(p[i].z))) {
-      fail("vertex " + std::to_string(i) + " has a non-finite coordinate");
+    const double v[3] = {p[i].x, p[i].y, check_z ? p[i].z : 0.0};
+    for (int k = 0; k < 3; ++k) {
+      if (coordinate_in_range(v[k])) continue;
+      if (!std::isfinite(v[k]))
+        fail("vertex " + std::to_string(i) + " has a non-finite coordinate");
+      char text[48];
+      std::snprintf(text, sizeof text, "%g", v[k]);
+      fail("vertex " + std::to_string(i) + ": " + "xyz"[k] + " = " + text + " is beyond +-" +
+           kMaxCoordinateText + ", the coordinate range tincdt computes with");
     }
+    p[i] = without_signed_zero(p[i]);
   }
 }
 

@@ -77,6 +77,20 @@ class OgrLayer {
   // GDAL's warnings, each naming the file, and one for CURVES geometries approximated.
   void add_warnings(std::uint64_t curves, std::vector<std::string>& warnings) const;
 
+  // What the layer gave the reader, for check_usable.
+  struct Yield {
+    std::uint64_t features = 0;          // in the layer
+    std::uint64_t used = 0;              // with at least one usable part
+    std::uint64_t degenerate_parts = 0;  // skipped for too few distinct vertices
+    const char* what = "";               // what a used feature gave: "a line", "a polygon"
+    const char* part = "";               // "line", "ring"
+  };
+  // A layer that gave nothing usable is an InputError saying why (an empty layer, or the drop
+  // reasons and their counts); one that lost features or parts adds a warning with the counts
+  // (the features are listed by --diagnostics). DROPPED[FIRST, end): this layer's dropped ones.
+  void check_usable(const Yield& yield, const std::vector<LineDrop>& dropped, std::size_t first,
+                    std::vector<std::string>& warnings) const;
+
  private:
   struct Spec {
     std::string file;
@@ -146,8 +160,9 @@ class FeatureReader {
   // The value of the z field in FEATURE; throws when it is NULL, not a complete number or not
   // finite.
   double field_z(const OGRFeature& feature) const;
-  // Throws for a non-finite x or y, or z when CHECK_Z.
-  void check_finite(const Point3* p, std::size_t n, bool check_z) const;
+  // Throws for an x or y (or z when CHECK_Z) that is not finite or beyond +-kMaxCoordinate
+  // (core/coordinates.hpp), naming the vertex; makes every -0 a +0.
+  void check_coordinates(Point3* p, std::size_t n, bool check_z) const;
 
   struct Collapsed {
     std::size_t kept;     // distinct vertices left in p[0, kept)

@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/coordinates.hpp"
 #include "io/vector/ogr_source.hpp"
 
 namespace tincdt::io {
@@ -75,7 +76,7 @@ class LayerReader : public detail::FeatureReader {
     constexpr int kStride = static_cast<int>(sizeof(Point3));
     part.line.getPoints(&p[0].x, kStride, &p[0].y, kStride, has_z ? &p[0].z : nullptr, kStride,
                         has_m ? m.data() : nullptr, static_cast<int>(sizeof(double)));
-    check_finite(p.data(), n, has_z);
+    check_coordinates(p.data(), n, has_z);
     if (z_source_) note_heights(has_z, has_m, p, m);
 
     const Collapsed run = collapse(p.data(), n, part.ring);
@@ -95,7 +96,7 @@ class LayerReader : public detail::FeatureReader {
     check_z(*z_source_, has_z, has_m, "2D polygon has no z for --replace");
     if (*z_source_ == ZSource::kMeasure) {
       for (const double v : m) {
-        if (!std::isfinite(v)) fail("an M value is not finite");
+        if (!coordinate_in_range(v)) fail("an M value is not finite or beyond +-1e15");
         z_min_ = std::min(z_min_, v);
         z_max_ = std::max(z_max_, v);
       }
@@ -140,6 +141,7 @@ ShapeReadStats read_layer(Kind kind, const std::string& spec, const ShapeReadOpt
   layer.ignore_fields_except(z_field);  // only the geometry and the z field are needed
 
   const auto file_index = static_cast<std::uint32_t>(out.files.size());
+  const std::size_t features_before = out.features.size(), dropped_before = out.dropped.size();
   LayerReader reader(kind, layer, z_source, z_field, file_index, out, stats);
   layer.read_features([&reader](const OGRFeature& feature, std::int64_t fid) {
     reader.read_feature(feature, fid);
@@ -147,6 +149,10 @@ ShapeReadStats read_layer(Kind kind, const std::string& spec, const ShapeReadOpt
 
   out.files.push_back(layer.spec());
   layer.add_warnings(reader.curves(), stats.warnings);
+  const bool polygons = kind == Kind::polygons;
+  layer.check_usable({stats.features, out.features.size() - features_before, stats.degenerate_parts,
+                      polygons ? "a polygon" : "a line", polygons ? "ring" : "line"},
+                     out.dropped, dropped_before, stats.warnings);
   return stats;
 }
 
