@@ -667,4 +667,24 @@ int incircle_exact(Point2 a, Point2 b, Point2 c, Point2 d) noexcept {
   return incircle_by_wide_integers(a, b, c, d);
 }
 
+// The tie: the cofactors of the lifts, in decreasing lexicographic order of their points (see
+// incircle_perturbed() in predicates.hpp for the derivation).
+[[gnu::noinline]] int incircle_perturbed_exact(Point2 a, Point2 b, Point2 c, Point2 d) noexcept {
+  if (const int s = incircle_exact(a, b, c, d); s != 0) return s;
+  const std::array<Point2, 4> p{a, b, c, d};
+  std::array<int, 4> order{0, 1, 2, 3};
+  const auto lex_greater = [&](int i, int j) {
+    return p[i].x > p[j].x || (p[i].x == p[j].x && p[i].y > p[j].y);
+  };
+  std::sort(order.begin(), order.end(), lex_greater);
+  for (const int i : order) {
+    // The cofactor of row i's lift: (-1)^i times the orientation of the other three rows.
+    std::array<Point2, 3> rest;
+    for (int k = 0, m = 0; k < 4; ++k)
+      if (k != i) rest[m++] = p[k];
+    if (const int o = orient2d(rest[0], rest[1], rest[2]); o != 0) return i % 2 == 0 ? o : -o;
+  }
+  return 0;  // all four on one line
+}
+
 }  // namespace tincdt::predicates::detail
