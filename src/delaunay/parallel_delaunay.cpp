@@ -439,8 +439,8 @@ std::uint64_t merge_triangulations(Triangulation& tin, EdgeId left_ghost, EdgeId
               (i == a || hull.orient(l, lv[i + 1], r1) < 0 || hull.orient(l, r, lv[i + 1]) <= 0);
     }
     if (can_l && can_r)
-      can_r =
-          predicates::incircle(hull.at(l), hull.at(r), hull.at(rv[j + 1]), hull.at(lv[i + 1])) <= 0;
+      can_r = predicates::incircle_perturbed(hull.at(l), hull.at(r), hull.at(rv[j + 1]),
+                                             hull.at(lv[i + 1])) < 0;
     if (!can_l && !can_r) throw internal_error("no triangle fits the gap");
     const TriangleId t = pool[k++];
     const EdgeId e = 3 * t;
@@ -484,7 +484,8 @@ std::uint64_t merge_triangulations(Triangulation& tin, EdgeId left_ghost, EdgeId
     const EdgeId f = tin.twin(e);
     const VertexId pa = tin.origin(e), pb = tin.dest(e), pc = tin.apex(e), pd = tin.apex(f);
     if (pa == kInfinite || pb == kInfinite || pc == kInfinite || pd == kInfinite) continue;
-    if (predicates::incircle(hull.at(pa), hull.at(pb), hull.at(pc), hull.at(pd)) <= 0) continue;
+    if (predicates::incircle_perturbed(hull.at(pa), hull.at(pb), hull.at(pc), hull.at(pd)) < 0)
+      continue;
     tin.flip(e);
     ++flips;
     fresh.insert(fresh.end(), {next_edge(e), prev_edge(e), next_edge(f), prev_edge(f)});
