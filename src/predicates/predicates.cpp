@@ -669,22 +669,48 @@ int incircle_exact(Point2 a, Point2 b, Point2 c, Point2 d) noexcept {
 
 // The tie: the cofactors of the lifts, in decreasing lexicographic order of their points (see
 // incircle_perturbed() in predicates.hpp for the derivation).
-[[gnu::noinline]] int incircle_perturbed_exact(Point2 a, Point2 b, Point2 c, Point2 d) noexcept {
-  if (const int s = incircle_exact(a, b, c, d); s != 0) return s;
+namespace {
+
+bool lex_greater(Point2 p, Point2 q) {
+  return p.x > q.x || (p.x == q.x && p.y > q.y);
+}
+
+// The cofactor of the lift of point i (0..3 for a, b, c, d): (-1)^i times the orientation of the
+// other three, in their order.
+int lift_cofactor(int i, Point2 a, Point2 b, Point2 c, Point2 d) {
+  switch (i) {
+    case 0:
+      return orient2d(b, c, d);
+    case 1:
+      return -orient2d(a, c, d);
+    case 2:
+      return orient2d(a, b, d);
+    default:
+      return -orient2d(a, b, c);
+  }
+}
+
+// Three of the points collinear (a degenerate call): the cofactors after the largest point's.
+[[gnu::noinline, gnu::cold]] int later_cofactors(Point2 a, Point2 b, Point2 c, Point2 d) {
   const std::array<Point2, 4> p{a, b, c, d};
   std::array<int, 4> order{0, 1, 2, 3};
-  const auto lex_greater = [&](int i, int j) {
-    return p[i].x > p[j].x || (p[i].x == p[j].x && p[i].y > p[j].y);
-  };
-  std::sort(order.begin(), order.end(), lex_greater);
-  for (const int i : order) {
-    // The cofactor of row i's lift: (-1)^i times the orientation of the other three rows.
-    std::array<Point2, 3> rest;
-    for (int k = 0, m = 0; k < 4; ++k)
-      if (k != i) rest[m++] = p[k];
-    if (const int o = orient2d(rest[0], rest[1], rest[2]); o != 0) return i % 2 == 0 ? o : -o;
-  }
+  std::sort(order.begin(), order.end(), [&](int i, int j) { return lex_greater(p[i], p[j]); });
+  for (std::size_t k = 1; k < 4; ++k)
+    if (const int s = lift_cofactor(order[k], a, b, c, d); s != 0) return s;
   return 0;  // all four on one line
+}
+
+}  // namespace
+
+[[gnu::noinline]] int incircle_perturbed_exact(Point2 a, Point2 b, Point2 c, Point2 d) noexcept {
+  if (const int s = incircle_exact(a, b, c, d); s != 0) return s;
+  // Four distinct points on one circle: the largest point's cofactor is never 0. (This runs for
+  // every cocircular test of a lattice, so it takes no sort.)
+  const bool b_over_a = lex_greater(b, a), d_over_c = lex_greater(d, c);
+  const Point2 ab = b_over_a ? b : a, cd = d_over_c ? d : c;
+  const int largest = lex_greater(cd, ab) ? 2 + d_over_c : b_over_a;
+  if (const int s = lift_cofactor(largest, a, b, c, d); s != 0) return s;
+  return later_cofactors(a, b, c, d);
 }
 
 }  // namespace tincdt::predicates::detail
