@@ -442,23 +442,29 @@ namespace {
 
 struct IncircleDifferences {
   double adx, ady, bdx, bdy, cdx, cdy;
+  double largest;  // of their magnitudes
 };
 
 // The coordinate differences relative to d, if all are exact and within the incircle range.
+// (As all_zero and all_in_range, with fewer operations: this runs for every cocircular test.)
 std::optional<IncircleDifferences> exact_incircle_differences(Point2 a, Point2 b, Point2 c,
                                                               Point2 d) {
-  const TwoTerm adx = two_diff(a.x, d.x);
-  const TwoTerm bdx = two_diff(b.x, d.x);
-  const TwoTerm cdx = two_diff(c.x, d.x);
-  const TwoTerm ady = two_diff(a.y, d.y);
-  const TwoTerm bdy = two_diff(b.y, d.y);
-  const TwoTerm cdy = two_diff(c.y, d.y);
-  if (!(all_zero(adx.tail, bdx.tail, cdx.tail, ady.tail, bdy.tail, cdy.tail) &
-        all_in_range(kIncircleLowest, kIncircleHighest, adx.head, bdx.head, cdx.head, ady.head,
-                     bdy.head, cdy.head))) {
-    return std::nullopt;
+  const std::array<TwoTerm, 6> v{two_diff(a.x, d.x), two_diff(a.y, d.y), two_diff(b.x, d.x),
+                                 two_diff(b.y, d.y), two_diff(c.x, d.x), two_diff(c.y, d.y)};
+  // Every tail 0: their magnitudes sum to 0 (an overflowing difference has a NaN tail).
+  double tails = 0;
+  double largest = 0;
+  double smallest = std::numeric_limits<double>::infinity();  // of the nonzero magnitudes
+  for (const TwoTerm& t : v) {
+    tails += std::fabs(t.tail);
+    const double m = std::fabs(t.head);
+    largest = std::max(largest, m);
+    smallest = std::min(smallest, m == 0 ? std::numeric_limits<double>::infinity() : m);
   }
-  return IncircleDifferences{adx.head, ady.head, bdx.head, bdy.head, cdx.head, cdy.head};
+  if (!(tails == 0 && largest <= kIncircleHighest && smallest >= kIncircleLowest))
+    return std::nullopt;
+  return IncircleDifferences{v[0].head, v[1].head, v[2].head, v[3].head,
+                             v[4].head, v[5].head, largest};
 }
 
 // Stage 1a. Differences that, in units of their lowest set bit 2^k, are integers below 2^62
@@ -521,6 +527,32 @@ Int256 fixed_term(Int128 lift, Int128 minor) {
   return negated_if(multiply(static_cast<UInt128>(lift), magnitude), negative);
 }
 
+// Stage 1a, first try: differences that, in units of 2^k where 2^(k + 12) exceeds the largest,
+// are all integers (below 2^12 then): the local cells of a lattice or grid, which every
+// insertion tests and which are cocircular. The plain double evaluation is then exact: products
+// below 2^24 units^2, lifts and minors below 2^25, terms below 2^50 units^4 and their sum below
+// 2^52, all integers; the range check of stage 1 keeps 2^(4k) and 2^52 * 2^(4k) normal.
+int incircle_differences_as_small_integers(const IncircleDifferences& d) {
+  const std::array<double, 6> values{d.adx, d.ady, d.bdx, d.bdy, d.cdx, d.cdy};
+  const double largest = d.largest;
+  if (largest == 0) return 0;  // all four points coincide
+  // largest in [2^e, 2^(e + 1)), e = biased - 1023; the unit is 2^(e - 11), so 1 / unit has the
+  // biased exponent 1023 - (e - 11) = 2057 - biased (in [794, 1234] for the range of stage 1).
+  const auto biased = (std::bit_cast<std::uint64_t>(largest) >> 52) & 0x7ff;
+  const auto to_units = std::bit_cast<double>((2057 - biased) << 52);
+  bool integers = true;
+  for (const double value : values) {
+    const double units = value * to_units;  // exact: a power of two, no underflow
+    integers &= units == static_cast<double>(static_cast<std::int32_t>(units));
+  }
+  if (!integers) return kNotApplicable;
+  const double alift = d.adx * d.adx + d.ady * d.ady;
+  const double blift = d.bdx * d.bdx + d.bdy * d.bdy;
+  const double clift = d.cdx * d.cdx + d.cdy * d.cdy;
+  return sign_of(alift * (d.bdx * d.cdy - d.cdx * d.bdy) + blift * (d.cdx * d.ady - d.adx * d.cdy) +
+                 clift * (d.adx * d.bdy - d.bdx * d.ady));
+}
+
 int incircle_differences_as_integers(const IncircleDifferences& d) {
   const std::array<double, 6> values{d.adx, d.ady, d.bdx, d.bdy, d.cdx, d.cdy};
   // Lowest set bit and leading bit over the nonzero values (all normal: range-checked), without
@@ -579,8 +611,16 @@ int incircle_differences_as_expansions(const IncircleDifferences& d) {
 int incircle_from_exact_differences(Point2 a, Point2 b, Point2 c, Point2 d) noexcept {
   const auto differences = exact_incircle_differences(a, b, c, d);
   if (!differences) return kNotApplicable;
+  if (const int s = incircle_differences_as_small_integers(*differences); s != kNotApplicable)
+    return s;
   if (const int s = incircle_differences_as_integers(*differences); s != kNotApplicable) return s;
   return incircle_differences_as_expansions(*differences);
+}
+
+int incircle_from_exact_differences_as_small_integers(Point2 a, Point2 b, Point2 c,
+                                                      Point2 d) noexcept {
+  const auto differences = exact_incircle_differences(a, b, c, d);
+  return differences ? incircle_differences_as_small_integers(*differences) : kNotApplicable;
 }
 
 int incircle_from_exact_differences_as_integers(Point2 a, Point2 b, Point2 c, Point2 d) noexcept {
