@@ -69,9 +69,10 @@ inline int orient2d(Point2 a, Point2 b, Point2 c) {
 
 namespace detail {
 
-// Stage A of incircle below: the sign of the determinant when the floating-point filter can
-// decide it (then never 0), else 0.
-inline int incircle_filter(Point2 a, Point2 b, Point2 c, Point2 d) {
+// Stage A of incircle and incircle_perturbed below: the sign of the determinant when the
+// floating-point filter can decide it, else Exact(a, b, c, d).
+template <int (*Exact)(Point2, Point2, Point2, Point2) noexcept>
+inline int incircle_filtered(Point2 a, Point2 b, Point2 c, Point2 d) {
   const double adx = a.x - d.x;
   const double ady = a.y - d.y;
   const double bdx = b.x - d.x;
@@ -100,8 +101,9 @@ inline int incircle_filter(Point2 a, Point2 b, Point2 c, Point2 d) {
   const double guard_scale =
       (alift + blift + clift) + (a_minor_abs + b_minor_abs + c_minor_abs) + 1.0;
   const double bound = kIncircleErrorBound * permanent + kUnderflowGuard * guard_scale;
-  // |det| > bound >= 0 implies det != 0, so a decided sign is never 0.
-  return std::fabs(det) > bound ? sign_of(det) : 0;
+  if (std::fabs(det) > bound) [[likely]]
+    return sign_of(det);
+  return Exact(a, b, c, d);
 }
 
 }  // namespace detail
@@ -109,9 +111,7 @@ inline int incircle_filter(Point2 a, Point2 b, Point2 c, Point2 d) {
 // For a, b, c counter-clockwise: +1 if d lies strictly inside their circumcircle, -1 if strictly
 // outside, 0 if on it. (For a, b, c clockwise the sign is reversed, as the determinant is.)
 inline int incircle(Point2 a, Point2 b, Point2 c, Point2 d) {
-  if (const int s = detail::incircle_filter(a, b, c, d); s != 0) [[likely]]
-    return s;
-  return detail::incircle_exact(a, b, c, d);
+  return detail::incircle_filtered<detail::incircle_exact>(a, b, c, d);
 }
 
 // incircle() with every tie broken by a rule of the four points alone, so that the Delaunay
@@ -144,9 +144,7 @@ inline int incircle(Point2 a, Point2 b, Point2 c, Point2 d) {
 // Returns 0 only when all four points lie on one line. Costs nothing more than incircle() unless
 // the exact determinant is 0.
 inline int incircle_perturbed(Point2 a, Point2 b, Point2 c, Point2 d) {
-  if (const int s = detail::incircle_filter(a, b, c, d); s != 0) [[likely]]
-    return s;
-  return detail::incircle_perturbed_exact(a, b, c, d);
+  return detail::incircle_filtered<detail::incircle_perturbed_exact>(a, b, c, d);
 }
 
 }  // namespace tincdt::predicates
