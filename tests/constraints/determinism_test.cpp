@@ -60,7 +60,7 @@ struct Built {
 
 // The CDT of `in`, its points permuted by `order` (a permutation of the point indices, or empty).
 Built build(const Input& in, const Way& way, const std::vector<std::uint32_t>& order = {},
-            bool reverse_segments = false) {
+            bool reverse_segments = false, Restore restore = Restore::delaunay) {
   std::vector<std::uint32_t> position(in.points.size());  // input index -> index passed on
   std::vector<Point3> points;
   points.reserve(in.points.size());
@@ -79,7 +79,7 @@ Built build(const Input& in, const Way& way, const std::vector<std::uint32_t>& o
     const auto [i, j] = in.segments[reverse_segments ? in.segments.size() - 1 - s : s];
     b.segments.push_back({dt.vertex_of_point[position[i]], dt.vertex_of_point[position[j]], s});
   }
-  b.result = insert_constraints(b.tin, b.segments);
+  b.result = insert_constraints(b.tin, b.segments, {.restore = restore});
   return b;
 }
 
@@ -330,6 +330,33 @@ TEST(DeterministicCdt, CrossingConstraintsSplitTheSameWay) {
     SCOPED_TRACE("seed " + std::to_string(seed));
     const Built b = expect_one_cdt(to_input(s.points, segments, kFrames[seed % 3]), true);
     EXPECT_GT(b.result.crossings.size(), 0u);
+  }
+}
+
+TEST(DeterministicCdt, AspectAndNoRestorationDependOnTheSegmentsOnly) {
+  // Not unique triangulations (they depend on the order of the segments), but with the segments
+  // in one order, the same triangles whatever the Delaunay path, threads or point order.
+  PointSet s = lattice(31, 31, 5);
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> segments;
+  for (const std::int64_t r : {25, 65}) {
+    const std::vector<IntPoint> rp = ring({75, 75}, r);
+    for (std::size_t k = 0; k < rp.size(); ++k)
+      segments.push_back({s.add(rp[k]), s.add(rp[(k + 1) % rp.size()])});
+  }
+  const Input in = to_input(s.points, segments, kFrames[1]);
+  std::vector<std::uint32_t> order(in.points.size());
+  for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::mt19937_64 rng(4);
+  std::shuffle(order.begin(), order.end(), rng);
+  for (const Restore restore : {Restore::aspect, Restore::none}) {
+    const Built reference = build(in, kSequential, {}, false, restore);
+    EXPECT_EQ(reference.tin.validate({.delaunay = false}), "");
+    for (const Way& way : {kSequential, kHalvesOneThread, kHalvesTwoThreads}) {
+      SCOPED_TRACE(way.name);
+      const Built first = build(in, way, {}, false, restore);
+      EXPECT_TRUE(same_cdt(first.tin, reference.tin));
+      EXPECT_TRUE(same_bits(build(in, way, order, false, restore).tin, first.tin));
+    }
   }
 }
 
