@@ -219,7 +219,8 @@ void line_options(CLI::App& app, BuildOptions& o) {
 
 void triangulation_options(CLI::App& app, BuildOptions& o) {
   Group g(app, "Triangulation");
-  g.choice("--on-duplicate", o.on_duplicate, "z of points with equal x, y",
+  g.choice("--on-duplicate", o.on_duplicate,
+           "z of points with equal x, y: the first in input order,\nor their min, max or mean",
            std::vector<std::pair<std::string, delaunay::DuplicatePolicy>>{
                {"first", delaunay::DuplicatePolicy::first},
                {"min", delaunay::DuplicatePolicy::min},

@@ -13,9 +13,12 @@
 
 namespace tincdt::constraints {
 
-// How the triangles around a new constraint are improved after it is in.
+// How the triangles around a new constraint are improved after it is in. Only `delaunay` gives a
+// triangulation defined by the points and segments alone; `aspect` and `none` also depend on the
+// order in which the segments come (never on the input order of the points or the threads).
 enum class Restore {
-  delaunay,  // Lawson flips with the exact in-circle test: the result is the CDT
+  delaunay,  // Lawson flips with the exact in-circle test, ties broken by the symbolic
+             // perturbation (predicates::incircle_perturbed): the result is the unique CDT
   aspect,    // the paper's criterion (eq. 1): flip when it lowers max(circumradius / inradius)
   none,      // keep the triangles the swapping left
 };

@@ -23,15 +23,20 @@ DelaunayResult triangulate(std::vector<Point3>&& points, const DelaunayOptions& 
 
   BBox box;
   for (std::size_t i = 0; i < n; ++i) {
-    const Point3& p = input[i];
+    Point3& p = input[i];
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
       throw GeometryError("point " + std::to_string(i) + " has a non-finite coordinate");
+    // -0.0 becomes 0.0 (x + 0.0 changes nothing else): one point, one key, one text.
+    p.x += 0.0;
+    p.y += 0.0;
+    p.z += 0.0;
     box.add(p.x, p.y);
   }
 
   DelaunayResult result;
-  if (options.threads != 1 && n >= options.parallel_min_points &&
-      triangulate_in_two(input, box, options, progress, result))
+  // Whether to split depends on the point count alone, never on the threads: one thread or two
+  // give the same bits.
+  if (n >= options.parallel_min_points && triangulate_in_two(input, box, options, progress, result))
     return result;
 
   Triangulation& tin = result.tin;
@@ -40,20 +45,20 @@ DelaunayResult triangulate(std::vector<Point3>&& points, const DelaunayOptions& 
     const std::vector<std::uint32_t> order = insertion_order(input, box, options.threads);
     if (options.keep_point_map) result.vertex_of_point.assign(n, kNoId);
     tin.reserve_vertices(n);
-    std::uint32_t run = 0;
+    MergedZ merged{};
     for (std::uint32_t i : order) {
       const Point3& p = input[i];
       const std::size_t nv = tin.vertex_count();
       if (nv > 0 && tin.point(static_cast<VertexId>(nv - 1)) == Point2{p.x, p.y}) {
-        double z = tin.z(static_cast<VertexId>(nv - 1));
+        const auto v = static_cast<VertexId>(nv - 1);
         if (options.keep_duplicates)
-          record_duplicate(result.duplicates, static_cast<VertexId>(nv - 1), z, p.z, run + 1);
-        merge_duplicate_z(z, p.z, ++run, options.on_duplicate);
-        tin.set_z(static_cast<VertexId>(nv - 1), z);
+          record_duplicate(result.duplicates, v, merged.z, p.z, merged.count + 1);
+        merged.add(p.z, i, options.on_duplicate);
+        tin.set_z(v, merged.z);
         ++result.duplicates_merged;
       } else {
         tin.add_vertex({p.x, p.y}, p.z);
-        run = 1;
+        merged = MergedZ::start(p.z, i);
       }
       if (options.keep_point_map)
         result.vertex_of_point[i] = static_cast<VertexId>(tin.vertex_count() - 1);

@@ -19,6 +19,7 @@
 #endif
 
 #include "core/error.hpp"
+#include "core/parallel.hpp"
 #include "delaunay/spatial_order.hpp"
 #include "mesh/geometry.hpp"
 #include "mesh/point_insertion.hpp"
@@ -40,9 +41,15 @@ GeometryError internal_error(const std::string& what) {
   return GeometryError("internal: parallel Delaunay merge: " + what);
 }
 
-// Runs left() on this thread and right() on a new one; rethrows the first exception.
+// Runs left() on this thread and right() on a new one (or, if not concurrent, one after the
+// other); rethrows the first exception.
 template <class Left, class Right>
-void run_two(Left&& left, Right&& right) {
+void run_two(bool concurrent, Left&& left, Right&& right) {
+  if (!concurrent) {
+    left();
+    right();
+    return;
+  }
   std::exception_ptr right_error;
   std::thread worker([&] {
     try {
@@ -122,7 +129,7 @@ class Scratch {
 // Sorts one half's items into insertion order.
 void sort_half(const std::vector<Point3>& input, std::uint64_t* items, std::size_t m) {
   Scratch<std::uint64_t> buffer(m);
-  sort_by_key_then_xy(input, items, buffer.data(), m);
+  sort_by_key_then_xyz(input, items, buffer.data(), m);
 }
 
 // Passes one half's distinct points, in order and with equal x, y merged, to put(k, point);
@@ -141,22 +148,23 @@ HalfPoints gather_half(const std::vector<Point3>& input, const std::uint64_t* it
                        Put&& put, Consumed&& consumed) {
   HalfPoints half;
   Point3 current{};
-  std::uint32_t run = 0;
+  MergedZ merged{};
   for (std::size_t k = 0; k < m; ++k) {
     if ((k & 0x1ffff) == 0 && k > 0) consumed(k);  // items before k are read
     const auto i = static_cast<std::uint32_t>(items[k]);
     const Point3& p = input[i];
     if (half.count > 0 && current.x == p.x && current.y == p.y) {
       if (duplicates)
-        record_duplicate(*duplicates, static_cast<VertexId>(half.count - 1), current.z, p.z,
-                         run + 1);
-      merge_duplicate_z(current.z, p.z, ++run, policy);
+        record_duplicate(*duplicates, static_cast<VertexId>(half.count - 1), merged.z, p.z,
+                         merged.count + 1);
+      merged.add(p.z, i, policy);
+      current.z = merged.z;
       ++half.duplicates;
     } else {
       if (half.count > 0) put(half.count - 1, current);
       current = p;
+      merged = MergedZ::start(p.z, i);
       ++half.count;
-      run = 1;
     }
     if (vertex_of_point) vertex_of_point[i] = static_cast<VertexId>(half.count - 1);
   }
@@ -439,8 +447,8 @@ std::uint64_t merge_triangulations(Triangulation& tin, EdgeId left_ghost, EdgeId
               (i == a || hull.orient(l, lv[i + 1], r1) < 0 || hull.orient(l, r, lv[i + 1]) <= 0);
     }
     if (can_l && can_r)
-      can_r =
-          predicates::incircle(hull.at(l), hull.at(r), hull.at(rv[j + 1]), hull.at(lv[i + 1])) <= 0;
+      can_r = predicates::incircle_perturbed(hull.at(l), hull.at(r), hull.at(rv[j + 1]),
+                                             hull.at(lv[i + 1])) < 0;
     if (!can_l && !can_r) throw internal_error("no triangle fits the gap");
     const TriangleId t = pool[k++];
     const EdgeId e = 3 * t;
@@ -484,7 +492,8 @@ std::uint64_t merge_triangulations(Triangulation& tin, EdgeId left_ghost, EdgeId
     const EdgeId f = tin.twin(e);
     const VertexId pa = tin.origin(e), pb = tin.dest(e), pc = tin.apex(e), pd = tin.apex(f);
     if (pa == kInfinite || pb == kInfinite || pc == kInfinite || pd == kInfinite) continue;
-    if (predicates::incircle(hull.at(pa), hull.at(pb), hull.at(pc), hull.at(pd)) <= 0) continue;
+    if (predicates::incircle_perturbed(hull.at(pa), hull.at(pb), hull.at(pc), hull.at(pd)) < 0)
+      continue;
     tin.flip(e);
     ++flips;
     fresh.insert(fresh.end(), {next_edge(e), prev_edge(e), next_edge(f), prev_edge(f)});
@@ -496,19 +505,38 @@ bool triangulate_in_two(std::vector<Point3>& input, const BBox& box, const Delau
                         const ProgressFn* progress, DelaunayResult& result) {
   const std::size_t n = input.size();
   if (n < 4) return false;
+  // One thread or two, the work is the same, and so is every bit of the result.
+  const bool concurrent = thread_count(options.threads) != 1;
 
-  // Pivot: the lexicographic median of a sample; left = points strictly smaller. When the
+  // Pivot: the lexicographic median of a sample; left = points strictly smaller. The sample is
+  // drawn by a hash of the coordinates, so the split (and with it the vertex numbering and every
+  // triangle slot) is a rule of the points alone, not of their order in the input. When the
   // sample says it costs little balance, split between two x values rather than inside a run of
   // equal x (a lattice column): each half's hull then has that whole run as its facing side,
   // instead of a long slanted edge over a fan of thin triangles that the merge would flip away.
+  const std::uint64_t sample_mask = std::bit_floor(std::max<std::size_t>(n / 4096, 1)) - 1;
   std::vector<Point2> sample;
-  const std::size_t samples = std::min<std::size_t>(n, 4095);
-  sample.reserve(samples);
-  for (std::size_t s = 0; s < samples; ++s) {
-    const Point3& p = input[s * n / samples];
-    sample.push_back({p.x, p.y});
+  {
+    std::vector<Point2> part[2];
+    // Multiply-xor: enough spread for a sample, and a third of point_hash()'s cost.
+    const auto bits = [](double v) { return std::bit_cast<std::uint64_t>(v + 0.0); };
+    const auto draw = [&](std::size_t begin, std::size_t end, std::vector<Point2>& to) {
+      to.reserve(2 * (end - begin) / (sample_mask + 1) + 16);
+      for (std::size_t i = begin; i < end; ++i) {
+        const Point3& p = input[i];
+        const std::uint64_t h =
+            bits(p.x) * 0x9e3779b97f4a7c15ULL ^ bits(p.y) * 0xc2b2ae3d27d4eb4fULL;
+        if (((h >> 40) & sample_mask) == 0) to.push_back({p.x, p.y});
+      }
+    };
+    run_two(
+        concurrent, [&] { draw(0, n / 2, part[0]); }, [&] { draw(n / 2, n, part[1]); });
+    sample = std::move(part[0]);
+    sample.insert(sample.end(), part[1].begin(), part[1].end());
   }
+  if (sample.empty()) return false;
   std::sort(sample.begin(), sample.end(), lex_less);
+  const std::size_t samples = sample.size();
   Point2 pivot = sample[samples / 2];
   {
     const auto x_less = [](Point2 a, Point2 b) { return a.x < b.x; };
@@ -561,14 +589,20 @@ bool triangulate_in_two(std::vector<Point3>& input, const BBox& box, const Delau
   Triangulation& tin = result.tin;
   tin.reserve_vertices(n);
   std::exception_ptr slot_error;
-  std::thread slot_maker([&] {
+  const auto make_slots = [&] {
     try {
       tin.reserve_triangles(2 * n - 2);
       for (std::size_t t = 0; t + 2 < 2 * n; ++t) tin.add_triangle(kNoId, kNoId, kNoId);
     } catch (...) {
       slot_error = std::current_exception();
     }
-  });
+  };
+  std::thread slot_maker;
+  if (concurrent) {
+    slot_maker = std::thread(make_slots);
+  } else {
+    make_slots();
+  }
   struct Joiner {
     std::thread& thread;
     ~Joiner() {
@@ -581,6 +615,7 @@ bool triangulate_in_two(std::vector<Point3>& input, const BBox& box, const Delau
   const std::size_t mid = n / 2;
   std::size_t left_in_chunk[2] = {0, 0};
   run_two(
+      concurrent,
       [&] {
         for (std::size_t i = 0; i < mid; ++i) left_in_chunk[0] += is_left(input[i]);
       },
@@ -600,10 +635,12 @@ bool triangulate_in_two(std::vector<Point3>& input, const BBox& box, const Delau
       }
     }
   };
-  run_two([&] { fill(0, mid, 0, left_items); },
-          [&] { fill(mid, n, left_in_chunk[0], left_items + (mid - left_in_chunk[0])); });
-  run_two([&] { sort_half(input, items.data(), left_items); },
-          [&] { sort_half(input, items.data() + left_items, n - left_items); });
+  run_two(
+      concurrent, [&] { fill(0, mid, 0, left_items); },
+      [&] { fill(mid, n, left_in_chunk[0], left_items + (mid - left_in_chunk[0])); });
+  run_two(
+      concurrent, [&] { sort_half(input, items.data(), left_items); },
+      [&] { sort_half(input, items.data() + left_items, n - left_items); });
 
   // Each side's distinct points, in order: the left ones straight into the vertices while the
   // slots are still being made, the right ones, once the slots exist, into the stash from
@@ -621,6 +658,7 @@ bool triangulate_in_two(std::vector<Point3>& input, const BBox& box, const Delau
     duplicates[1] = &right_duplicates;
   }
   run_two(
+      concurrent,
       [&] {
         half[0] = gather_half(
             input, items.data(), left_items, point_map, duplicates[0], options.on_duplicate,
@@ -630,7 +668,7 @@ bool triangulate_in_two(std::vector<Point3>& input, const BBox& box, const Delau
             [&](std::size_t k) { items.release(0, k); });
       },
       [&] {
-        slot_maker.join();
+        if (slot_maker.joinable()) slot_maker.join();
         if (slot_error) std::rethrow_exception(slot_error);
         half[1] = gather_half(
             input, items.data() + left_items, n - left_items, point_map, duplicates[1],
@@ -691,6 +729,7 @@ bool triangulate_in_two(std::vector<Point3>& input, const BBox& box, const Delau
     }
   };
   run_two(
+      concurrent,
       [&] {
         guarded([&] {
           ghost[0] = triangulate_half(tin, 0, nl, 0, flips[0], [&](VertexId done) {

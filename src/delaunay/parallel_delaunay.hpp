@@ -4,10 +4,11 @@
 // The halves are separable (every left point is lexicographically smaller than every right
 // point), so their convex hulls are disjoint. The merge finds the two common tangents, fills the
 // gap between the facing hull chains with a zipper of triangles (each step advances on whichever
-// chain keeps the new triangle inside the gap, preferring the Delaunay choice by an exact
+// chain keeps the new triangle inside the gap, preferring the Delaunay choice by the perturbed
 // incircle test), and then Lawson-flips the new triangles and their neighbours until every edge
-// is locally Delaunay. Both halves write into disjoint slot ranges of one Triangulation, so the
-// triangle arrays exist only once.
+// is locally Delaunay. Cocircular ties are broken by predicates::incircle_perturbed, as in the
+// sequential insertion, so the merge gives the same (unique) triangulation. Both halves write into
+// disjoint slot ranges of one Triangulation, so the triangle arrays exist only once.
 #pragma once
 
 #include <cstdint>

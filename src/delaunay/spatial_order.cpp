@@ -24,7 +24,7 @@ std::uint64_t mix(std::uint64_t h) {  // splitmix64 finalizer: a fast, well-spre
 
 // Round 0 is inserted last and holds ~7/8 of the points; round r holds ~7/8^(r+1).
 std::uint32_t brio_round(double x, double y) {
-  std::uint64_t h = mix(std::bit_cast<std::uint64_t>(x) ^ mix(std::bit_cast<std::uint64_t>(y)));
+  std::uint64_t h = point_hash(x, y);
   std::uint32_t r = 0;
   while ((h & 7) == 0 && r < kMaxRound) {
     h >>= 3;
@@ -93,6 +93,11 @@ void radix_sort_by_key(std::uint64_t* items, std::uint64_t* buffer, std::size_t 
 
 }  // namespace
 
+std::uint64_t point_hash(double x, double y) {
+  // Adding +0.0 turns -0.0 into 0.0 and changes nothing else, so equal points hash alike.
+  return mix(std::bit_cast<std::uint64_t>(x + 0.0) ^ mix(std::bit_cast<std::uint64_t>(y + 0.0)));
+}
+
 std::uint32_t hilbert_index(std::uint32_t x, std::uint32_t y, int bits) {
   std::uint32_t d = 0;
   for (std::uint32_t s = 1u << (bits - 1); s > 0; s >>= 1) {
@@ -134,20 +139,21 @@ std::uint32_t OrderKey::operator()(const Point3& p) const {
   return (round << (2 * kHilbertBits)) | hilbert_key(cx, cy);
 }
 
-void sort_by_key_then_xy(const std::vector<Point3>& points, std::uint64_t* items,
-                         std::uint64_t* buffer, std::size_t n) {
+void sort_by_key_then_xyz(const std::vector<Point3>& points, std::uint64_t* items,
+                          std::uint64_t* buffer, std::size_t n) {
   radix_sort_by_key(items, buffer, n);
-  auto by_xy = [&](std::uint64_t a, std::uint64_t b) {
+  auto by_xyz = [&](std::uint64_t a, std::uint64_t b) {
     const Point3& p = points[static_cast<std::uint32_t>(a)];
     const Point3& q = points[static_cast<std::uint32_t>(b)];
     if (p.x != q.x) return p.x < q.x;
     if (p.y != q.y) return p.y < q.y;
+    if (p.z != q.z) return p.z < q.z;
     return static_cast<std::uint32_t>(a) < static_cast<std::uint32_t>(b);
   };
   for (std::size_t i = 0; i < n;) {
     std::size_t j = i + 1;
     while (j < n && (items[j] >> 32) == (items[i] >> 32)) ++j;
-    if (j - i > 1) std::sort(items + i, items + j, by_xy);
+    if (j - i > 1) std::sort(items + i, items + j, by_xyz);
     i = j;
   }
 }
@@ -162,7 +168,7 @@ std::vector<std::uint32_t> insertion_order(const std::vector<Point3>& points, co
   });
   {
     std::vector<std::uint64_t> buffer(n);
-    sort_by_key_then_xy(points, items.data(), buffer.data(), n);
+    sort_by_key_then_xyz(points, items.data(), buffer.data(), n);
   }
   std::vector<std::uint32_t> order(n);
   for (std::size_t i = 0; i < n; ++i) order[i] = static_cast<std::uint32_t>(items[i]);

@@ -150,7 +150,7 @@ void PointInserter::restore(Point2 p) {
       // Between two ghosts: flip when p sees the neighbouring hull edge from outside.
       flip = in_circle(tin_, b, a, d, p) > 0;
     } else {
-      flip = predicates::incircle(tin_.point(a), tin_.point(b), p, tin_.point(d)) > 0 &&
+      flip = predicates::incircle_perturbed(tin_.point(a), tin_.point(b), p, tin_.point(d)) > 0 &&
              !tin_.is_constrained(e);
     }
     if (!flip) continue;

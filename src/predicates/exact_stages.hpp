@@ -15,9 +15,13 @@ inline constexpr int kNotApplicable = 2;
 // exact determinant. orient2d compares the two exact products. incircle tries 1a, then 1b:
 //   1a. the differences, in units of their lowest set bit, are integers below 2^62 (lattices,
 //       and UTM-like data within kilometres): int64/int128 or 256-bit integers, tens of ns;
+//       first of all, integers below 2^12 in units of 2^-11 times the largest (the cells of a
+//       lattice or grid): the double evaluation itself is exact;
 //   1b. otherwise, expansions of the difference determinant (as in Shewchuk's stage B).
 int orient2d_from_exact_differences(Point2 a, Point2 b, Point2 c) noexcept;
 int incircle_from_exact_differences(Point2 a, Point2 b, Point2 c, Point2 d) noexcept;
+int incircle_from_exact_differences_as_small_integers(Point2 a, Point2 b, Point2 c,
+                                                      Point2 d) noexcept;
 int incircle_from_exact_differences_as_integers(Point2 a, Point2 b, Point2 c, Point2 d) noexcept;
 int incircle_from_exact_differences_as_expansions(Point2 a, Point2 b, Point2 c, Point2 d) noexcept;
 

@@ -442,23 +442,29 @@ namespace {
 
 struct IncircleDifferences {
   double adx, ady, bdx, bdy, cdx, cdy;
+  double largest;  // of their magnitudes
 };
 
 // The coordinate differences relative to d, if all are exact and within the incircle range.
+// (As all_zero and all_in_range, with fewer operations: this runs for every cocircular test.)
 std::optional<IncircleDifferences> exact_incircle_differences(Point2 a, Point2 b, Point2 c,
                                                               Point2 d) {
-  const TwoTerm adx = two_diff(a.x, d.x);
-  const TwoTerm bdx = two_diff(b.x, d.x);
-  const TwoTerm cdx = two_diff(c.x, d.x);
-  const TwoTerm ady = two_diff(a.y, d.y);
-  const TwoTerm bdy = two_diff(b.y, d.y);
-  const TwoTerm cdy = two_diff(c.y, d.y);
-  if (!(all_zero(adx.tail, bdx.tail, cdx.tail, ady.tail, bdy.tail, cdy.tail) &
-        all_in_range(kIncircleLowest, kIncircleHighest, adx.head, bdx.head, cdx.head, ady.head,
-                     bdy.head, cdy.head))) {
-    return std::nullopt;
+  const std::array<TwoTerm, 6> v{two_diff(a.x, d.x), two_diff(a.y, d.y), two_diff(b.x, d.x),
+                                 two_diff(b.y, d.y), two_diff(c.x, d.x), two_diff(c.y, d.y)};
+  // Every tail 0: their magnitudes sum to 0 (an overflowing difference has a NaN tail).
+  double tails = 0;
+  double largest = 0;
+  double smallest = std::numeric_limits<double>::infinity();  // of the nonzero magnitudes
+  for (const TwoTerm& t : v) {
+    tails += std::fabs(t.tail);
+    const double m = std::fabs(t.head);
+    largest = std::max(largest, m);
+    smallest = std::min(smallest, m == 0 ? std::numeric_limits<double>::infinity() : m);
   }
-  return IncircleDifferences{adx.head, ady.head, bdx.head, bdy.head, cdx.head, cdy.head};
+  if (!(tails == 0 && largest <= kIncircleHighest && smallest >= kIncircleLowest))
+    return std::nullopt;
+  return IncircleDifferences{v[0].head, v[1].head, v[2].head, v[3].head,
+                             v[4].head, v[5].head, largest};
 }
 
 // Stage 1a. Differences that, in units of their lowest set bit 2^k, are integers below 2^62
@@ -521,6 +527,32 @@ Int256 fixed_term(Int128 lift, Int128 minor) {
   return negated_if(multiply(static_cast<UInt128>(lift), magnitude), negative);
 }
 
+// Stage 1a, first try: differences that, in units of 2^k where 2^(k + 12) exceeds the largest,
+// are all integers (below 2^12 then): the local cells of a lattice or grid, which every
+// insertion tests and which are cocircular. The plain double evaluation is then exact: products
+// below 2^24 units^2, lifts and minors below 2^25, terms below 2^50 units^4 and their sum below
+// 2^52, all integers; the range check of stage 1 keeps 2^(4k) and 2^52 * 2^(4k) normal.
+int incircle_differences_as_small_integers(const IncircleDifferences& d) {
+  const std::array<double, 6> values{d.adx, d.ady, d.bdx, d.bdy, d.cdx, d.cdy};
+  const double largest = d.largest;
+  if (largest == 0) return 0;  // all four points coincide
+  // largest in [2^e, 2^(e + 1)), e = biased - 1023; the unit is 2^(e - 11), so 1 / unit has the
+  // biased exponent 1023 - (e - 11) = 2057 - biased (in [794, 1234] for the range of stage 1).
+  const auto biased = (std::bit_cast<std::uint64_t>(largest) >> 52) & 0x7ff;
+  const auto to_units = std::bit_cast<double>((2057 - biased) << 52);
+  bool integers = true;
+  for (const double value : values) {
+    const double units = value * to_units;  // exact: a power of two, no underflow
+    integers &= units == static_cast<double>(static_cast<std::int32_t>(units));
+  }
+  if (!integers) return kNotApplicable;
+  const double alift = d.adx * d.adx + d.ady * d.ady;
+  const double blift = d.bdx * d.bdx + d.bdy * d.bdy;
+  const double clift = d.cdx * d.cdx + d.cdy * d.cdy;
+  return sign_of(alift * (d.bdx * d.cdy - d.cdx * d.bdy) + blift * (d.cdx * d.ady - d.adx * d.cdy) +
+                 clift * (d.adx * d.bdy - d.bdx * d.ady));
+}
+
 int incircle_differences_as_integers(const IncircleDifferences& d) {
   const std::array<double, 6> values{d.adx, d.ady, d.bdx, d.bdy, d.cdx, d.cdy};
   // Lowest set bit and leading bit over the nonzero values (all normal: range-checked), without
@@ -579,8 +611,16 @@ int incircle_differences_as_expansions(const IncircleDifferences& d) {
 int incircle_from_exact_differences(Point2 a, Point2 b, Point2 c, Point2 d) noexcept {
   const auto differences = exact_incircle_differences(a, b, c, d);
   if (!differences) return kNotApplicable;
+  if (const int s = incircle_differences_as_small_integers(*differences); s != kNotApplicable)
+    return s;
   if (const int s = incircle_differences_as_integers(*differences); s != kNotApplicable) return s;
   return incircle_differences_as_expansions(*differences);
+}
+
+int incircle_from_exact_differences_as_small_integers(Point2 a, Point2 b, Point2 c,
+                                                      Point2 d) noexcept {
+  const auto differences = exact_incircle_differences(a, b, c, d);
+  return differences ? incircle_differences_as_small_integers(*differences) : kNotApplicable;
 }
 
 int incircle_from_exact_differences_as_integers(Point2 a, Point2 b, Point2 c, Point2 d) noexcept {
@@ -665,6 +705,52 @@ int incircle_exact(Point2 a, Point2 b, Point2 c, Point2 d) noexcept {
   if (const int s = incircle_from_exact_differences(a, b, c, d); s != kNotApplicable) return s;
   if (const int s = incircle_by_expansions(a, b, c, d); s != kNotApplicable) return s;
   return incircle_by_wide_integers(a, b, c, d);
+}
+
+// The tie: the cofactors of the lifts, in decreasing lexicographic order of their points (see
+// incircle_perturbed() in predicates.hpp for the derivation).
+namespace {
+
+bool lex_greater(Point2 p, Point2 q) {
+  return p.x > q.x || (p.x == q.x && p.y > q.y);
+}
+
+// The cofactor of the lift of point i (0..3 for a, b, c, d): (-1)^i times the orientation of the
+// other three, in their order.
+int lift_cofactor(int i, Point2 a, Point2 b, Point2 c, Point2 d) {
+  switch (i) {
+    case 0:
+      return orient2d(b, c, d);
+    case 1:
+      return -orient2d(a, c, d);
+    case 2:
+      return orient2d(a, b, d);
+    default:
+      return -orient2d(a, b, c);
+  }
+}
+
+// Three of the points collinear (a degenerate call): the cofactors after the largest point's.
+[[gnu::noinline, gnu::cold]] int later_cofactors(Point2 a, Point2 b, Point2 c, Point2 d) {
+  const std::array<Point2, 4> p{a, b, c, d};
+  std::array<int, 4> order{0, 1, 2, 3};
+  std::sort(order.begin(), order.end(), [&](int i, int j) { return lex_greater(p[i], p[j]); });
+  for (std::size_t k = 1; k < 4; ++k)
+    if (const int s = lift_cofactor(order[k], a, b, c, d); s != 0) return s;
+  return 0;  // all four on one line
+}
+
+}  // namespace
+
+[[gnu::noinline]] int incircle_perturbed_exact(Point2 a, Point2 b, Point2 c, Point2 d) noexcept {
+  if (const int s = incircle_exact(a, b, c, d); s != 0) return s;
+  // Four distinct points on one circle: the largest point's cofactor is never 0. (This runs for
+  // every cocircular test of a lattice, so it takes no sort.)
+  const bool b_over_a = lex_greater(b, a), d_over_c = lex_greater(d, c);
+  const Point2 ab = b_over_a ? b : a, cd = d_over_c ? d : c;
+  const int largest = lex_greater(cd, ab) ? 2 + d_over_c : b_over_a;
+  if (const int s = lift_cofactor(largest, a, b, c, d); s != 0) return s;
+  return later_cofactors(a, b, c, d);
 }
 
 }  // namespace tincdt::predicates::detail

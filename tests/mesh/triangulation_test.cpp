@@ -37,9 +37,23 @@ Triangulation square(double y2 = 1.0) {
 }
 
 TEST(Triangulation, HandBuiltSquareIsValid) {
-  const Triangulation tin = square();
+  const Triangulation tin = square(0.9);  // 3 lies outside circle (0, 1, 2): 0-2 is Delaunay
   EXPECT_EQ(tin.validate(), "");
   EXPECT_EQ(tin.triangle_count(), 2u);
+}
+
+TEST(Triangulation, CocircularSquareTakesThePerturbedDiagonal) {
+  // All four corners are on one circle. The perturbation counts the lexicographically largest
+  // corner, 2 = (1, 1), as just outside the circle of the other three, so 3 is inside circle
+  // (0, 1, 2) and only the diagonal 1-3 is locally Delaunay, seen from either side.
+  Triangulation tin = square();
+  EXPECT_FALSE(is_locally_delaunay(tin, 2));
+  EXPECT_FALSE(is_locally_delaunay(tin, tin.twin(2)));
+  EXPECT_NE(tin.validate(), "");
+  tin.flip(2);
+  EXPECT_TRUE(is_locally_delaunay(tin, 2));
+  EXPECT_TRUE(is_locally_delaunay(tin, tin.twin(2)));
+  EXPECT_EQ(tin.validate(), "");
 }
 
 TEST(Triangulation, FlipReplacesTheDiagonalAndKeepsValidity) {

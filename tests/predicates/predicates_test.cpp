@@ -208,14 +208,17 @@ struct Coverage {
   int zero = 0;                // exactly degenerate: the filter can never decide these
   int exact_differences = 0;   // stage 1 applicable
   int as_integers = 0;         // stage 1a applicable (incircle only)
+  int as_small_integers = 0;   // its first try, the exact double evaluation, applicable
   int expansions = 0;          // stage 2 applicable
   int wide_integers_only = 0;  // neither: only stage 3
 };
 
 void count_stages(Coverage& coverage, int expected, int stage1, int stage2,
-                  int stage1a = detail::kNotApplicable) {
+                  int stage1a = detail::kNotApplicable,
+                  int stage1a_small = detail::kNotApplicable) {
   ++coverage.cases;
   if (stage1a != detail::kNotApplicable) ++coverage.as_integers;
+  if (stage1a_small != detail::kNotApplicable) ++coverage.as_small_integers;
   if (expected == 0) ++coverage.zero;
   if (stage1 != detail::kNotApplicable) ++coverage.exact_differences;
   if (stage2 != detail::kNotApplicable) ++coverage.expansions;
@@ -259,10 +262,16 @@ void expect_sign(std::string& problems, const char* what, int got, int expected)
   expect_sign(problems, "incircle", incircle(a, b, c, d), expected);
   const int stage1 = detail::incircle_from_exact_differences(a, b, c, d);
   const int stage1a = detail::incircle_from_exact_differences_as_integers(a, b, c, d);
+  const int stage1a_small = detail::incircle_from_exact_differences_as_small_integers(a, b, c, d);
   const int stage1b = detail::incircle_from_exact_differences_as_expansions(a, b, c, d);
   const int stage2 = detail::incircle_by_expansions(a, b, c, d);
   if (stage1 != detail::kNotApplicable) expect_sign(problems, "stage1", stage1, expected);
   if (stage1a != detail::kNotApplicable) expect_sign(problems, "stage1a", stage1a, expected);
+  if (stage1a_small != detail::kNotApplicable) {
+    expect_sign(problems, "stage1a small", stage1a_small, expected);
+    // Small integers are integers below 2^62 too.
+    if (stage1a == detail::kNotApplicable) problems += " stage1a small applies where 1a does not";
+  }
   // 1b applies exactly where 1 does (1a is a shortcut inside it).
   if ((stage1b == detail::kNotApplicable) != (stage1 == detail::kNotApplicable)) {
     problems += " stage1b applicability differs from stage1";
@@ -280,7 +289,7 @@ void expect_sign(std::string& problems, const char* what, int got, int expected)
   expect_sign(problems, "incircle(a,c,b,d)", incircle(a, c, b, d), -expected);
   expect_sign(problems, "incircle(c,b,a,d)", incircle(c, b, a, d), -expected);
   expect_sign(problems, "incircle(a,b,d,c)", incircle(a, b, d, c), -expected);
-  count_stages(coverage, expected, stage1, stage2, stage1a);
+  count_stages(coverage, expected, stage1, stage2, stage1a, stage1a_small);
   if (problems.empty()) return ::testing::AssertionSuccess();
   return ::testing::AssertionFailure()
          << "a=" << describe(a) << " b=" << describe(b) << " c=" << describe(c)
@@ -785,6 +794,7 @@ TEST(Incircle, GridCellsUtm) {
   EXPECT_EQ(coverage.cases, 4000);
   EXPECT_EQ(coverage.zero, coverage.cases);
   EXPECT_EQ(coverage.exact_differences, coverage.cases);
+  EXPECT_GT(coverage.as_small_integers, coverage.cases / 3);  // the 1 m cells; not 0.1 m
 }
 
 TEST(Incircle, CocircularFractionalUtm) {
@@ -819,6 +829,41 @@ TEST(Incircle, IntegerStageAtItsLimits) {
   EXPECT_EQ(coverage.cases, 13 * 450);
   EXPECT_GT(coverage.as_integers, 1000);
   EXPECT_LT(coverage.as_integers, coverage.exact_differences);
+}
+
+TEST(Incircle, SmallIntegerShortcutAtItsLimits) {
+  // Differences that are integers up to 2^12 - 1 in units of 2^k (every product and sum of the
+  // double evaluation near 2^53 units^4, so a lost bit would show) and, past the limit, 2^12 to
+  // 2^13 - 1 with a unit bit set; at UTM offsets and near zero, rectangles (ties) and random
+  // points.
+  Random random(216);
+  for (const bool past_limit : {false, true}) {
+    std::vector<Quad> cases;
+    for (const int k : {-30, -7, -1, 0, 3, 20}) {
+      const double unit = std::ldexp(1.0, k);
+      auto integer = [&] {
+        const int top = past_limit ? 8191 : 4095;
+        const int v = random.integer(past_limit ? 4096 : top - 64, top) | (past_limit ? 1 : 0);
+        return (random.coin() ? v : -v) * unit;
+      };
+      for (const Point2 origin : {Point2{0, 0}, Point2{500000, 4000000}}) {
+        if (origin.x != 0 && k < -20) continue;  // the differences would not be exact
+        for (int i = 0; i < 200; ++i) {
+          auto point = [&] { return Point2{origin.x + integer(), origin.y + integer()}; };
+          cases.push_back({point(), point(), point(), origin});
+          const double w = integer(), h = integer();
+          cases.push_back({origin,
+                           {origin.x + w, origin.y},
+                           {origin.x + w, origin.y + h},
+                           {origin.x, origin.y + h}});
+        }
+      }
+    }
+    const Coverage coverage = check_all(cases);
+    EXPECT_EQ(coverage.cases, 11 * 400);
+    EXPECT_GE(coverage.zero, 2000);
+    EXPECT_EQ(coverage.as_small_integers, past_limit ? 0 : coverage.cases);
+  }
 }
 
 TEST(Incircle, CocircularWideSpanDifferences) {
