@@ -16,6 +16,9 @@
 
 namespace tincdt::io::laz {
 
+// The coder calls sit in every inner loop: inlined, their branches specialise per call site.
+#define TINCDT_LAZ_INLINE [[gnu::always_inline]] inline
+
 class ArithmeticDecoder {
  public:
   static constexpr std::uint32_t kMinLength = 1u << 24;  // renormalise below this
@@ -41,7 +44,7 @@ class ArithmeticDecoder {
   // Bytes read so far (more than the size once failed()).
   std::size_t consumed() const { return position_; }
 
-  std::uint32_t decode_bit(BitModel& model) {
+  TINCDT_LAZ_INLINE std::uint32_t decode_bit(BitModel& model) {
     const std::uint32_t split = model.zero_probability() * (length_ >> BitModel::kProbabilityBits);
     std::uint32_t bit;
     if (value_ < split) {
@@ -57,7 +60,7 @@ class ArithmeticDecoder {
     return bit;
   }
 
-  std::uint32_t decode_symbol(SymbolModel& model) {
+  TINCDT_LAZ_INLINE std::uint32_t decode_symbol(SymbolModel& model) {
     std::uint32_t low = 0;
     std::uint32_t high = length_;  // the last symbol's interval ends at the full length
     std::uint32_t symbol = 0;
@@ -130,7 +133,7 @@ class ArithmeticDecoder {
   }
 
  private:
-  std::uint32_t next_byte() {
+  TINCDT_LAZ_INLINE std::uint32_t next_byte() {
     const std::uint32_t byte = position_ < size_ ? data_[position_] : 0u;
     ++position_;
     return byte;

@@ -34,7 +34,8 @@ class IntegerDecompressor {
     k_ = 0;
   }
 
-  std::int32_t decompress(ArithmeticDecoder& dec, std::int32_t prediction, unsigned context = 0) {
+  TINCDT_LAZ_INLINE std::int32_t decompress(ArithmeticDecoder& dec, std::int32_t prediction,
+                                            unsigned context = 0) {
     std::uint32_t real = static_cast<std::uint32_t>(prediction) +
                          static_cast<std::uint32_t>(read_corrector(dec, k_models_[context]));
     if (bits_ < 32) {  // back into [0, 2^bits)
@@ -51,7 +52,7 @@ class IntegerDecompressor {
   unsigned k() const { return k_; }
 
  private:
-  std::int32_t read_corrector(ArithmeticDecoder& dec, SymbolModel& k_model) {
+  TINCDT_LAZ_INLINE std::int32_t read_corrector(ArithmeticDecoder& dec, SymbolModel& k_model) {
     k_ = dec.decode_symbol(k_model);
     if (k_ == 0) return static_cast<std::int32_t>(dec.decode_bit(small_));  // 0 or 1
     if (k_ >= 32) return min_corrector_;
