@@ -30,7 +30,8 @@ std::uint64_t min_chunk_bytes(const PointLayout& layout) {
 // A chunk table that was read and checked, or why it cannot be used.
 struct TableResult {
   std::vector<ChunkEntry> chunks;
-  std::string problem;             // empty: usable
+  std::string problem;             // unreadable: empty when usable
+  std::string contradiction;       // readable but contradicting the header or the VLR
   std::uint64_t table_offset = 0;  // where the table starts, 0 when not known
 };
 
@@ -69,14 +70,7 @@ TableResult read_table(const PointData& data, const PointLayout& layout,
                      std::to_string(room);
     return result;
   }
-  if (!layout.variable_chunks) {
-    const std::uint64_t needed = (data.point_count + layout.chunk_size - 1) / layout.chunk_size;
-    if (count < needed) {
-      result.problem = "it lists " + std::to_string(count) + " chunks, the header's " +
-                       std::to_string(data.point_count) + " points need " + std::to_string(needed);
-      return result;
-    }
-  } else if (count == 0) {
+  if (count == 0) {
     result.problem = "it lists no chunks";
     return result;
   }
@@ -117,6 +111,17 @@ TableResult read_table(const PointData& data, const PointLayout& layout,
       result.problem = "chunk " + std::to_string(i) + " would end at " + byte_at(start) +
                        ", past the table itself at " + byte_at(table);
       return result;
+    }
+  }
+  if (!layout.variable_chunks) {
+    // A table that reads fine but disagrees with the VLR's chunk size: one of them lies, and
+    // decoding in order would not tell (chunks would start inside others).
+    const std::uint64_t needed = (data.point_count + layout.chunk_size - 1) / layout.chunk_size;
+    if (count < needed) {
+      result.contradiction = "it lists " + std::to_string(count) + " chunks, but the header's " +
+                             std::to_string(data.point_count) + " points in chunks of " +
+                             std::to_string(layout.chunk_size) + " (LASzip VLR) need " +
+                             std::to_string(needed);
     }
   }
   return result;
@@ -204,6 +209,7 @@ ChunkPlan plan_chunks(const std::string& path, const PointData& data, const Poin
   }
   const std::uint64_t chunks_begin = data.offset_to_points + 8;
   TableResult table = read_table(data, layout, chunks_begin);
+  if (!table.contradiction.empty()) throw InputError(path, "chunk table", table.contradiction);
   if (table.problem.empty()) {
     fit_to_count(path, table.chunks, data.point_count);
     plan.chunks = std::move(table.chunks);
@@ -239,6 +245,7 @@ ChunkPlan plan_chunks(const std::string& path, const PointData& data, const Poin
                          " bytes of chunks of " + std::to_string(chunk_size) + " can hold");
   }
   plan.sequential = true;
+  plan.exact_end = table.table_offset > chunks_begin;
   plan.chunks.resize(count);
   for (std::uint64_t i = 0; i < count; ++i) {
     plan.chunks[i].first_point = i * chunk_size;

@@ -27,6 +27,7 @@ struct ChunkPlan {
   // starts where decoding the previous ended, so the chunks must be decoded in order.
   bool sequential = false;
   std::uint64_t data_end = 0;  // chunks lie before this byte
+  bool exact_end = false;      // sequential: the chunks must end exactly at data_end (the table)
 };
 
 struct PointData {
@@ -38,9 +39,9 @@ struct PointData {
 };
 
 // Reads the chunk table and checks it against the header and the file size. A missing or
-// damaged table is worked around (warning in WARNINGS): formats 6-10 by walking the chunk
+// unreadable table is worked around (warning in WARNINGS): formats 6-10 by walking the chunk
 // headers, formats 0-5 with fixed-size chunks by a sequential plan. Throws InputError naming
-// PATH when the chunks cannot be found or cannot hold the points the header announces.
+// PATH when the chunks cannot be found, or a readable table contradicts the header or the VLR.
 ChunkPlan plan_chunks(const std::string& path, const PointData& data, const PointLayout& layout,
                       std::vector<std::string>& warnings);
 

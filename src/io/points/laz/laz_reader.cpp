@@ -114,6 +114,13 @@ void decode_chunks(const LazSource& src, const Prepared& prep, unsigned fields, 
       commit(out);
       releaser.up_to(offset);
     }
+    if (plan.exact_end && offset != plan.data_end) {
+      // Without the table nothing says where each chunk starts; a wrong chunk size shows here.
+      throw InputError(src.path, "chunk " + std::to_string(n - 1),
+                       "the chunks end at byte " + std::to_string(offset) +
+                           " but the chunk table starts at byte " + std::to_string(plan.data_end) +
+                           ": the file is damaged, or its LASzip VLR has the wrong chunk size");
+    }
     return;
   }
 
