@@ -71,6 +71,17 @@ std::int32_t wrapping_add(std::int32_t a, std::int32_t b) {
 
 }  // namespace
 
+// A channel's models of the layers decoded only for whole records.
+struct RecordOnlyModels {
+  LazyModels<64> flags{64};  // context: the previous flags
+  IntegerDecompressor intensity{16, 4};
+  std::array<std::uint16_t, 8> last_intensity{};
+  IntegerDecompressor scan_angle{16, 2};
+  LazyModels<64> user_data{256};  // context: the previous user data / 4
+  IntegerDecompressor point_source{16, 1};
+  GpsTimeDecoder<true> gps;
+};
+
 // What one scanner channel predicts from: its last point and the models of the layers decoded.
 struct Point14Decoder::Channel {
   explicit Channel(bool every_field)
@@ -85,17 +96,6 @@ struct Point14Decoder::Channel {
         classification(256) {
     if (every_field) others.emplace();
   }
-
-  // Models used only for whole records.
-  struct Others {
-    LazyModels<64> flags{64};  // context: the previous flags
-    IntegerDecompressor intensity{16, 4};
-    std::array<std::uint16_t, 8> last_intensity{};
-    IntegerDecompressor scan_angle{16, 2};
-    LazyModels<64> user_data{256};  // context: the previous user data / 4
-    IntegerDecompressor point_source{16, 1};
-    GpsTimeDecoder<true> gps;
-  };
 
   bool used = false;
   Point14 last;
@@ -114,7 +114,7 @@ struct Point14Decoder::Channel {
   std::array<std::int32_t, 8> last_z{};  // by return level
   // classification layer; context: previous class (5 bits) and whether single
   LazyModels<64> classification;
-  std::optional<Others> others;
+  std::optional<RecordOnlyModels> others;
 };
 
 // The colour item's per-channel state (RGB14, RGBNIR14).
@@ -164,7 +164,7 @@ void Point14Decoder::start_channel(unsigned c, const Point14& from) {
   ch.last_z.fill(from.z);
   ch.classification.new_chunk();
   if (ch.others) {
-    Channel::Others& o = *ch.others;
+    RecordOnlyModels& o = *ch.others;
     o.flags.new_chunk();
     o.intensity.reset();
     o.last_intensity.fill(from.intensity);
@@ -313,7 +313,7 @@ void Point14Decoder::decode_point() {
         static_cast<std::uint8_t>(layer_[kClassLayer].decode_symbol(ch->classification[context]));
   }
   if (ch->others) {
-    Channel::Others& o = *ch->others;
+    RecordOnlyModels& o = *ch->others;
     if (active_[kFlags]) {
       last->flags = static_cast<std::uint8_t>(layer_[kFlags].decode_symbol(o.flags[last->flags]));
     }
