@@ -22,15 +22,16 @@ class IntegerDecompressor {
     k_models_.assign(contexts, SymbolModel(bits_ + 1));
     correctors_.reserve(bits_);
     for (unsigned k = 1; k <= bits_; ++k) {
-      correctors_.emplace_back(1u << (k <= bits_high_ ? k : bits_high_));
+      correctors_.push_back({SymbolModel(1u << (k <= bits_high_ ? k : bits_high_)), 0});
     }
   }
 
-  // All models back to their initial state (start of a chunk).
+  // All models back to their initial state (start of a chunk). The models of long correctors,
+  // rarely met, are reset when first used.
   void reset() {
     for (SymbolModel& m : k_models_) m.reset();
     small_.reset();
-    for (SymbolModel& m : correctors_) m.reset();
+    ++chunk_;
     k_ = 0;
   }
 
@@ -56,7 +57,7 @@ class IntegerDecompressor {
     k_ = dec.decode_symbol(k_model);
     if (k_ == 0) return static_cast<std::int32_t>(dec.decode_bit(small_));  // 0 or 1
     if (k_ >= 32) return min_corrector_;
-    std::uint32_t c = dec.decode_symbol(correctors_[k_ - 1]);
+    std::uint32_t c = dec.decode_symbol(corrector(k_));
     if (k_ > bits_high_) {
       const unsigned low_bits = k_ - bits_high_;
       c = (c << low_bits) | dec.read_bits(low_bits);
@@ -67,14 +68,29 @@ class IntegerDecompressor {
     return static_cast<std::int32_t>(c - ((1u << k_) - 1));
   }
 
+  struct Corrector {
+    SymbolModel model;
+    std::uint64_t chunk;  // the reset() it was last reset after
+  };
+
+  SymbolModel& corrector(unsigned k) {
+    Corrector& c = correctors_[k - 1];
+    if (c.chunk != chunk_) {
+      c.model.reset();
+      c.chunk = chunk_;
+    }
+    return c.model;
+  }
+
   unsigned bits_;
   unsigned bits_high_;
+  std::uint64_t chunk_ = 0;
   std::uint32_t range_ = 0;
   std::int32_t min_corrector_ = 0;
   unsigned k_ = 0;
   std::vector<SymbolModel> k_models_;
   BitModel small_;
-  std::vector<SymbolModel> correctors_;  // index k - 1
+  std::vector<Corrector> correctors_;  // index k - 1
 };
 
 }  // namespace tincdt::io::laz

@@ -1,5 +1,8 @@
 #include "io/points/laz/models.hpp"
 
+#include <algorithm>
+#include <array>
+#include <atomic>
 #include <cassert>
 
 namespace tincdt::io::laz {
@@ -33,20 +36,49 @@ void BitModel::update() {
   until_update_ = cycle_;
 }
 
+// The state every model of a size starts each chunk in, computed once per size: resetting is then
+// one copy, which matters for the hundreds of models a chunk may start (and for small chunks).
+const SymbolModel& SymbolModel::fresh(std::uint32_t symbols) {
+  static std::array<std::atomic<const SymbolModel*>, kMaxSymbols + 1> cache{};
+  const SymbolModel* model = cache[symbols].load(std::memory_order_acquire);
+  if (model != nullptr) return *model;
+  auto* made = new SymbolModel(symbols, Counted{});
+  if (cache[symbols].compare_exchange_strong(model, made, std::memory_order_acq_rel)) return *made;
+  delete made;  // another thread was first
+  return *model;
+}
+
 SymbolModel::SymbolModel(std::uint32_t symbols) : symbols_(symbols) {
-  assert(symbols >= 2 && symbols <= kMaxSymbols);  // the format's models are all in range
-  if (symbols > 16) {
-    // A table of 2^bits entries, with bits growing with the alphabet (8 entries up to 32 symbols).
-    unsigned table_bits = 3;
-    while (symbols > (1u << (table_bits + 2))) ++table_bits;
-    table_size_ = 1u << table_bits;
-    table_shift_ = kDistributionBits - table_bits;
-  }
-  storage_.assign(2 * std::size_t{symbols} + (table_shift_ != 0 ? table_size_ + 2 : 0), 0);
+  allocate();
   reset();
 }
 
+SymbolModel::SymbolModel(std::uint32_t symbols, Counted) : symbols_(symbols) {
+  allocate();
+  count_from_scratch();
+}
+
+void SymbolModel::allocate() {
+  assert(symbols_ >= 2 && symbols_ <= kMaxSymbols);  // the format's models are all in range
+  if (symbols_ > 16) {
+    // A table of 2^bits entries, with bits growing with the alphabet (8 entries up to 32 symbols).
+    unsigned table_bits = 3;
+    while (symbols_ > (1u << (table_bits + 2))) ++table_bits;
+    table_size_ = 1u << table_bits;
+    table_shift_ = kDistributionBits - table_bits;
+  }
+  storage_.assign(2 * std::size_t{symbols_} + (table_shift_ != 0 ? table_size_ + 2 : 0), 0);
+}
+
 void SymbolModel::reset() {
+  const SymbolModel& start = fresh(symbols_);
+  std::copy(start.storage_.begin(), start.storage_.end(), storage_.begin());
+  total_count_ = start.total_count_;
+  cycle_ = start.cycle_;
+  until_update_ = start.until_update_;
+}
+
+void SymbolModel::count_from_scratch() {
   std::uint32_t* counts = storage_.data() + symbols_;
   for (std::uint32_t s = 0; s < symbols_; ++s) counts[s] = 1;
   total_count_ = 0;

@@ -65,6 +65,11 @@ class SymbolModel {
   }
 
  private:
+  struct Counted {};  // the constructor that computes the start state rather than copying it
+  SymbolModel(std::uint32_t symbols, Counted);
+  static const SymbolModel& fresh(std::uint32_t symbols);
+  void allocate();
+  void count_from_scratch();
   void update();
 
   std::uint32_t symbols_;
