@@ -71,13 +71,11 @@ class ArithmeticDecoder {
       const std::uint32_t t = scaled >> model.table_shift();
       symbol = model.table(t);
       std::uint32_t end = model.table(t + 1) + 1;
-      while (end > symbol + 1) {
+      while (end > symbol + 1) {  // conditional moves: the halves are unpredictable
         const std::uint32_t mid = (symbol + end) >> 1;
-        if (model.cumulative(mid) > scaled) {
-          end = mid;
-        } else {
-          symbol = mid;
-        }
+        const bool above = model.cumulative(mid) > scaled;
+        end = above ? mid : end;
+        symbol = above ? symbol : mid;
       }
       low = model.cumulative(symbol) * length_;
       if (symbol != model.last_symbol()) high = model.cumulative(symbol + 1) * length_;
@@ -87,13 +85,11 @@ class ArithmeticDecoder {
       std::uint32_t mid = end >> 1;
       do {
         const std::uint32_t start = model.cumulative(mid) * length_;
-        if (start > value_) {
-          end = mid;
-          high = start;
-        } else {
-          symbol = mid;
-          low = start;
-        }
+        const bool above = start > value_;
+        end = above ? mid : end;
+        high = above ? start : high;
+        symbol = above ? symbol : mid;
+        low = above ? low : start;
         mid = (symbol + end) >> 1;
       } while (mid != symbol);
     }

@@ -23,13 +23,13 @@ class BitModel {
 
   std::uint32_t zero_probability() const { return zero_probability_; }
   // Counts a decoded bit; refreshes the probability when its cycle is over.
-  void count(std::uint32_t bit) {
+  [[gnu::always_inline]] void count(std::uint32_t bit) {
     if (bit == 0) ++zero_count_;
     if (--until_update_ == 0) update();
   }
 
  private:
-  void update();
+  [[gnu::noinline]] void update();
 
   std::uint32_t zero_probability_ = 0;
   std::uint32_t zero_count_ = 0;
@@ -59,7 +59,7 @@ class SymbolModel {
   // bits are t (entries 0 to table size + 1).
   std::uint32_t table(std::uint32_t t) const { return storage_[2 * symbols_ + t]; }
 
-  void count(std::uint32_t symbol) {
+  [[gnu::always_inline]] void count(std::uint32_t symbol) {
     ++storage_[symbols_ + symbol];
     if (--until_update_ == 0) update();
   }
@@ -70,7 +70,7 @@ class SymbolModel {
   static const SymbolModel& fresh(std::uint32_t symbols);
   void allocate();
   void count_from_scratch();
-  void update();
+  [[gnu::noinline]] void update();
 
   std::uint32_t symbols_;
   unsigned table_shift_ = 0;  // 0: no table (16 symbols or fewer)
