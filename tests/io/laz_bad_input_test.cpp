@@ -15,6 +15,7 @@
 
 #include "core/error.hpp"
 #include "core/types.hpp"
+#include "io/laz_file_edits.hpp"
 #include "io/laz_test_encoder.hpp"
 #include "io/points/laz/chunk_table.hpp"
 #include "io/points/laz/laszip_vlr.hpp"
@@ -26,6 +27,13 @@ namespace tincdt::io {
 namespace {
 
 namespace fs = std::filesystem;
+using test::laz_edits::chunk_table_offset;
+using test::laz_edits::chunks_of;
+using test::laz_edits::get;
+using test::laz_edits::laszip_payload;
+using test::laz_edits::offset_to_points;
+using test::laz_edits::put;
+using test::laz_edits::with_table;
 using ::testing::AllOf;
 using ::testing::HasSubstr;
 using ::testing::Not;
@@ -43,18 +51,6 @@ std::string original(const std::string& name) {
   return test::slurp(kData / "laz" / (name + ".laz"));
 }
 
-template <typename T>
-T get(const std::string& b, std::size_t at) {
-  T v;
-  std::memcpy(&v, b.data() + at, sizeof v);
-  return v;
-}
-
-template <typename T>
-void put(std::string& b, std::size_t at, T v) {
-  std::memcpy(b.data() + at, &v, sizeof v);
-}
-
 // A scratch copy of BYTES for the current test.
 std::string scratch(const std::string& name, const std::string& bytes) {
   const fs::path dir = fs::path(TINCDT_TEST_TMP) / "laz_bad";
@@ -62,50 +58,6 @@ std::string scratch(const std::string& name, const std::string& bytes) {
   const fs::path p = dir / name;
   test::spit(p, bytes);
   return p.string();
-}
-
-std::size_t offset_to_points(const std::string& b) {
-  return get<std::uint32_t>(b, 96);
-}
-
-// Where the LASzip VLR's payload starts.
-std::size_t laszip_payload(const std::string& b) {
-  std::size_t pos = get<std::uint16_t>(b, 94);
-  for (std::uint32_t i = 0; i < get<std::uint32_t>(b, 100); ++i) {
-    if (std::strncmp(b.data() + pos + 2, "laszip encoded", 16) == 0) return pos + 54;
-    pos += 54 + get<std::uint16_t>(b, pos + 20);
-  }
-  ADD_FAILURE() << "no LASzip VLR";
-  return 0;
-}
-
-std::size_t chunk_table_offset(const std::string& b) {
-  return static_cast<std::size_t>(get<std::int64_t>(b, offset_to_points(b)));
-}
-
-// The chunks of a good file, as the decoder finds them.
-std::vector<laz::ChunkEntry> chunks_of(const std::string& b) {
-  std::vector<std::string> warnings;
-  const auto* data = reinterpret_cast<const std::uint8_t*>(b.data());
-  const laz::LazSource src = laz::open_laz("file", data, b.size(), warnings);
-  const laz::PointLayout layout =
-      laz::check_layout("file", laz::parse_laszip_vlr("file", src.laszip_vlr, src.laszip_vlr_size),
-                        src.point_format, src.record_length);
-  laz::PointData pd{data, b.size(), src.offset_to_points, src.point_count, src.data_limit};
-  return laz::plan_chunks("file", pd, layout, warnings).chunks;
-}
-
-// B up to its chunk table, then a table of these chunks (EVLRs after the table are dropped).
-std::string with_table(std::string b, const std::vector<std::uint32_t>& points,
-                       const std::vector<std::uint32_t>& bytes, bool variable) {
-  b.resize(chunk_table_offset(b));
-  const std::vector<std::uint8_t> table = test::encode_chunk_table(points, bytes, variable);
-  b.append(reinterpret_cast<const char*>(table.data()), table.size());
-  if (b[25] >= 4) {
-    put<std::uint64_t>(b, 235, 0);
-    put<std::uint32_t>(b, 243, 0);
-  }
-  return b;
 }
 
 std::vector<Point3> read_ok(const std::string& path, PointReadStats* stats = nullptr,

@@ -14,8 +14,10 @@
 #include <string>
 #include <vector>
 
+#include "core/error.hpp"
 #include "core/types.hpp"
 #include "delaunay/delaunay.hpp"
+#include "io/laz_file_edits.hpp"
 #include "io/points/laz/laz_reader.hpp"
 #include "io/points/point_reader.hpp"
 #include "support/files.hpp"
@@ -250,6 +252,32 @@ TEST(LazReader, CoordinatesOnlyDecodingSkipsLayersYetAgreesWithWholeRecords) {
       std::int32_t xyz[3];
       std::memcpy(xyz, records.data() + i * l.source.record_length, sizeof xyz);
       ASSERT_EQ(pts[i], l.source.transform.apply(xyz[0], xyz[1], xyz[2])) << name << " " << i;
+    }
+  }
+}
+
+TEST(LazReader, WaveformFormatsReadWithTheirPacketsSkipped) {
+  REQUIRE_SHARED_DATA();
+  // No shared file has waveform packets: formats 9 and 10 made from 6 and 8 (laz_file_edits.hpp).
+  const fs::path dir = test::fresh_dir(fs::path(TINCDT_TEST_TMP) / "laz_waveforms");
+  for (const auto& [name, format] : {std::pair{"las14_pdrf6", 9}, std::pair{"append-bug", 10}}) {
+    const std::string path = (dir / (std::string(name) + ".laz")).string();
+    test::spit(path, test::laz_edits::with_waveforms(test::slurp(laz_path(name))));
+    PointFilter filter;
+    PointReadStats stats;
+    EXPECT_EQ(read_all(path, filter, &stats), read_all(laz_path(name), filter)) << name;
+    EXPECT_EQ(stats.format, "laz 1.4 pdrf " + std::to_string(format));
+    filter.keep_classes = {2};
+    filter.last_return_only = true;
+    EXPECT_EQ(read_all(path, filter), read_all(laz_path(name), filter)) << name;
+    // Whole records would need the packets.
+    const LoadedLaz l = load_laz(path);
+    std::vector<std::string> warnings;
+    try {
+      (void)laz::read_records(l.source, 1, warnings);
+      ADD_FAILURE() << name << ": records of format " << format << " were read";
+    } catch (const InputError& e) {
+      EXPECT_THAT(std::string(e.what()), HasSubstr("waveform packets are not decoded"));
     }
   }
 }
