@@ -314,6 +314,26 @@ TEST(LazBadInput, RenamedOrUnflaggedLazStillReads) {
 }
 
 // ---------------------------------------------------------------------------------------------
+// Crashers found by tests/fuzz/laz_fuzz.cpp, rebuilt from the shared files
+
+TEST(LazFuzzRegression, EmptyGeoTiffKeyDirectory) {
+  REQUIRE_SHARED_DATA();
+  // A 34735 record (GeoTIFF keys) of length 0 made the shared VLR parsing memcpy from a null
+  // vector (UBSan: null pointer passed to memcpy). autzen_trim.laz's first VLR is that record.
+  std::string b = original("autzen_trim");
+  const std::size_t vlr = get<std::uint16_t>(b, 94);
+  ASSERT_EQ(get<std::uint16_t>(b, vlr + 18), 34735);
+  for (const int length : {0, 1, 7}) {
+    put(b, vlr + 20, static_cast<std::uint16_t>(length));  // later VLRs: read from its payload
+    std::vector<Point3> pts;
+    try {
+      read_points(scratch("empty_keys.laz", b), {}, pts);
+    } catch (const InputError&) {
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
 // Random damage: an error or (rarely) garbage points, never a crash or another exception.
 
 TEST(LazBadInput, RandomlyDamagedChunksNeverCrash) {

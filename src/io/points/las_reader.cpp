@@ -198,13 +198,13 @@ void take_record(const std::string& uid, unsigned record_id, const std::uint8_t*
       if (!wkt.empty()) crs.wkt = std::move(wkt);
       break;
     }
-    case 34735:
+    case 34735:  // (a record too short for one value leaves data() null: no memcpy)
       crs.geotiff.directory.resize(length / 2);
-      std::memcpy(crs.geotiff.directory.data(), payload, length / 2 * 2);
+      if (length >= 2) std::memcpy(crs.geotiff.directory.data(), payload, length / 2 * 2);
       break;
     case 34736:
       crs.geotiff.doubles.resize(length / 8);
-      std::memcpy(crs.geotiff.doubles.data(), payload, length / 8 * 8);
+      if (length >= 8) std::memcpy(crs.geotiff.doubles.data(), payload, length / 8 * 8);
       break;
     case 34737:
       crs.geotiff.ascii.assign(reinterpret_cast<const char*>(payload), length);
