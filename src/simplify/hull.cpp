@@ -105,22 +105,27 @@ std::vector<Point3> merge_duplicates(std::vector<Point3>&& points, delaunay::Dup
   std::vector<Point3> input = std::move(points);
   std::vector<std::uint32_t> order(input.size());
   std::iota(order.begin(), order.end(), 0u);
-  // Stable: equal points stay in input order, so `first` keeps the earliest.
-  std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
-    return xy_less({input[a].x, input[a].y}, {input[b].x, input[b].y});
+  // Equal x, y in increasing z, as the Delaunay stage merges them (delaunay::MergedZ), so that
+  // the merged z have the same bits whatever the input order.
+  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+    const Point3& p = input[a];
+    const Point3& q = input[b];
+    if (p.x != q.x || p.y != q.y) return xy_less({p.x, p.y}, {q.x, q.y});
+    return p.z != q.z ? p.z < q.z : a < b;
   });
   std::vector<Point3> out;
   out.reserve(input.size());
-  std::uint32_t run = 0;
+  delaunay::MergedZ z{};
   std::uint64_t folded = 0;
   for (std::uint32_t i : order) {
     const Point3& p = input[i];
     if (!out.empty() && out.back().x == p.x && out.back().y == p.y) {
-      delaunay::merge_duplicate_z(out.back().z, p.z, ++run, policy);
+      z.add(p.z, i, policy);
+      out.back().z = z.z;
       ++folded;
     } else {
       out.push_back(p);
-      run = 1;
+      z = delaunay::MergedZ::start(p.z, i);
     }
   }
   if (merged) *merged = folded;

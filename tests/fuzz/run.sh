@@ -22,10 +22,12 @@ for t in "${targets[@]}"; do
   artifacts=build/fuzz/artifacts/$t/
   mkdir -p "$corpus" "$artifacts"
   printf '\n== %s: %s s\n' "$t" "$seconds"
+  shared=()  # seeds the project may not copy (see tests/fuzz/CMakeLists.txt)
+  [[ $t == laz_fuzz && -d ../shared/data/laz ]] && shared=(../shared/data/laz)
   # New inputs go to the first directory; seeds and regressions are only read.
   if ! "$bin/$t" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len=32768 \
       -print_final_stats=1 -artifact_prefix="$artifacts" \
-      "$corpus" "tests/fuzz/seeds/$t" "tests/fuzz/regressions/$t"; then
+      "$corpus" "tests/fuzz/seeds/$t" "tests/fuzz/regressions/$t" "${shared[@]}"; then
     failed+=("$t")
   fi
 done

@@ -229,8 +229,9 @@ TEST(HostileLas, FormatByte255IsNoFormatNotLaz) {
   spec.records = {{0, 0, 0}};
   EXPECT_THAT(points_error(scratch("f255.las", las_bytes(spec))),
               AllOf(HasSubstr("unsupported point data record format 255"), Not(HasSubstr("LAZ"))));
-  spec.format_byte = 0x80 | 3;  // LASzip's mark on format 3
-  EXPECT_THAT(points_error(scratch("f131.las", las_bytes(spec))), HasSubstr("LAZ"));
+  spec.format_byte = 0x80;  // LASzip's mark on format 0, but no LASzip VLR
+  EXPECT_THAT(points_error(scratch("f128.las", las_bytes(spec))),
+              AllOf(HasSubstr("compressed (LAZ)"), HasSubstr("no LASzip VLR")));
 }
 
 TEST(HostileLas, CoordinatesBeyondTheRangeNameTheRecord) {

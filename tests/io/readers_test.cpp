@@ -471,30 +471,7 @@ TEST(LasReader, CrsMatchesTheContoursOfTheSameArea) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// LAZ and damaged LAS
-
-TEST(LasReader, LazIsRefusedByExtensionAndByContent) {
-  REQUIRE_SHARED_DATA();
-  int seen = 0;
-  for (const auto& entry : fs::directory_iterator(kData / "laz")) {
-    const std::string path = entry.path().string();
-    const std::string what = read_points_error(path);
-    EXPECT_THAT(what, HasSubstr("LAZ")) << path;
-    EXPECT_THAT(what, HasSubstr(path));
-    // The compressed flag of the point format byte is enough, whatever the name.
-    std::vector<Point3> pts;
-    EXPECT_THAT(input_error_of([&] { read_las(path, {}, pts); }), HasSubstr("LAZ")) << path;
-    ++seen;
-  }
-  EXPECT_EQ(seen, 8);
-  const std::string renamed = scratch_file("laz_named_las.las", bytes_of(kData / "laz/simple.laz"));
-  EXPECT_THAT(read_points_error(renamed), HasSubstr("compressed LAZ is not supported"));
-  // Without the flag, the LASzip VLR still gives it away (rather than "file holds N records").
-  std::string unflagged = bytes_of(kData / "laz/simple.laz");
-  unflagged[104] = static_cast<char>(unflagged[104] & 0x3F);
-  EXPECT_THAT(read_points_error(scratch_file("laz_unflagged.las", unflagged)),
-              HasSubstr("compressed LAZ is not supported"));
-}
+// Damaged LAS (LAZ: laz_*_test.cpp)
 
 TEST(LasReader, TruncatedInsideThePoints) {
   REQUIRE_SHARED_DATA();

@@ -1,6 +1,7 @@
 // LAS 1.0-1.4 reader, written from the ASPRS LAS specification (1.0 2003, 1.1 2005, 1.2 2008,
 // 1.3 R11, 1.4 R15). Only what a TIN needs is decoded: X/Y/Z, classification, return numbers,
-// and the CRS records.
+// and the CRS records. Compressed records (LAZ, COPC) share the header, VLR and CRS reading here
+// and go to the decoder in laz/.
 
 #include <algorithm>
 #include <array>
@@ -18,7 +19,9 @@
 #include "core/error.hpp"
 #include "io/crs_detail.hpp"
 #include "io/mapped_file.hpp"
+#include "io/points/laz/laz_reader.hpp"
 #include "io/points/point_reader.hpp"
+#include "io/points/point_selection.hpp"
 
 namespace tincdt::io {
 namespace {
@@ -43,10 +46,6 @@ constexpr std::size_t kEvlrHeaderSize = 60;
 // Bytes each point data record format needs (formats 0-10).
 constexpr std::array<std::uint16_t, 11> kFormatSize = {20, 28, 26, 34, 57, 63, 30, 36, 38, 59, 67};
 
-const char* const kLazAdvice =
-    "compressed LAZ is not supported yet; decompress it first (e.g. with 'pdal translate' or "
-    "'las2las')";
-
 struct LasHeader {
   unsigned version_major = 0;
   unsigned version_minor = 0;
@@ -60,6 +59,7 @@ struct LasHeader {
   std::array<double, 3> offset{};
   std::uint64_t evlr_start = 0;
   std::uint32_t evlr_count = 0;
+  bool compressed = false;  // LAZ: bit 7 (or 6, older writers) of the point format byte
 };
 
 std::string byte_at(std::uint64_t offset) {
@@ -115,9 +115,8 @@ LasHeader parse_header(const std::string& path, const std::uint8_t* d, std::size
   }
   // Bits 7 (LASzip) and 6 (older LAZ writers) of the format byte mark compressed records of the
   // format in the low bits; 255 and the like are no format at all.
-  if ((format_byte & 0xC0) != 0 && (format_byte & 0x3F) < kFormatSize.size())
-    throw InputError(path, "", kLazAdvice);
-  h.point_format = format_byte;
+  h.compressed = (format_byte & 0xC0) != 0 && (format_byte & 0x3F) < kFormatSize.size();
+  h.point_format = h.compressed ? format_byte & 0x3Fu : format_byte;
   if (h.point_format >= kFormatSize.size()) {
     throw InputError(path, "header",
                      "unsupported point data record format " + std::to_string(h.point_format) +
@@ -171,9 +170,13 @@ void check_point_count(const std::string& path, const LasHeader& h, std::size_t 
 
 // ---- Variable length records ----
 
-struct CrsRecords {
+// What the (E)VLRs hold that the reader uses.
+struct VlrRecords {
   std::string wkt;
   detail::GeoTiffKeys geotiff;
+  const std::uint8_t* laszip = nullptr;  // the LASzip VLR's payload
+  std::size_t laszip_size = 0;
+  bool copc = false;  // a COPC info VLR: the file is a cloud-optimised point cloud
 };
 
 std::string user_id(const std::uint8_t* vlr) {
@@ -181,10 +184,15 @@ std::string user_id(const std::uint8_t* vlr) {
   return std::string(s, strnlen(s, 16));
 }
 
-// Records one (E)VLR's payload if it is a CRS record; refuses LASzip-compressed data.
-void take_record(const std::string& path, const std::string& uid, unsigned record_id,
-                 const std::uint8_t* payload, std::size_t length, CrsRecords& crs) {
-  if (uid == "laszip encoded" && record_id == 22204) throw InputError(path, "", kLazAdvice);
+// Records one (E)VLR's payload if it is a CRS record or says how the points are compressed.
+void take_record(const std::string& uid, unsigned record_id, const std::uint8_t* payload,
+                 std::size_t length, VlrRecords& crs) {
+  if (uid == "laszip encoded" && record_id == 22204) {
+    crs.laszip = payload;
+    crs.laszip_size = length;
+    return;
+  }
+  if (uid == "copc" && record_id == 1) crs.copc = true;
   if (uid != "LASF_Projection") return;
   switch (record_id) {
     case 2112: {
@@ -212,7 +220,7 @@ void take_record(const std::string& path, const std::string& uid, unsigned recor
 }
 
 // VLRs sit between the header and the point data.
-void read_vlrs(const std::string& path, const LasHeader& h, const std::uint8_t* d, CrsRecords& crs,
+void read_vlrs(const std::string& path, const LasHeader& h, const std::uint8_t* d, VlrRecords& crs,
                std::vector<std::string>& warnings) {
   std::size_t pos = h.header_size;
   for (std::uint32_t i = 0; i < h.vlr_count; ++i) {
@@ -225,7 +233,7 @@ void read_vlrs(const std::string& path, const LasHeader& h, const std::uint8_t* 
                          "; the rest are ignored");
       break;
     }
-    take_record(path, user_id(d + pos), load<std::uint16_t>(d + pos + 18), d + pos + kVlrHeaderSize,
+    take_record(user_id(d + pos), load<std::uint16_t>(d + pos + 18), d + pos + kVlrHeaderSize,
                 length, crs);
     pos += kVlrHeaderSize + length;
   }
@@ -233,7 +241,7 @@ void read_vlrs(const std::string& path, const LasHeader& h, const std::uint8_t* 
 
 // LAS 1.4 extended VLRs, after the point data.
 void read_evlrs(const std::string& path, const LasHeader& h, const std::uint8_t* d,
-                std::size_t size, CrsRecords& crs) {
+                std::size_t size, VlrRecords& crs) {
   if (h.evlr_count == 0 || h.evlr_start == 0) return;
   std::uint64_t pos = h.evlr_start;
   for (std::uint32_t i = 0; i < h.evlr_count; ++i) {
@@ -249,8 +257,8 @@ void read_evlrs(const std::string& path, const LasHeader& h, const std::uint8_t*
                        "truncated: the record announces " + std::to_string(length) +
                            " bytes but the file ends at byte " + std::to_string(size));
     }
-    take_record(path, user_id(d + pos), load<std::uint16_t>(d + pos + 18),
-                d + pos + kEvlrHeaderSize, static_cast<std::size_t>(length), crs);
+    take_record(user_id(d + pos), load<std::uint16_t>(d + pos + 18), d + pos + kEvlrHeaderSize,
+                static_cast<std::size_t>(length), crs);
     pos += kEvlrHeaderSize + length;
   }
 }
@@ -259,33 +267,12 @@ void read_evlrs(const std::string& path, const LasHeader& h, const std::uint8_t*
 // back to the kernel once it is done, so a 50M-point file never sits whole in resident memory.
 constexpr std::size_t kChunkBytes = std::size_t{64} << 20;
 
-// What to keep, flattened for the inner loop.
-struct Selection {
-  std::array<bool, 256> class_kept{};
-  bool filter_classes = false;
-  bool first_only = false;
-  bool last_only = false;
-  bool any() const { return filter_classes || first_only || last_only; }
-};
-
-Selection make_selection(const PointFilter& filter) {
-  Selection s;
-  s.class_kept.fill(filter.keep_classes.empty());
-  for (std::uint8_t c : filter.keep_classes) s.class_kept[c] = true;
-  for (std::uint8_t c : filter.drop_classes) s.class_kept[c] = false;
-  s.filter_classes = !filter.keep_classes.empty() || !filter.drop_classes.empty();
-  s.first_only = filter.first_return_only;
-  s.last_only = filter.last_return_only;
-  return s;
-}
-
-struct Transform {
-  double sx, sy, sz, ox, oy, oz;
-};
-
 // Appends the kept points among COUNT records at P. kExtended: point formats 6-10 (4-bit return
 // fields and a full classification byte at offset 16); else formats 0-5 (3-bit return fields,
 // 5-bit classification at offset 15). Returns the number appended.
+using detail::Selection;
+using detail::Transform;
+
 template <bool kExtended, bool kFilter>
 std::size_t decode(const std::uint8_t* p, std::size_t count, std::size_t record_length,
                    const Transform& t, const Selection& sel, std::vector<Point3>& out) {
@@ -305,17 +292,10 @@ std::size_t decode(const std::uint8_t* p, std::size_t count, std::size_t record_
         ret = returns & 0x07u;
         nret = (returns >> 3) & 0x07u;
       }
-      if (!sel.class_kept[cls]) continue;
-      // A record with return number or number of returns 0 (a writer that never filled them)
-      // counts as a single return: both first and last.
-      const bool single = ret == 0 || nret == 0;
-      if (sel.first_only && !single && ret != 1) continue;
-      if (sel.last_only && !single && ret < nret) continue;
+      if (!sel.keeps(cls, ret, nret)) continue;
     }
-    const auto xi = load<std::int32_t>(p);
-    const auto yi = load<std::int32_t>(p + 4);
-    const auto zi = load<std::int32_t>(p + 8);
-    out.push_back({xi * t.sx + t.ox, yi * t.sy + t.oy, zi * t.sz + t.oz});
+    out.push_back(
+        t.apply(load<std::int32_t>(p), load<std::int32_t>(p + 4), load<std::int32_t>(p + 8)));
   }
   return out.size() - before;
 }
@@ -365,7 +345,7 @@ std::string format_label(const LasHeader& h) {
 // (formats 6-10 must carry it), and where a file has both, the WKT is the more precise of the
 // two (file_with_both_wkt_and_geotiff_vlrs.las: keys for EPSG:32104 with unit overrides, a WKT
 // for NAD83(2011) / Nebraska ftUS). The keys are decoded only when there is no usable WKT.
-void resolve_crs(const std::string& path, const CrsRecords& rec, PointReadStats& stats) {
+void resolve_crs(const std::string& path, const VlrRecords& rec, PointReadStats& stats) {
   const std::size_t warnings_before = stats.warnings.size();
   if (!rec.wkt.empty()) {
     const detail::CrsResult from_wkt = detail::crs_check_wkt(rec.wkt);
@@ -389,24 +369,91 @@ void resolve_crs(const std::string& path, const CrsRecords& rec, PointReadStats&
   }
 }
 
+Transform transform_of(const LasHeader& h) {
+  return {h.scale[0], h.scale[1], h.scale[2], h.offset[0], h.offset[1], h.offset[2]};
+}
+
+// Whether the records are LAZ. The format byte's flag decides; a LASzip VLR without it is taken
+// at its word only when the records cannot be uncompressed ones (they would not fit the file).
+bool is_laz(const std::string& path, const LasHeader& h, const VlrRecords& vlrs, std::size_t size,
+            std::vector<std::string>& warnings) {
+  if (h.compressed) return true;
+  if (vlrs.laszip == nullptr) return false;
+  if ((size - h.offset_to_points) / h.record_length < h.point_count) return true;
+  warnings.push_back(path + ": a LASzip VLR, but the point format is not marked compressed and " +
+                     "the records fill the file uncompressed; reading them as LAS");
+  return false;
+}
+
+// The compressed records for the LAZ decoder.
+laz::LazSource laz_source(const std::string& path, const LasHeader& h, const VlrRecords& vlrs,
+                          const std::uint8_t* data, std::size_t size) {
+  if (vlrs.laszip == nullptr) {
+    throw InputError(path, "header",
+                     "the point format is marked compressed (LAZ) but the file has no LASzip VLR "
+                     "saying how");
+  }
+  laz::LazSource src;
+  src.path = path;
+  src.file = data;
+  src.file_size = size;
+  src.offset_to_points = h.offset_to_points;
+  src.point_count = h.point_count;
+  src.point_format = h.point_format;
+  src.record_length = h.record_length;
+  // EVLRs follow the point data (and the chunk table).
+  src.data_limit = h.evlr_count > 0 && h.evlr_start > h.offset_to_points && h.evlr_start <= size
+                       ? h.evlr_start
+                       : size;
+  src.laszip_vlr = vlrs.laszip;
+  src.laszip_vlr_size = vlrs.laszip_size;
+  src.transform = transform_of(h);
+  return src;
+}
+
 }  // namespace
 
+namespace laz {
+
+LazSource open_laz(const std::string& path, const std::uint8_t* data, std::size_t size,
+                   std::vector<std::string>& warnings) {
+  if (size == 0) throw InputError(path, "", "empty file");
+  const LasHeader h = parse_header(path, data, size);
+  VlrRecords vlrs;
+  read_vlrs(path, h, data, vlrs, warnings);
+  read_evlrs(path, h, data, size, vlrs);
+  if (!is_laz(path, h, vlrs, size, warnings)) {
+    throw InputError(path, "", "not LAZ: the point records are not compressed");
+  }
+  return laz_source(path, h, vlrs, data, size);
+}
+
+}  // namespace laz
+
 PointReadStats read_las(const std::string& path, const PointFilter& filter,
-                        std::vector<Point3>& out) {
+                        std::vector<Point3>& out, unsigned threads) {
   const detail::MappedFile file(path);
   if (file.size() == 0) throw InputError(path, "", "empty file");
   const LasHeader h = parse_header(path, file.data(), file.size());
   PointReadStats stats;
-  CrsRecords crs;
-  read_vlrs(path, h, file.data(), crs, stats.warnings);  // first: it finds LASzip data
-  check_point_count(path, h, file.size());
-  read_evlrs(path, h, file.data(), file.size(), crs);
+  VlrRecords vlrs;
+  read_vlrs(path, h, file.data(), vlrs, stats.warnings);  // first: it finds LASzip data
+  const bool laz = is_laz(path, h, vlrs, file.size(), stats.warnings);
+  if (!laz) check_point_count(path, h, file.size());
+  read_evlrs(path, h, file.data(), file.size(), vlrs);
   stats.format = format_label(h);
+  if (laz) stats.format.replace(0, 3, vlrs.copc ? "copc" : "laz");
   stats.points_read = h.point_count;
-  resolve_crs(path, crs, stats);
+  resolve_crs(path, vlrs, stats);
+  if (laz) {
+    laz::LazSource src = laz_source(path, h, vlrs, file.data(), file.size());
+    src.mapping = &file;
+    stats.points_kept = laz::read_points(src, filter, threads, out, stats.warnings);
+    return stats;
+  }
 
-  const Selection sel = make_selection(filter);
-  const Transform t{h.scale[0], h.scale[1], h.scale[2], h.offset[0], h.offset[1], h.offset[2]};
+  const Selection sel(filter);
+  const Transform t = transform_of(h);
   const DecodeFn decode_fn = pick_decoder(h.point_format >= 6, sel.any());
   const std::size_t record_length = h.record_length;
   const std::size_t chunk_records = std::max<std::size_t>(1, kChunkBytes / record_length);

@@ -34,11 +34,6 @@ PointReadStats read_points(const std::string& path, const PointFilter& filter,
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0) throw InputError(path, "", detail::open_error_text(errno));
   if (S_ISDIR(st.st_mode)) throw InputError(path, "", "is a directory, not a file");
-  if (has_extension(path, ".laz")) {
-    throw InputError(path, "",
-                     "compressed LAZ is not supported yet; decompress it first (e.g. with 'pdal "
-                     "translate' or 'las2las')");
-  }
   // Pipes and devices cannot be peeked at without consuming them: they can only be XYZ text.
   if (!S_ISREG(st.st_mode)) return read_xyz(path, out, threads);
   if (st.st_size == 0) throw InputError(path, "", "empty file");
@@ -49,9 +44,11 @@ PointReadStats read_points(const std::string& path, const PointFilter& filter,
     const ssize_t n = ::pread(file.fd(), signature, sizeof signature, 0);
     if (n < 0) throw InputError(path, "", std::string("read failed: ") + std::strerror(errno));
   }
-  if (std::memcmp(signature, "LASF", 4) == 0) return read_las(path, filter, out);
-  // A .las name without the signature is a damaged or mislabelled file, not text.
-  if (has_extension(path, ".las")) return read_las(path, filter, out);
+  if (std::memcmp(signature, "LASF", 4) == 0) return read_las(path, filter, out, threads);
+  // A .las or .laz name without the signature is a damaged or mislabelled file, not text.
+  if (has_extension(path, ".las") || has_extension(path, ".laz")) {
+    return read_las(path, filter, out, threads);
+  }
   return read_xyz(path, out, threads);
 }
 

@@ -1,5 +1,5 @@
-// Point-cloud readers: XYZ text and LAS 1.0-1.4. Each call appends to a caller-owned vector so
-// several inputs merge without a second copy.
+// Point-cloud readers: XYZ text, LAS 1.0-1.4 and LAZ (COPC included). Each call appends to a
+// caller-owned vector so several inputs merge without a second copy.
 #pragma once
 
 #include <cstdint>
@@ -10,7 +10,7 @@
 
 namespace tincdt::io {
 
-// LAS point filters (ignored for XYZ input, which has no classes or returns).
+// LAS/LAZ point filters (ignored for XYZ input, which has no classes or returns).
 struct PointFilter {
   std::vector<std::uint8_t> keep_classes;  // empty = keep every class
   std::vector<std::uint8_t> drop_classes;
@@ -22,21 +22,22 @@ struct PointReadStats {
   std::uint64_t points_read = 0;  // records in the file
   std::uint64_t points_kept = 0;  // appended after filtering
   std::string crs_wkt;            // empty when the file carries no CRS
-  std::string format;             // "xyz" or "las 1.4 pdrf 6", for the log
+  std::string format;             // "xyz", "las 1.4 pdrf 6", "laz 1.2 pdrf 3", for the log
   // Things the caller should log: the data was read, but something about it is odd (an
   // unreadable CRS record, more VLRs announced than present). Each names the file.
   std::vector<std::string> warnings;
 };
 
 // Reads PATH ("-" = XYZ from stdin), dispatching on content (LAS signature "LASF") and
-// extension; .laz and compressed LAS are refused with an InputError. Appends to `out`.
-// Throws InputError naming the file and the line / byte / record at fault. THREADS: how many
-// threads a reader that parses in parallel (XYZ) may use; 0 = every core.
+// extension; LAS files whose records are compressed (LAZ, COPC) are decoded. Appends to `out`.
+// Throws InputError naming the file and the line / byte / record (or LAZ chunk) at fault.
+// THREADS: how many threads a reader that works in parallel (XYZ parsing, LAZ chunks) may use;
+// 0 = every core.
 PointReadStats read_points(const std::string& path, const PointFilter& filter,
                            std::vector<Point3>& out, unsigned threads = 0);
 
 PointReadStats read_xyz(const std::string& path, std::vector<Point3>& out, unsigned threads = 0);
 PointReadStats read_las(const std::string& path, const PointFilter& filter,
-                        std::vector<Point3>& out);
+                        std::vector<Point3>& out, unsigned threads = 0);
 
 }  // namespace tincdt::io

@@ -1,0 +1,306 @@
+#include "io/points/laz/laz_reader.hpp"
+
+#include <algorithm>
+#include <array>
+#include <condition_variable>
+#include <exception>
+#include <mutex>
+#include <system_error>
+#include <thread>
+
+#include "core/error.hpp"
+#include "core/memory.hpp"
+#include "io/points/laz/chunk.hpp"
+#include "io/points/laz/chunk_table.hpp"
+#include "io/points/laz/laszip_vlr.hpp"
+#include "io/points/laz/point10_decoder.hpp"
+#include "io/points/laz/point14_decoder.hpp"
+
+namespace tincdt::io::laz {
+namespace {
+
+// A point count is trusted for a reservation only up to this many points per compressed byte
+// (real LiDAR takes 2 to 10 bytes per point): a header or table that claims more cannot make the
+// reader allocate more; the vectors then grow as points are actually decoded.
+constexpr std::uint64_t kPlausiblePointsPerByte = 16;
+
+std::size_t plausible(std::uint64_t points, std::uint64_t bytes) {
+  return static_cast<std::size_t>(std::min(points, bytes * kPlausiblePointsPerByte));
+}
+
+struct Prepared {
+  PointLayout layout;
+  ChunkPlan plan;
+};
+
+Prepared prepare(const LazSource& src, std::vector<std::string>& warnings) {
+  const LaszipVlr vlr = parse_laszip_vlr(src.path, src.laszip_vlr, src.laszip_vlr_size);
+  Prepared p;
+  p.layout = check_layout(src.path, vlr, src.point_format, src.record_length);
+  if (p.layout.waveform && !p.layout.layered) {
+    // The waveform item sits in the same stream as the coordinates: it would have to be decoded.
+    throw InputError(src.path, "LASzip VLR",
+                     "LAZ point format " + std::to_string(src.point_format) +
+                         " (with waveform packets) is not supported; formats 0-3 and 6-10 are");
+  }
+  PointData data;
+  data.file = src.file;
+  data.file_size = src.file_size;
+  data.offset_to_points = src.offset_to_points;
+  data.point_count = src.point_count;
+  data.data_limit = src.data_limit;
+  p.plan = plan_chunks(src.path, data, p.layout, warnings);
+  return p;
+}
+
+ChunkInput input_for(const LazSource& src, const ChunkEntry& c, std::size_t index) {
+  ChunkInput in;
+  in.data = src.file + c.offset;
+  in.size = static_cast<std::size_t>(c.size);
+  in.points = c.points;
+  in.path = &src.path;
+  in.index = index;
+  in.first_point = c.first_point;
+  return in;
+}
+
+unsigned thread_count(unsigned requested, std::size_t chunks) {
+  const unsigned wanted =
+      requested != 0 ? requested : std::max(1u, std::thread::hardware_concurrency());
+  return static_cast<unsigned>(std::min<std::size_t>(wanted, chunks));
+}
+
+// Hands the pages of decoded chunks back to the kernel, front to back.
+class PageReleaser {
+ public:
+  explicit PageReleaser(const LazSource& src) : mapping_(src.mapping) {}
+  void up_to(std::uint64_t end) {
+    if (mapping_ == nullptr || end <= released_) return;
+    mapping_->release(static_cast<std::size_t>(released_), static_cast<std::size_t>(end));
+    released_ = end;
+  }
+
+ private:
+  const detail::MappedFile* mapping_;
+  std::uint64_t released_ = 0;
+};
+
+// Decodes every chunk with one Decoder per thread. decode(decoder, input, output) turns a chunk
+// into an Output; commit(output) consumes it. Commits happen one at a time and in chunk order,
+// whatever the thread count, so the result is deterministic. When chunks fail, the error of the
+// first failing chunk is thrown (every chunk before it has been decoded by then).
+template <class Decoder, class Output, class Decode, class Commit>
+void decode_chunks(const LazSource& src, const Prepared& prep, unsigned fields, unsigned threads,
+                   Decode& decode, Commit& commit) {
+  const ChunkPlan& plan = prep.plan;
+  const std::size_t n = plan.chunks.size();
+  if (n == 0) return;
+  PageReleaser releaser(src);
+  if (src.mapping != nullptr) {
+    src.mapping->advise_sequential(static_cast<std::size_t>(src.offset_to_points),
+                                   static_cast<std::size_t>(plan.data_end));
+  }
+
+  if (plan.sequential) {
+    // No table: each chunk starts where the previous one's data ended.
+    Decoder decoder(prep.layout, fields);
+    Output out;
+    std::uint64_t offset = plan.chunks[0].offset;
+    for (std::size_t c = 0; c < n; ++c) {
+      ChunkEntry chunk = plan.chunks[c];
+      chunk.offset = offset;
+      chunk.size = plan.data_end - offset;
+      offset += decode(decoder, input_for(src, chunk, c), out);
+      commit(out);
+      releaser.up_to(offset);
+    }
+    if (plan.exact_end && offset != plan.data_end) {
+      // Without the table nothing says where each chunk starts; a wrong chunk size shows here.
+      throw InputError(src.path, "chunk " + std::to_string(n - 1),
+                       "the chunks end at byte " + std::to_string(offset) +
+                           " but the chunk table starts at byte " + std::to_string(plan.data_end) +
+                           ": the file is damaged, or its LASzip VLR has the wrong chunk size");
+    }
+    return;
+  }
+
+  threads = thread_count(threads, n);
+  if (threads <= 1) {
+    Decoder decoder(prep.layout, fields);
+    Output out;
+    for (std::size_t c = 0; c < n; ++c) {
+      decode(decoder, input_for(src, plan.chunks[c], c), out);
+      commit(out);
+      releaser.up_to(plan.chunks[c].offset + plan.chunks[c].size);
+    }
+    return;
+  }
+
+  // Workers take chunks in order; a finished chunk waits in a slot until the ones before it are
+  // committed. The window bounds how far ahead of the oldest unfinished chunk workers may run,
+  // and so the memory the waiting outputs hold.
+  const std::size_t window = 2 * std::size_t{threads};
+  std::mutex mutex;
+  std::condition_variable wake;
+  std::size_t next = 0;
+  std::size_t committed = 0;
+  bool stop = false;
+  std::size_t failed_chunk = n + 1;
+  std::exception_ptr failure;
+  std::vector<Output> slots(window);
+  std::vector<char> ready(window, 0);
+
+  const auto fail = [&](std::size_t chunk) {  // with the mutex held
+    if (chunk < failed_chunk) {
+      failed_chunk = chunk;
+      failure = std::current_exception();
+    }
+    stop = true;  // no new chunks; those already taken, all before CHUNK, still finish
+    wake.notify_all();
+  };
+  const auto work = [&] {
+    std::size_t chunk = n;
+    try {
+      Decoder decoder(prep.layout, fields);
+      Output out;
+      for (;;) {
+        {
+          std::unique_lock lock(mutex);
+          wake.wait(lock, [&] { return stop || next >= n || next < committed + window; });
+          if (stop || next >= n) return;
+          chunk = next++;
+        }
+        decode(decoder, input_for(src, plan.chunks[chunk], chunk), out);
+        std::lock_guard lock(mutex);
+        std::swap(slots[chunk % window], out);
+        ready[chunk % window] = 1;
+        while (committed < n && ready[committed % window]) {
+          commit(slots[committed % window]);
+          ready[committed % window] = 0;
+          releaser.up_to(plan.chunks[committed].offset + plan.chunks[committed].size);
+          ++committed;
+        }
+        wake.notify_all();
+      }
+    } catch (...) {
+      std::lock_guard lock(mutex);
+      fail(chunk);
+    }
+  };
+
+  std::vector<std::thread> helpers;
+  helpers.reserve(threads - 1);
+  for (unsigned t = 1; t < threads; ++t) {
+    try {
+      helpers.emplace_back(work);
+    } catch (const std::system_error&) {
+      break;  // fewer threads than asked for: the others take up the work
+    }
+  }
+  work();
+  for (std::thread& t : helpers) t.join();
+  if (failure) std::rethrow_exception(failure);
+}
+
+template <class Output, class Decode, class Commit>
+void decode_all(const LazSource& src, const Prepared& prep, unsigned fields, unsigned threads,
+                Decode&& decode, Commit&& commit) {
+  if (prep.layout.layered) {
+    decode_chunks<Point14Decoder, Output>(src, prep, fields, threads, decode, commit);
+  } else {
+    decode_chunks<Point10Decoder, Output>(src, prep, fields, threads, decode, commit);
+  }
+}
+
+std::uint64_t data_bytes(const LazSource& src) {
+  return src.data_limit > src.offset_to_points ? src.data_limit - src.offset_to_points : 0;
+}
+
+}  // namespace
+
+std::uint64_t read_points(const LazSource& src, const PointFilter& filter, unsigned threads,
+                          std::vector<Point3>& out, std::vector<std::string>& warnings) {
+  const Prepared prep = prepare(src, warnings);
+  const detail::Selection sel(filter);
+  using Xyz = std::array<std::int32_t, 3>;
+  out.reserve(out.size() + plausible(src.point_count, data_bytes(src)));
+  detail::advise_huge_pages(out);
+  std::uint64_t kept = 0;
+  const auto decode = [&](auto& decoder, const ChunkInput& in, std::vector<Xyz>& buffer) {
+    buffer.clear();
+    buffer.reserve(plausible(in.points, in.size));
+    if (sel.any()) {
+      return decoder.decode_chunk(in, [&](const auto& p) {
+        if (sel.keeps(p.classification(), p.return_number(), p.number_of_returns())) {
+          buffer.push_back({p.x(), p.y(), p.z()});
+        }
+      });
+    }
+    return decoder.decode_chunk(in, [&](const auto& p) {
+      buffer.push_back({p.x(), p.y(), p.z()});
+    });
+  };
+  const auto commit = [&](std::vector<Xyz>& buffer) {
+    for (const Xyz& v : buffer) out.push_back(src.transform.apply(v[0], v[1], v[2]));
+    kept += buffer.size();
+  };
+  const unsigned fields = kCoordinates | (sel.filter_classes ? kClassification : 0u);
+  decode_all<std::vector<Xyz>>(src, prep, fields, threads, decode, commit);
+  return kept;
+}
+
+std::vector<std::uint8_t> read_records(const LazSource& src, unsigned threads,
+                                       std::vector<std::string>& warnings) {
+  const Prepared prep = prepare(src, warnings);
+  if (prep.layout.waveform) {
+    throw InputError(src.path, "",
+                     "waveform packets are not decoded: whole records of point "
+                     "format " +
+                         std::to_string(src.point_format) + " cannot be read");
+  }
+  const std::size_t record = src.record_length;
+  std::vector<std::uint8_t> records;
+  records.reserve(plausible(src.point_count, data_bytes(src)) * record);
+  const auto decode = [&](auto& decoder, const ChunkInput& in, std::vector<std::uint8_t>& buffer) {
+    buffer.clear();
+    buffer.reserve(plausible(in.points, in.size) * record);
+    return decoder.decode_chunk(in, [&](const auto& p) {
+      buffer.resize(buffer.size() + record);
+      p.write_record(buffer.data() + buffer.size() - record);
+    });
+  };
+  const auto commit = [&](std::vector<std::uint8_t>& buffer) {
+    records.insert(records.end(), buffer.begin(), buffer.end());
+  };
+  decode_all<std::vector<std::uint8_t>>(src, prep, kEveryField, threads, decode, commit);
+  return records;
+}
+
+LazSummary summarize(const LazSource& src, unsigned threads, std::vector<std::string>& warnings) {
+  const Prepared prep = prepare(src, warnings);
+  LazSummary total;
+  const auto decode = [&](auto& decoder, const ChunkInput& in, LazSummary& s) {
+    s = LazSummary{};
+    return decoder.decode_chunk(in, [&](const auto& p) {
+      ++s.points;
+      s.xyz_sum += std::int64_t{p.x()} + p.y() + p.z();
+      ++s.class_counts[p.classification() & 0xFFu];
+      const unsigned r = p.return_number();
+      const unsigned n = p.number_of_returns();
+      const bool single = r == 0 || n == 0;
+      s.first_returns += single || r == 1;
+      s.last_returns += single || r >= n;
+    });
+  };
+  const auto commit = [&](LazSummary& s) {
+    total.points += s.points;
+    total.xyz_sum += s.xyz_sum;
+    total.first_returns += s.first_returns;
+    total.last_returns += s.last_returns;
+    for (int c = 0; c < 256; ++c) total.class_counts[c] += s.class_counts[c];
+  };
+  decode_all<LazSummary>(src, prep, kCoordinates | kClassification, threads, decode, commit);
+  return total;
+}
+
+}  // namespace tincdt::io::laz
