@@ -90,6 +90,22 @@ struct BuildOptions {
   std::string constraints_out;
   // --diagnostics FILE.gpkg: crossings, skipped segments and dropped features as GIS layers.
   std::string diagnostics;
+
+  // ---- products, each made from the final TIN (after every stage that edits it) ---------
+  struct Dem {
+    std::string path;             // --dem FILE.tif: a Cloud-Optimized GeoTIFF; "" = none
+    double resolution = 0;        // --resolution: cell size (> 0), in the CRS's units
+    std::optional<BBox> extent;   // --dem-extent; default: the kept triangles' extent
+    bool target_aligned = false;  // --tap: extent snapped out to multiples of the resolution
+    double nodata = -9999;        // --dem-nodata
+    bool float64 = false;         // --dem-type Float64 (default Float32)
+  } dem;
+  struct ContourLines {
+    std::string path;     // --contour-lines FILE (any OGR vector format); "" = none
+    std::string format;   // GDAL driver name; "" = from the extension
+    double interval = 0;  // --interval (> 0)
+    double base = 0;      // --base: levels are base + k * interval
+  } contour_lines;
 };
 
 // What check_options() found, resolved for the job.

@@ -48,6 +48,10 @@ void run(Job& job) {
   report.triangles = tin.triangle_count();
   report.constraints = kept_constraints(tin);
 
+  if (job.write.format == io::TinFormat::stl) {
+    const std::string warning = io::stl_precision_warning(tin, job.write.offset);
+    if (!warning.empty()) job.warn(warning);
+  }
   io::OutputFile& out = job.add_output(job.options.output, "tin");
   const io::TinWriteStats ws = io::write_tin(out, tin, job.write);
   job.finish_output(out);

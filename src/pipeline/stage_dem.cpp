@@ -1,0 +1,84 @@
+// dem: --dem, the final TIN rasterized (products::rasterize) and written as a Cloud-Optimized
+// GeoTIFF with the TIN's CRS: Float32 cells, or Float64 with --dem-type Float64.
+#include <cmath>
+#include <span>
+#include <vector>
+
+#include "core/error.hpp"
+#include "io/raster/dem_writer.hpp"
+#include "pipeline/stage.hpp"
+#include "products/rasterize.hpp"
+
+namespace tincdt::pipeline {
+namespace {
+
+bool wanted(const BuildOptions& o) {
+  return !o.dem.path.empty();
+}
+
+template <class T>
+void rasterize_and_write(Job& job, const products::Grid& grid, io::OutputFile& out) {
+  const BuildOptions::Dem& o = job.options.dem;
+  BuildReport::Dem& r = job.report.dem;
+  auto t0 = std::chrono::steady_clock::now();
+  std::vector<T> cells(grid.cells());
+  const products::RasterizeStats stats = products::rasterize<T>(
+      job.tin(), grid, static_cast<T>(o.nodata), cells, {.progress = job.stage_progress()});
+  r.cells_with_value = stats.cells_with_value;
+  r.rasterize_s = seconds_since(t0);
+  t0 = std::chrono::steady_clock::now();
+  io::DemWriteOptions w;
+  w.nodata = o.nodata;
+  w.crs_wkt = job.crs_wkt;
+  w.progress = job.stage_progress();
+  io::write_dem(out, grid, std::span<const T>(cells), w);
+  job.finish_output(out);
+  r.write_s = seconds_since(t0);
+}
+
+void run(Job& job) {
+  const BuildOptions::Dem& o = job.options.dem;
+  const BBox extent = o.extent ? *o.extent : products::kept_extent(job.tin());
+  products::Grid grid;
+  try {
+    grid = products::grid_over(extent, o.resolution, o.target_aligned);
+  } catch (const Error& e) {
+    throw OutputError(o.path, "", e.detail());
+  }
+  BuildReport::Dem& r = job.report.dem;
+  r.path = o.path;
+  r.type = o.float64 ? "Float64" : "Float32";
+  r.width = grid.width;
+  r.height = grid.height;
+  r.resolution = grid.resolution;
+  r.min_x = grid.min_x;
+  r.max_y = grid.max_y;
+  io::OutputFile& out = job.add_output(o.path, "dem");
+  if (o.float64)
+    rasterize_and_write<double>(job, grid, out);
+  else
+    rasterize_and_write<float>(job, grid, out);
+  job.info("DEM: " + std::to_string(grid.width) + " x " + std::to_string(grid.height) + " cells, " +
+           std::to_string(r.cells_with_value) + " with a value");
+}
+
+// Also refuses the settings the writer would refuse at the end: this runs before any work.
+void plan(const BuildOptions& o, FilePlan& files) {
+  if (!(o.dem.resolution > 0) || !std::isfinite(o.dem.resolution))
+    throw OutputError(o.dem.path, "", "the DEM needs a resolution > 0 (--resolution)");
+  const double nodata = o.dem.nodata;
+  const bool fits_float =
+      std::isnan(nodata) || (std::fabs(nodata) <= 3.4028234663852886e38 &&
+                             static_cast<double>(static_cast<float>(nodata)) == nodata);
+  if (!o.dem.float64 && !fits_float)
+    throw OutputError(o.dem.path, "",
+                      "the nodata value cannot be stored in Float32 cells (use --dem-type "
+                      "Float64 or another --dem-nodata)");
+  files.outputs.push_back({o.dem.path, "the DEM (--dem)"});
+}
+
+}  // namespace
+
+extern const Stage dem_stage{"dem", "dem", wanted, run, plan};
+
+}  // namespace tincdt::pipeline
