@@ -158,18 +158,13 @@ RasterizeStats rasterize(const mesh::Triangulation& tin, const Grid& grid, T nod
           const double det = bx * cy - cx * by;
           const double gx = (bz * cy - cz * by) / det;
           const double gy = (cz * bx - bz * cx) / det;
-          std::uint32_t last_row = kNoId;
-          double z_row = 0;
-          T* row_cells = nullptr;
           scan_triangle(tin, grid, t, row_begin, row_end,
-                        [&](std::uint32_t row, std::uint32_t col) {
-                          if (row != last_row) {
-                            last_row = row;
-                            z_row = za + gy * (grid.centre_y(row) - a.y);
-                            row_cells = cells.data() + std::size_t{row} * grid.width;
-                          }
-                          row_cells[col] = static_cast<T>(z_row + gx * (grid.centre_x(col) - a.x));
-                          ++count;
+                        [&](std::uint32_t row, std::uint32_t first, std::uint32_t end) {
+                          const double z_row = za + gy * (grid.centre_y(row) - a.y);
+                          T* out = cells.data() + std::size_t{row} * grid.width;
+                          for (std::uint32_t col = first; col < end; ++col)
+                            out[col] = static_cast<T>(z_row + gx * (grid.centre_x(col) - a.x));
+                          count += end - first;
                         });
         }
         const std::uint32_t done = bands_done.fetch_add(1) + 1;

@@ -36,8 +36,9 @@ namespace tincdt::products {
 // False for a triangle that is not kept.
 bool owns_point(const mesh::Triangulation& tin, TriangleId t, Point2 p);
 
-// Calls f(row, col) once for each cell of rows [row_begin, row_end) of GRID whose centre the
-// kept triangle T owns (owns_point), row by row, left to right.
+// Calls f(row, first_col, end_col) for the cells [first_col, end_col) of rows [row_begin,
+// row_end) of GRID whose centres the kept triangle T owns (owns_point): each such cell once,
+// row by row, left to right, in runs.
 //
 // Along a row the centres strictly inside T form one run of columns, found from the row's two
 // edge crossings computed in doubles with a bound on their rounding error; only centres within
@@ -79,9 +80,9 @@ inline std::uint32_t first_row_at_or_below(const Grid& g, double y) {
 }
 
 // First column whose centre is at or right of X (or strictly right with STRICT), in
-// [0, grid.width].
-inline std::uint32_t first_col_right_of(const Grid& g, double x, bool strict) {
-  double c = std::ceil((x - g.min_x) / g.resolution - 0.5);
+// [0, grid.width]. INV_RES: 1 / resolution (the estimate needs no exact division).
+inline std::uint32_t first_col_right_of(const Grid& g, double inv_res, double x, bool strict) {
+  double c = std::ceil((x - g.min_x) * inv_res - 0.5);
   c = std::fmin(std::fmax(c, 0.0), static_cast<double>(g.width));
   auto col = static_cast<std::uint32_t>(c);
   const auto left_of = [strict, x](double cx) { return strict ? cx <= x : cx < x; };
@@ -97,60 +98,64 @@ void scan_triangle(const mesh::Triangulation& tin, const Grid& grid, TriangleId 
                    std::uint32_t row_begin, std::uint32_t row_end, F&& f) {
   if (!tin.is_kept(t)) return;
   const auto c = tin.triangle(t);
-  const Point2 p[3] = {tin.point(c[0]), tin.point(c[1]), tin.point(c[2])};
-  const double y_lo = std::fmin(p[0].y, std::fmin(p[1].y, p[2].y));
-  const double y_hi = std::fmax(p[0].y, std::fmax(p[1].y, p[2].y));
-  // Rows whose centre y is in [y_lo, y_hi]: exact comparisons of the defined centres.
-  std::uint32_t r0 = detail::first_row_at_or_below(grid, y_hi);
-  std::uint32_t r1 = detail::first_row_at_or_below(grid, std::nextafter(y_lo, -INFINITY));
+  // Corners from the highest y down: top, middle, bottom (the long edge joins top and bottom).
+  Point2 top = tin.point(c[0]), mid = tin.point(c[1]), bot = tin.point(c[2]);
+  if (mid.y > top.y) std::swap(mid, top);
+  if (bot.y > mid.y) std::swap(bot, mid);
+  if (mid.y > top.y) std::swap(mid, top);
+  // Rows whose centre y is in [bot.y, top.y]: exact comparisons of the defined centres.
+  std::uint32_t r0 = detail::first_row_at_or_below(grid, top.y);
+  std::uint32_t r1 = detail::first_row_at_or_below(grid, std::nextafter(bot.y, -INFINITY));
   if (r0 < row_begin) r0 = row_begin;
   if (r1 > row_end) r1 = row_end;
   if (r0 >= r1) return;
 
-  // |computed crossing - exact crossing| <= 8 eps (|p.x| + |q.x|) for an edge p q (five rounded
-  // operations, |t| <= 1); twice that, and a floor for subnormal magnitudes, as the margin.
-  const double x_abs =
-      std::fmax(std::fabs(p[0].x), std::fmax(std::fabs(p[1].x), std::fabs(p[2].x)));
+  // A row's crossing with edge p q is p.x + (y - p.y) * (dx / dy). Its error is at most about
+  // 9 eps max(|p.x|, |q.x|) (four rounded operations, |y - p.y| <= |dy|); 32 eps of the largest
+  // |x| of the corners, and a floor for subnormal magnitudes, is the margin within which a
+  // centre is decided exactly.
+  const double x_abs = std::fmax(std::fabs(top.x), std::fmax(std::fabs(mid.x), std::fabs(bot.x)));
   const double margin = 32 * 0x1p-53 * x_abs + 0x1p-1000;
+  const double inv_res = 1 / grid.resolution;
+  const double slope_long = (bot.x - top.x) / (bot.y - top.y);  // top.y > bot.y: positive area
+  const double slope_upper = top.y > mid.y ? (mid.x - top.x) / (mid.y - top.y) : 0;
+  const double slope_lower = mid.y > bot.y ? (bot.x - mid.x) / (bot.y - mid.y) : 0;
 
   for (std::uint32_t row = r0; row < r1; ++row) {
     const double y = grid.centre_y(row);
-    double x_left = INFINITY, x_right = -INFINITY;
+    const double x_long = top.x + (y - top.y) * slope_long;
+    double x_short;
     bool on_horizontal_edge = false;
-    for (int i = 0; i < 3; ++i) {
-      const Point2 a = p[i], b = p[(i + 1) % 3];
-      if ((y < a.y && y < b.y) || (y > a.y && y > b.y)) continue;
-      double x;
-      if (a.y == b.y) {
-        on_horizontal_edge = true;
-        x_left = std::fmin(x_left, std::fmin(a.x, b.x));
-        x_right = std::fmax(x_right, std::fmax(a.x, b.x));
-        continue;
-      }
-      if (y == a.y) {
-        x = a.x;
-      } else if (y == b.y) {
-        x = b.x;
-      } else {
-        x = a.x + (y - a.y) / (b.y - a.y) * (b.x - a.x);
-      }
-      x_left = std::fmin(x_left, x);
-      x_right = std::fmax(x_right, x);
+    if (y > mid.y) {
+      x_short = top.x + (y - top.y) * slope_upper;
+    } else if (y < mid.y) {
+      x_short = mid.x + (y - mid.y) * slope_lower;
+    } else {
+      // Through the middle corner, and along an edge when it is as high as another corner.
+      x_short = mid.x;
+      on_horizontal_edge = mid.y == top.y || mid.y == bot.y;
     }
-    if (!(x_left <= x_right)) continue;
-    // Columns: [c_out_l, c_in_l) and (c_in_r, c_out_r] near the crossings are decided exactly,
-    // [c_in_l, c_in_r] is strictly inside.
-    const std::uint32_t c_out_l = detail::first_col_right_of(grid, x_left - margin, false);
-    const std::uint32_t c_out_r = detail::first_col_right_of(grid, x_right + margin, true);
+    double x_left = std::fmin(x_long, x_short), x_right = std::fmax(x_long, x_short);
+    if (on_horizontal_edge) {
+      const double other = mid.y == top.y ? top.x : bot.x;
+      x_left = std::fmin(x_left, other);
+      x_right = std::fmax(x_right, other);
+    }
+    // Columns [c_out_l, c_in_l) and [c_in_r, c_out_r) near the crossings are decided exactly,
+    // [c_in_l, c_in_r) is strictly inside; along a horizontal edge every column is exact.
+    const std::uint32_t c_out_l = detail::first_col_right_of(grid, inv_res, x_left - margin, false);
+    const std::uint32_t c_out_r = detail::first_col_right_of(grid, inv_res, x_right + margin, true);
     if (c_out_l >= c_out_r) continue;
-    std::uint32_t c_in_l = detail::first_col_right_of(grid, x_left + margin, true);
-    std::uint32_t c_in_r = detail::first_col_right_of(grid, x_right - margin, false);
-    if (on_horizontal_edge || c_in_l >= c_in_r) c_in_l = c_in_r = c_out_r;  // all exact
+    std::uint32_t c_in_l = c_out_l;
+    while (c_in_l < c_out_r && grid.centre_x(c_in_l) <= x_left + margin) ++c_in_l;
+    std::uint32_t c_in_r = c_out_r;
+    while (c_in_r > c_in_l && grid.centre_x(c_in_r - 1) >= x_right - margin) --c_in_r;
+    if (on_horizontal_edge) c_in_l = c_in_r = c_out_r;
     for (std::uint32_t col = c_out_l; col < c_in_l; ++col)
-      if (owns_point(tin, t, {grid.centre_x(col), y})) f(row, col);
-    for (std::uint32_t col = c_in_l; col < c_in_r; ++col) f(row, col);
-    for (std::uint32_t col = std::max(c_in_r, c_out_l); col < c_out_r; ++col)
-      if (owns_point(tin, t, {grid.centre_x(col), y})) f(row, col);
+      if (owns_point(tin, t, {grid.centre_x(col), y})) f(row, col, col + 1);
+    if (c_in_l < c_in_r) f(row, c_in_l, c_in_r);
+    for (std::uint32_t col = c_in_r; col < c_out_r; ++col)
+      if (owns_point(tin, t, {grid.centre_x(col), y})) f(row, col, col + 1);
   }
 }
 

@@ -63,9 +63,11 @@ TEST_P(RasterizeProperty, EveryHeldCentreWrittenOnceWithItsTrianglesValue) {
                    std::to_string(grid.resolution));
       std::vector<int> writes(grid.cells(), 0);
       for (TriangleId t = 0; t < tin.triangle_slots(); ++t)
-        scan_triangle(tin, grid, t, 0, grid.height, [&](std::uint32_t row, std::uint32_t col) {
-          ++writes[row * grid.width + col];
-        });
+        scan_triangle(tin, grid, t, 0, grid.height,
+                      [&](std::uint32_t row, std::uint32_t first, std::uint32_t end) {
+                        for (std::uint32_t col = first; col < end; ++col)
+                          ++writes[row * grid.width + col];
+                      });
       std::vector<double> dem(grid.cells());
       const RasterizeStats stats = rasterize<double>(tin, grid, kNodata, dem, {.threads = 2});
 
