@@ -99,6 +99,7 @@ struct BuildOptions {
     bool target_aligned = false;  // --tap: extent snapped out to multiples of the resolution
     double nodata = -9999;        // --dem-nodata
     bool float64 = false;         // --dem-type Float64 (default Float32)
+    std::vector<std::string> creation_options;  // --dem-co NAME=VALUE: GDAL COG options
   } dem;
   struct ContourLines {
     std::string path;     // --contour-lines FILE (any OGR vector format); "" = none

@@ -30,6 +30,7 @@ void rasterize_and_write(Job& job, const products::Grid& grid, io::OutputFile& o
   io::DemWriteOptions w;
   w.nodata = o.nodata;
   w.crs_wkt = job.crs_wkt;
+  w.creation_options = o.creation_options;
   w.progress = job.stage_progress();
   io::write_dem(out, grid, std::span<const T>(cells), w);
   job.finish_output(out);

@@ -5,6 +5,7 @@
 #include <gdal_priv.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -98,6 +99,64 @@ TEST(DemWriter, CloudOptimizedGeoTiffWithCrsNodataAndExactValues) {
   ASSERT_EQ(band->RasterIO(GF_Read, 0, 0, 1300, 1100, back.data(), 1300, 1100, GDT_Float32, 0, 0),
             CE_None);
   EXPECT_EQ(std::memcmp(back.data(), cells.data(), back.size() * sizeof(float)), 0);
+}
+
+TEST(DemWriter, OverviewsAverageTheCellsWithAValue) {
+  const std::string dir = test::scratch_dir("dem_writer");
+  const products::Grid g = grid_of(1301, 1099);  // odd sizes: the last row and column halve alone
+  const std::vector<float> cells = cells_of<float>(g, -9999.0f);
+  write_dem(dir + "/dem.tif", g, cells, {});
+  Raster raster(dir + "/dem.tif");
+  ASSERT_TRUE(raster.ds);
+  GDALRasterBand* band = raster.ds->GetRasterBand(1);
+  ASSERT_EQ(band->GetOverviewCount(), 2);  // 651 x 550, 326 x 275
+  GDALRasterBand* ovr = band->GetOverview(0);
+  ASSERT_EQ(ovr->GetXSize(), 651);
+  ASSERT_EQ(ovr->GetYSize(), 550);
+  std::vector<float> back(651 * 550);
+  ASSERT_EQ(ovr->RasterIO(GF_Read, 0, 0, 651, 550, back.data(), 651, 550, GDT_Float32, 0, 0),
+            CE_None);
+  std::size_t nodata_cells = 0;
+  for (std::uint32_t r0 = 0; r0 < 550; ++r0)
+    for (std::uint32_t c0 = 0; c0 < 651; ++c0) {
+      double sum = 0;
+      int n = 0;
+      for (std::uint32_t r = 2 * r0; r < std::min(2 * r0 + 2, g.height); ++r)
+        for (std::uint32_t c = 2 * c0; c < std::min(2 * c0 + 2, g.width); ++c)
+          if (cells[r * g.width + c] != -9999.0f) {
+            sum += cells[r * g.width + c];
+            ++n;
+          }
+      const float got = back[r0 * 651 + c0];
+      if (n == 0) {
+        ++nodata_cells;
+        ASSERT_EQ(got, -9999.0f);
+      } else {
+        ASSERT_FLOAT_EQ(got, static_cast<float>(sum / n)) << r0 << ", " << c0;
+      }
+    }
+  EXPECT_GT(nodata_cells, 0u);
+}
+
+TEST(DemWriter, CreationOptionsOverTheDefaults) {
+  const std::string dir = test::scratch_dir("dem_writer");
+  const products::Grid g = grid_of(1100, 700);
+  const std::vector<float> cells = cells_of<float>(g, -9999.0f);
+  DemWriteOptions o;
+  o.creation_options = {"compress=ZSTD", "OVERVIEWS=NONE"};
+  write_dem(dir + "/zstd.tif", g, cells, o);
+  Raster r(dir + "/zstd.tif");
+  ASSERT_TRUE(r.ds);
+  EXPECT_STREQ(r.ds->GetMetadataItem("COMPRESSION", "IMAGE_STRUCTURE"), "ZSTD");
+  EXPECT_EQ(r.ds->GetRasterBand(1)->GetOverviewCount(), 0);
+  o.creation_options = {"RESAMPLING=NEAREST"};  // GDAL's own overviews
+  write_dem(dir + "/nearest.tif", g, cells, o);
+  Raster n(dir + "/nearest.tif");
+  ASSERT_TRUE(n.ds);
+  EXPECT_EQ(n.ds->GetRasterBand(1)->GetOverviewCount(), 2);  // 550 x 350, 275 x 175
+  o.creation_options = {"COMPRESS"};
+  EXPECT_THROW(write_dem(dir + "/bad.tif", g, cells, o), OutputError);
+  EXPECT_FALSE(fs::exists(dir + "/bad.tif"));
 }
 
 TEST(DemWriter, Float64KeepsEveryBit) {

@@ -1,6 +1,8 @@
 #include "io/raster/dem_writer.hpp"
 
 #include <algorithm>
+#include <cctype>
+#include <cmath>
 #include <limits>
 #include <optional>
 #include <string>
@@ -26,6 +28,83 @@ struct ProgressBridge {
     return FALSE;
   }
 };
+
+constexpr int kBlock = 512;  // tile size, and the largest overview's side bound (as COG's AUTO)
+
+// Runs f(begin, end) over [0, n) in THREADS contiguous chunks.
+template <class F>
+void in_chunks(std::size_t n, unsigned threads, F&& f) {
+  threads = static_cast<unsigned>(std::clamp<std::size_t>(n / 64, 1, threads));
+  std::vector<std::thread> pool;
+  for (unsigned i = 1; i < threads; ++i)
+    pool.emplace_back([&f, i, n, threads] { f(n * i / threads, n * (i + 1) / threads); });
+  f(0, n / threads);
+  for (std::thread& t : pool) t.join();
+}
+
+// One overview level from the one above it (W x H cells): each cell the mean of the up to 2 x 2
+// cells with a value under it, nodata when none has one. The average of GDAL's overviews;
+// computed here on every thread because GDAL 3.6 builds overviews on one, and the pyramid of a
+// large DEM took longer than its tiles.
+template <class T>
+std::vector<T> halve(const T* above, std::size_t w, std::size_t h, double nodata,
+                     unsigned threads) {
+  const std::size_t ow = (w + 1) / 2, oh = (h + 1) / 2;
+  std::vector<T> level(ow * oh);
+  const bool nan_nodata = std::isnan(nodata);
+  const T no = static_cast<T>(nodata);
+  in_chunks(oh, threads, [&](std::size_t r0, std::size_t r1) {
+    for (std::size_t r = r0; r < r1; ++r) {
+      for (std::size_t c = 0; c < ow; ++c) {
+        double sum = 0;
+        int n = 0;
+        for (std::size_t dr = 0; dr < 2 && 2 * r + dr < h; ++dr)
+          for (std::size_t dc = 0; dc < 2 && 2 * c + dc < w; ++dc) {
+            const T v = above[(2 * r + dr) * w + 2 * c + dc];
+            if (nan_nodata ? std::isnan(v) : v == no) continue;
+            sum += v;
+            ++n;
+          }
+        level[r * ow + c] = n > 0 ? static_cast<T>(sum / n) : no;
+      }
+    }
+  });
+  return level;
+}
+
+// The overview pyramid of BAND (the cells at TOP): halved until both sides fit in one tile,
+// created empty by GDAL ("NONE") and filled here.
+template <class T>
+bool add_overviews(GDALDataset& source, GDALRasterBand& band, const T* top, std::size_t w,
+                   std::size_t h, GDALDataType type, double nodata, unsigned threads) {
+  std::vector<int> factors;
+  for (std::size_t f = 2, ow = (w + 1) / 2, oh = (h + 1) / 2; std::max(w, h) > kBlock;
+       f *= 2, ow = (ow + 1) / 2, oh = (oh + 1) / 2) {
+    factors.push_back(static_cast<int>(f));
+    if (std::max(ow, oh) <= kBlock) break;
+  }
+  if (factors.empty()) return true;
+  if (source.BuildOverviews("NONE", static_cast<int>(factors.size()), factors.data(), 0, nullptr,
+                            GDALDummyProgress, nullptr) != CE_None)
+    return false;
+  std::vector<T> above_level;  // the level just written; the top is the caller's
+  const T* above = top;
+  for (int i = 0; i < band.GetOverviewCount(); ++i) {
+    std::vector<T> level = halve(above, w, h, nodata, threads);
+    w = (w + 1) / 2;
+    h = (h + 1) / 2;
+    GDALRasterBand* ovr = band.GetOverview(i);
+    if (ovr == nullptr || static_cast<std::size_t>(ovr->GetXSize()) != w ||
+        static_cast<std::size_t>(ovr->GetYSize()) != h)
+      return false;
+    if (ovr->RasterIO(GF_Write, 0, 0, static_cast<int>(w), static_cast<int>(h), level.data(),
+                      static_cast<int>(w), static_cast<int>(h), type, 0, 0, nullptr) != CE_None)
+      return false;
+    above_level = std::move(level);
+    above = above_level.data();
+  }
+  return true;
+}
 
 template <class T>
 DemWriteStats write(OutputFile& out, const products::Grid& grid, std::span<const T> cells,
@@ -80,14 +159,37 @@ DemWriteStats write(OutputFile& out, const products::Grid& grid, std::span<const
 
   const unsigned threads =
       options.threads != 0 ? options.threads : std::max(1u, std::thread::hardware_concurrency());
-  const std::string num_threads = "NUM_THREADS=" + std::to_string(threads);
-  const char* const cog_options[] = {
-      "COMPRESS=DEFLATE",   "PREDICTOR=YES",    "BLOCKSIZE=512",     "OVERVIEWS=AUTO",
-      "RESAMPLING=AVERAGE", "BIGTIFF=IF_SAFER", num_threads.c_str(), nullptr};
+  // The defaults, then the caller's creation options, which win (GDAL takes the last of a
+  // name). Unless they ask GDAL for its own overviews, the pyramid is computed here.
+  CPLStringList cog_options;
+  cog_options.SetNameValue("COMPRESS", "DEFLATE");
+  cog_options.SetNameValue("LEVEL", "1");
+  cog_options.SetNameValue("PREDICTOR", "YES");
+  cog_options.SetNameValue("BLOCKSIZE", std::to_string(kBlock).c_str());
+  cog_options.SetNameValue("BIGTIFF", "IF_SAFER");
+  cog_options.SetNameValue("NUM_THREADS", std::to_string(threads).c_str());
+  cog_options.SetNameValue("OVERVIEWS", "FORCE_USE_EXISTING");
+  bool own_overviews = true, overviews_named = false;
+  for (const std::string& option : options.creation_options) {
+    const auto eq = option.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw OutputError(path, "", "creation option '" + option + "' is not NAME=VALUE");
+    std::string name = option.substr(0, eq);
+    for (char& ch : name) ch = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+    overviews_named = overviews_named || name == "OVERVIEWS";
+    if (name == "OVERVIEWS" || name.find("RESAMPLING") != std::string::npos ||
+        name == "OVERVIEW_COUNT" || name == "BLOCKSIZE")
+      own_overviews = false;
+    cog_options.SetNameValue(name.c_str(), option.substr(eq + 1).c_str());
+  }
+  if (!own_overviews && !overviews_named) cog_options.SetNameValue("OVERVIEWS", "AUTO");
+  if (own_overviews && !add_overviews<T>(*source, *band, cells.data(), grid.width, grid.height,
+                                         type, nodata, threads))
+    fail("cannot compute the overviews");
   const bool with_progress = options.progress != nullptr && *options.progress;
   ProgressBridge bridge{options.progress};
   detail::GdalDataset written(
-      cog->CreateCopy(out.take_path().c_str(), source.get(), FALSE, const_cast<char**>(cog_options),
+      cog->CreateCopy(out.take_path().c_str(), source.get(), FALSE, cog_options.List(),
                       with_progress ? ProgressBridge::report : GDALDummyProgress,
                       with_progress ? &bridge : nullptr));
   if (bridge.cancelled) throw Cancelled();
