@@ -78,10 +78,10 @@ template <class T>
 bool add_overviews(GDALDataset& source, GDALRasterBand& band, const T* top, std::size_t w,
                    std::size_t h, GDALDataType type, double nodata, unsigned threads) {
   std::vector<int> factors;
-  for (std::size_t f = 2, ow = (w + 1) / 2, oh = (h + 1) / 2; std::max(w, h) > kBlock;
-       f *= 2, ow = (ow + 1) / 2, oh = (oh + 1) / 2) {
+  for (std::size_t f = 2, ow = w, oh = h; std::max(ow, oh) > kBlock; f *= 2) {
     factors.push_back(static_cast<int>(f));
-    if (std::max(ow, oh) <= kBlock) break;
+    ow = (ow + 1) / 2;
+    oh = (oh + 1) / 2;
   }
   if (factors.empty()) return true;
   if (source.BuildOverviews("NONE", static_cast<int>(factors.size()), factors.data(), 0, nullptr,
