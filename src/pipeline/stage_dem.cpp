@@ -1,5 +1,7 @@
 // dem: --dem, the final TIN rasterized (products::rasterize) and written as a Cloud-Optimized
 // GeoTIFF with the TIN's CRS: Float32 cells, or Float64 with --dem-type Float64.
+#include <unistd.h>
+
 #include <cmath>
 #include <span>
 #include <vector>
@@ -16,10 +18,29 @@ bool wanted(const BuildOptions& o) {
   return !o.dem.path.empty();
 }
 
+// The machine's memory in bytes, 0 if unknown.
+std::uint64_t physical_memory() {
+  const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
+  return pages > 0 && page > 0
+             ? static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page)
+             : 0;
+}
+
 template <class T>
 void rasterize_and_write(Job& job, const products::Grid& grid, io::OutputFile& out) {
   const BuildOptions::Dem& o = job.options.dem;
   BuildReport::Dem& r = job.report.dem;
+  // The grid is held whole (GDAL writes it from there): refuse one larger than the machine
+  // rather than fail in the allocator.
+  const double bytes = static_cast<double>(grid.cells()) * sizeof(T);
+  const std::uint64_t memory = physical_memory();
+  if (memory > 0 && bytes > static_cast<double>(memory))
+    throw OutputError(o.path, "",
+                      "a DEM of " + std::to_string(grid.width) + " x " +
+                          std::to_string(grid.height) + " cells needs " +
+                          std::to_string(static_cast<std::uint64_t>(bytes / (1 << 30))) +
+                          " GiB, more than this machine's memory (use a coarser --resolution "
+                          "or a smaller --dem-extent)");
   auto t0 = std::chrono::steady_clock::now();
   std::vector<T> cells(grid.cells());
   const products::RasterizeStats stats = products::rasterize<T>(

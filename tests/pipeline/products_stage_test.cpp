@@ -209,6 +209,19 @@ TEST_F(Products, RefusedBeforeAnyWork) {
   refused(o);
 }
 
+TEST_F(Products, ADemLargerThanTheMachineIsRefusedAndNothingIsWritten) {
+  pipeline::BuildOptions o = options("tin.xml");
+  o.dem.resolution = 1e-5;  // 10^7 x 10^7 cells
+  try {
+    pipeline::build(o);
+    FAIL() << "no exception";
+  } catch (const OutputError& e) {
+    EXPECT_EQ(e.file(), o.dem.path);
+    EXPECT_NE(e.detail().find("more than this machine's memory"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(names_in(dir_), (std::set<std::string>{"hole.geojson", "in.xyz"}));
+}
+
 TEST_F(Products, CancelInAProductStageLeavesNothing) {
   for (const char* at : {"dem", "contour_lines"}) {
     SCOPED_TRACE(at);
