@@ -103,6 +103,9 @@ void log_summary(const pipeline::BuildOptions& options, const pipeline::BuildRep
   spdlog::info(t);
   const std::string format = r.output_format == "obj"       ? "OBJ"
                              : r.output_format == "geojson" ? "GeoJSON"
+                             : r.output_format == "landxml" ? "LandXML"
+                             : r.output_format == "gpkg"    ? "GeoPackage"
+                             : r.output_format == "stl"     ? "STL"
                              : options.write.ply_ascii      ? "PLY ASCII"
                                                             : "PLY binary";
   std::string w = "wrote " + r.output + " (" + format + ", " + bytes(r.output_bytes) + ", " +
@@ -114,6 +117,20 @@ void log_summary(const pipeline::BuildOptions& options, const pipeline::BuildRep
     w += buf;
   }
   spdlog::info(w + ")");
+  const auto size_of = [&r](const std::string& path) {
+    for (const pipeline::BuildReport::Output& o : r.outputs)
+      if (o.path == path) return bytes(o.bytes);
+    return std::string("?");
+  };
+  if (!r.dem.path.empty())
+    spdlog::info("wrote {} (COG {}, {} x {} cells of {}, {}; rasterize {}, write {})", r.dem.path,
+                 r.dem.type, r.dem.width, r.dem.height, r.dem.resolution, size_of(r.dem.path),
+                 secs(r.dem.rasterize_s), secs(r.dem.write_s));
+  if (!r.contour_lines.path.empty())
+    spdlog::info("wrote {} ({}, {} lines on {} levels, {}; trace {}, write {})",
+                 r.contour_lines.path, r.contour_lines.driver, count(r.contour_lines.lines),
+                 count(r.contour_lines.levels), size_of(r.contour_lines.path),
+                 secs(r.contour_lines.trace_s), secs(r.contour_lines.write_s));
   if (!r.constraints_out.empty()) spdlog::info("wrote {}", r.constraints_out);
   if (!r.diagnostics.empty()) spdlog::info("wrote {}", r.diagnostics);
   if (!options.stats_path.empty()) spdlog::info("wrote {}", options.stats_path);

@@ -83,6 +83,7 @@ struct BuildOptions {
     bool offset_auto = false;             // --offset auto: the data's min corner, rounded down
                                           // to 1000
     std::string target_srs;               // --t-srs (GeoJSON only), as the user gave it
+    bool gpkg_tin = false;                // --gpkg-tin: GeoPackage TIN Z instead of POLYGON Z
   } write;
   std::string stats_path;  // --stats FILE.json
   // --constraints-out FILE.geojson: every constrained edge of the written TIN with its source
@@ -119,7 +120,9 @@ struct CheckedOptions {
 
 // Every rule that involves more than one option, or a value no single option can check: some
 // input, the output format, GeoJSON for --t-srs, the extensions of --constraints-out and
-// --diagnostics, --fix-flats with contours, exclusive options, readable --a-srs / --t-srs.
+// --diagnostics, --fix-flats with contours, exclusive options, readable --a-srs / --t-srs, no
+// offset for LandXML and GeoPackage, each product's settings only with the product and the ones
+// it needs.
 // Throws UsageError naming the option. Cheap (no input is read); build() runs it first, and a
 // command line runs it before anything else to tell a usage error from a failed job.
 CheckedOptions check_options(const BuildOptions& options);

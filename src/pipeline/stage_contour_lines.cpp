@@ -23,8 +23,10 @@ void run(Job& job) {
   auto t0 = std::chrono::steady_clock::now();
   products::ContourSet set;
   try {
-    set = products::trace_contours(
-        job.tin(), {.interval = o.interval, .base = o.base, .progress = job.stage_progress()});
+    set = products::trace_contours(job.tin(), {.interval = o.interval,
+                                               .base = o.base,
+                                               .threads = job.options.threads,
+                                               .progress = job.stage_progress()});
   } catch (const Cancelled&) {
     throw;
   } catch (const Error& e) {
@@ -61,14 +63,10 @@ void run(Job& job) {
            " levels");
 }
 
-// Also refuses the settings the tracer would refuse at the end: this runs before any work. A
-// shapefile's .shx, .dbf and .prj are planned with it, so that an existing one stops the job
-// now.
+// A shapefile's .shx, .dbf and .prj are planned with it, so that an existing one stops the job
+// before any work.
 void plan(const BuildOptions& o, FilePlan& files) {
   const BuildOptions::ContourLines& c = o.contour_lines;
-  if (!(c.interval > 0) || !std::isfinite(c.interval))
-    throw OutputError(c.path, "", "contour lines need an interval > 0 (--interval)");
-  if (!std::isfinite(c.base)) throw OutputError(c.path, "", "the contour base is not a number");
   files.outputs.push_back({c.path, "the contour lines (--contour-lines)"});
   std::filesystem::path p(c.path);
   std::string ext = p.extension().string();

@@ -43,8 +43,9 @@ void rasterize_and_write(Job& job, const products::Grid& grid, io::OutputFile& o
                           "or a smaller --dem-extent)");
   auto t0 = std::chrono::steady_clock::now();
   std::vector<T> cells(grid.cells());
-  const products::RasterizeStats stats = products::rasterize<T>(
-      job.tin(), grid, static_cast<T>(o.nodata), cells, {.progress = job.stage_progress()});
+  const products::RasterizeStats stats =
+      products::rasterize<T>(job.tin(), grid, static_cast<T>(o.nodata), cells,
+                             {.threads = job.options.threads, .progress = job.stage_progress()});
   r.cells_with_value = stats.cells_with_value;
   r.rasterize_s = seconds_since(t0);
   t0 = std::chrono::steady_clock::now();
@@ -52,6 +53,7 @@ void rasterize_and_write(Job& job, const products::Grid& grid, io::OutputFile& o
   w.nodata = o.nodata;
   w.crs_wkt = job.crs_wkt;
   w.creation_options = o.creation_options;
+  w.threads = job.options.threads;
   w.progress = job.stage_progress();
   io::write_dem(out, grid, std::span<const T>(cells), w);
   job.finish_output(out);
@@ -84,18 +86,7 @@ void run(Job& job) {
            std::to_string(r.cells_with_value) + " with a value");
 }
 
-// Also refuses the settings the writer would refuse at the end: this runs before any work.
 void plan(const BuildOptions& o, FilePlan& files) {
-  if (!(o.dem.resolution > 0) || !std::isfinite(o.dem.resolution))
-    throw OutputError(o.dem.path, "", "the DEM needs a resolution > 0 (--resolution)");
-  const double nodata = o.dem.nodata;
-  const bool fits_float =
-      std::isnan(nodata) || (std::fabs(nodata) <= 3.4028234663852886e38 &&
-                             static_cast<double>(static_cast<float>(nodata)) == nodata);
-  if (!o.dem.float64 && !fits_float)
-    throw OutputError(o.dem.path, "",
-                      "the nodata value cannot be stored in Float32 cells (use --dem-type "
-                      "Float64 or another --dem-nodata)");
   files.outputs.push_back({o.dem.path, "the DEM (--dem)"});
 }
 
