@@ -30,8 +30,9 @@ TEST(Stages, OneTableInTheDocumentedOrder) {
   }
   EXPECT_EQ(names, (std::vector<std::string>{"read", "delaunay", "constraints", "surface",
                                              "simplify", "flats", "replace", "trim", "clip",
-                                             "erase", "validate", "quality", "write",
-                                             "constraint_lines", "diagnostics", "stats"}));
+                                             "erase", "validate", "quality", "write", "dem",
+                                             "contour_lines", "constraint_lines", "diagnostics",
+                                             "stats"}));
 }
 
 BuildOptions options_with(const std::string& dir) {
