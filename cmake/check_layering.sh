@@ -2,21 +2,23 @@
 # Checks the module layering of src/ (docs: ../shared/docs/DESIGN.md, "Layout").
 #
 # Every #include "X/..." in src/M/ must name a module X upstream of M or M itself, in the order
-#   core < predicates < mesh < delaunay < constraints < terrain < simplify < io < pipeline
-# except that io may include only core and mesh (and io). apps/ and tests/ may include anything.
+#   core < predicates < mesh < delaunay < constraints < terrain < simplify < products < io < pipeline
+# except that io may include only core, mesh and products (and io). apps/ and tests/ may
+# include anything.
 # Also from DESIGN.md: GDAL headers only in src/io, no CLI11 anywhere in src/ (only apps/ sees
 # it), no spdlog in core or the algorithm modules, and no "../" includes that dodge the rules.
 # Prints every offending line as FILE:LINE: ... and fails if there is one.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
-order=(core predicates mesh delaunay constraints terrain simplify io pipeline)
+order=(core predicates mesh delaunay constraints terrain simplify products io pipeline)
 declare -A allowed
 for ((i = 0; i < ${#order[@]}; ++i)); do
   allowed[${order[i]}]="${order[*]:0:i+1}"  # upstream of or equal to
 done
-allowed[io]="core mesh io"
-no_spdlog="core predicates mesh delaunay constraints terrain simplify"
+allowed[io]="core mesh products io"
+allowed[products]="core predicates mesh products"
+no_spdlog="core predicates mesh delaunay constraints terrain simplify products"
 
 is_in() {  # is_in WORD "LIST"
   [[ " $2 " == *" $1 "* ]]
@@ -72,7 +74,7 @@ done
 
 if ((violations)); then
   echo
-  echo "check_layering.sh: $violations violation(s) in src/ (order: ${order[*]}; io: core mesh)"
+  echo "check_layering.sh: $violations violation(s) in src/ (order: ${order[*]}; io: core mesh products)"
   exit 1
 fi
 echo "check_layering.sh: $files files in src/ follow the layering (${order[*]})"

@@ -14,6 +14,7 @@ packages=(
   libgtest-dev libgmock-dev             # tests
   libbenchmark-dev                      # benchmarks
   clang-format                          # format check
+  libxml2-utils                         # xmllint: the LandXML test validates against the schema
 )
 packages+=("$@")
 

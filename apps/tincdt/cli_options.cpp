@@ -101,6 +101,9 @@ constexpr const char* kFooter = R"(Examples:
     tincdt --contours contours.shp --fix-flats -o tin.ply --stats qa.json
   A 10 cm TIN for a web viewer, every contour kept:
     tincdt tile.las --keep-class 2 --contours contours.shp --max-error 0.1 -o web.ply
+  LandXML for civil design, a 1 m DEM on the 1 m grid and 2 m contours, one run:
+    tincdt tile.las --keep-class 2 -o surface.xml --dem dem.tif --resolution 1 --tap
+           --contour-lines contours.gpkg --interval 2
   On one core of a shared machine:
     tincdt big.las -o big.ply --threads 1
 
@@ -116,7 +119,8 @@ Order of the stages (and precedence where features overlap):
   6. --clip: triangles outside every clip polygon are removed
   7. --erase: triangles inside an erase polygon are removed (erase wins over
      clip; replaced vertices inside an erase polygon go with their triangles)
-  8. --validate, then the outputs: all of them are written, or none
+  8. --validate, then the outputs (the TIN, then --dem and --contour-lines from
+     it): all of them are written, or none
 
 Exit status: 0 success, 1 input, output or runtime error, 2 usage error,
 3 internal error (a bug: please report it with the input).)";
@@ -301,22 +305,31 @@ void terrain_options(CLI::App& app, BuildOptions& o) {
 
 void output_options(CLI::App& app, BuildOptions& o) {
   Group g(app, "Output (written together at the end: all of them, or none)");
-  g.option("-o,--output", o.output, "The TIN file: .obj, .ply, .geojson or .json", "FILE")
+  g.option("-o,--output", o.output,
+           "The TIN file: .obj, .ply, .geojson/.json, .xml/.landxml (LandXML),\n"
+           ".gpkg or .stl",
+           "FILE")
       ->required();
   g.parsed(
        "-f,--format",
        [&o](const std::string& v) {
          const std::string f = lower(v);
-         o.write.format = f == "obj"   ? io::TinFormat::obj
-                          : f == "ply" ? io::TinFormat::ply
-                                       : io::TinFormat::geojson;
+         o.write.format = f == "obj"       ? io::TinFormat::obj
+                          : f == "ply"     ? io::TinFormat::ply
+                          : f == "landxml" ? io::TinFormat::landxml
+                          : f == "gpkg"    ? io::TinFormat::gpkg
+                          : f == "stl"     ? io::TinFormat::stl
+                                           : io::TinFormat::geojson;
        },
-       "Output format, overriding the extension", "obj|ply|geojson")
-      ->check(CLI::IsMember({"obj", "ply", "geojson"}, CLI::ignore_case).description(""));
+       "Output format, overriding the extension", "obj|ply|geojson|landxml|gpkg|stl")
+      ->check(CLI::IsMember({"obj", "ply", "geojson", "landxml", "gpkg", "stl"}, CLI::ignore_case)
+                  .description(""));
   g.flag("--overwrite", o.write.overwrite,
          "Replace existing outputs (TIN, stats, lines, diagnostics);\n"
          "never an input, nor a file that belongs to one");
   g.flag("--ply-ascii", o.write.ply_ascii, "Write PLY as text instead of binary");
+  g.flag("--gpkg-tin", o.write.gpkg_tin,
+         "GeoPackage: TIN Z features instead of POLYGON Z (not every GIS reads them)");
   g.parsed(
       "--offset", [&o](const std::string& v) { parse_offset(v, o.write); },
       "Subtract X,Y,Z from written coordinates (recorded in the file);\n"
@@ -334,6 +347,80 @@ void output_options(CLI::App& app, BuildOptions& o) {
            "FILE.gpkg");
   g.option("--stats", o.stats_path, "Write counts, quality, timings and memory as JSON",
            "FILE.json");
+}
+
+// A number > 0, or any finite number.
+CLI::Validator number_check(bool positive) {
+  return CLI::Validator(
+      [positive](std::string& v) {
+        const auto d = parse_double(v);
+        if (d && (!positive || *d > 0)) return std::string();
+        return "'" + v + "' is not " + (positive ? "a number > 0" : "a number");
+      },
+      "");
+}
+
+void product_options(CLI::App& app, BuildOptions& o) {
+  const char* group = "Products (from the final TIN: after every step above)";
+  Group g(app, group);
+  g.option("--dem", o.dem.path,
+           "Rasterize the TIN to a Cloud-Optimized GeoTIFF: each cell centre gets\n"
+           "its triangle's linear interpolation, nodata outside (needs --resolution)",
+           "FILE.tif");
+  app.add_option("--resolution", o.dem.resolution, "DEM cell size, in the CRS's units")
+      ->check(number_check(true))
+      ->type_name("R")
+      ->group(group);
+  app.add_option_function<std::vector<double>>(
+         "--dem-extent",
+         [&o](const std::vector<double>& v) {
+           BBox box;
+           box.min_x = v[0];
+           box.min_y = v[1];
+           box.max_x = v[2];
+           box.max_y = v[3];
+           o.dem.extent = box;
+         },
+         "DEM extent (default: the TIN's)")
+      ->expected(4)
+      ->check(number_check(false))
+      ->type_name("XMIN YMIN XMAX YMAX")
+      ->group(group);
+  g.flag("--tap", o.dem.target_aligned,
+         "Snap the DEM extent out to multiples of the resolution (as gdalwarp -tap)");
+  g.parsed(
+       "--dem-nodata",
+       [&o](const std::string& v) {
+         o.dem.nodata = lower(v) == "nan" ? std::nan("") : *parse_double(v);
+       },
+       "Value of the DEM cells outside the TIN (or nan)", "V")
+      ->check(CLI::Validator(
+          [](std::string& v) {
+            return lower(v) == "nan" || parse_double(v) ? std::string()
+                                                        : "'" + v + "' is not a number";
+          },
+          ""))
+      ->default_str("-9999");
+  g.choice("--dem-type", o.dem.float64, "DEM cell type",
+           std::vector<std::pair<std::string, bool>>{{"float32", false}, {"float64", true}},
+           "float32");
+  g.repeated("--dem-co", o.dem.creation_options,
+             "A GDAL COG creation option over the defaults (DEFLATE level 1,\n"
+             "predictor, average overviews), e.g. COMPRESS=ZSTD",
+             "NAME=VALUE");
+  g.option("--contour-lines", o.contour_lines.path,
+           "Trace contour lines on the TIN into any OGR vector format, by\n"
+           "extension (.gpkg, .shp, .geojson, ...), with an elev field (needs --interval)",
+           "FILE");
+  app.add_option("--interval", o.contour_lines.interval, "Contour interval")
+      ->check(number_check(true))
+      ->type_name("I")
+      ->group(group);
+  app.add_option("--base", o.contour_lines.base, "Contour levels are BASE + k * interval")
+      ->check(number_check(false))
+      ->type_name("B")
+      ->default_str("0")
+      ->group(group);
 }
 
 void run_options(CLI::App& app, BuildOptions& o, Verbosity& v) {
@@ -373,6 +460,7 @@ void define_options(CLI::App& app, BuildOptions& options, Verbosity& verbosity) 
   simplify_options(app, options);
   terrain_options(app, options);
   output_options(app, options);
+  product_options(app, options);
   run_options(app, options, verbosity);
 }
 

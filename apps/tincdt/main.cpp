@@ -155,8 +155,9 @@ int build(const pipeline::BuildOptions& options, bool quiet) {
 int run(int argc, char** argv) {
   cli::setup_logging();
   CLI::App app("tincdt " TINCDT_VERSION
-               ": exact Delaunay TIN from LiDAR (LAS) and XYZ points, written as OBJ, PLY or "
-               "GeoJSON.",
+               ": exact constrained Delaunay TIN from LiDAR (LAS, LAZ) and XYZ points with "
+               "breaklines, as a mesh (OBJ, PLY, GeoJSON, LandXML, GeoPackage, STL), a DEM and "
+               "contour lines.",
                "tincdt");
   pipeline::BuildOptions options;
   cli::Verbosity verbosity;

@@ -103,6 +103,9 @@ void log_summary(const pipeline::BuildOptions& options, const pipeline::BuildRep
   spdlog::info(t);
   const std::string format = r.output_format == "obj"       ? "OBJ"
                              : r.output_format == "geojson" ? "GeoJSON"
+                             : r.output_format == "landxml" ? "LandXML"
+                             : r.output_format == "gpkg"    ? "GeoPackage"
+                             : r.output_format == "stl"     ? "STL"
                              : options.write.ply_ascii      ? "PLY ASCII"
                                                             : "PLY binary";
   std::string w = "wrote " + r.output + " (" + format + ", " + bytes(r.output_bytes) + ", " +
@@ -114,8 +117,20 @@ void log_summary(const pipeline::BuildOptions& options, const pipeline::BuildRep
     w += buf;
   }
   spdlog::info(w + ")");
-  for (const pipeline::BuildReport::Output& o : r.outputs)
-    if (o.kind != "tin" && o.kind != "prj") spdlog::info("wrote {}", o.path);
+  for (const pipeline::BuildReport::Output& o : r.outputs) {
+    if (o.kind == "dem") {
+      spdlog::info("wrote {} (COG {}, {} x {} cells of {}, {}; rasterize {}, write {})", o.path,
+                   r.dem.type, r.dem.width, r.dem.height, r.dem.resolution, bytes(o.bytes),
+                   secs(r.dem.rasterize_s), secs(r.dem.write_s));
+    } else if (o.kind == "contour_lines" && o.path == r.contour_lines.path) {
+      spdlog::info("wrote {} ({}, {} lines on {} levels, {}; trace {}, write {})", o.path,
+                   r.contour_lines.driver, count(r.contour_lines.lines),
+                   count(r.contour_lines.levels), bytes(o.bytes), secs(r.contour_lines.trace_s),
+                   secs(r.contour_lines.write_s));
+    } else if (o.kind != "tin" && o.kind != "prj" && o.kind != "contour_lines") {
+      spdlog::info("wrote {}", o.path);
+    }
+  }
   if (!options.stats_path.empty()) spdlog::info("wrote {}", options.stats_path);
 }
 

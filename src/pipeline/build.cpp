@@ -19,6 +19,12 @@ std::string_view format_name(io::TinFormat format) {
       return "ply";
     case io::TinFormat::geojson:
       return "geojson";
+    case io::TinFormat::landxml:
+      return "landxml";
+    case io::TinFormat::gpkg:
+      return "gpkg";
+    case io::TinFormat::stl:
+      return "stl";
   }
   return "?";
 }

@@ -35,6 +35,7 @@ Job::Job(const BuildOptions& job_options, const CheckedOptions& checked, const P
   write.overwrite = options.write.overwrite;
   write.offset = options.write.offset;
   write.target_crs_wkt = checked.target_crs_wkt;
+  write.ogr_tin = options.write.gpkg_tin;
   if (user_progress_)
     stage_progress_ = [this](std::string_view, double fraction) {
       return (*user_progress_)(stage_, fraction);

@@ -66,7 +66,8 @@ io::TinFormat check_outputs(const BuildOptions& o) {
     try {
       format = io::format_from_path(o.output);
     } catch (const Error& e) {
-      throw UsageError(e.file(), e.where(), e.detail() + "; use -f obj|ply|geojson");
+      throw UsageError(e.file(), e.where(),
+                       e.detail() + "; use -f obj|ply|geojson|landxml|gpkg|stl");
     }
   }
   if (!o.write.target_srs.empty() && format != io::TinFormat::geojson)
@@ -74,6 +75,9 @@ io::TinFormat check_outputs(const BuildOptions& o) {
   const Point3& d = o.write.offset;
   if (!std::isfinite(d.x) || !std::isfinite(d.y) || !std::isfinite(d.z))
     throw UsageError("--offset: every coordinate must be a finite number");
+  if (!io::format_takes_offset(format) && (o.write.offset_auto || d.x != 0 || d.y != 0 || d.z != 0))
+    throw UsageError("--offset: " + std::string(format_name(format)) +
+                     " output keeps real coordinates (LandXML and GeoPackage have no offset)");
   if (!o.constraints_out.empty()) {
     const std::string ext = lower_extension(o.constraints_out);
     if (ext != ".geojson" && ext != ".json")
@@ -86,12 +90,47 @@ io::TinFormat check_outputs(const BuildOptions& o) {
   return format;
 }
 
+// --dem and --contour-lines: their settings only with them, and the ones each needs.
+void check_products(const BuildOptions& o) {
+  const BuildOptions::Dem& dem = o.dem;
+  const bool dem_settings = dem.resolution != 0 || dem.extent || dem.target_aligned ||
+                            !(dem.nodata == -9999) || dem.float64 || !dem.creation_options.empty();
+  if (dem.path.empty() && dem_settings)
+    throw UsageError(
+        "--resolution, --dem-extent, --tap, --dem-nodata, --dem-type and --dem-co need --dem");
+  if (!dem.path.empty()) {
+    if (!(dem.resolution > 0) || !std::isfinite(dem.resolution))
+      throw UsageError("--dem needs --resolution, a cell size > 0");
+    if (dem.extent &&
+        (!(dem.extent->min_x < dem.extent->max_x) || !(dem.extent->min_y < dem.extent->max_y)))
+      throw UsageError("--dem-extent: give XMIN YMIN XMAX YMAX with XMIN < XMAX, YMIN < YMAX");
+    const double v = dem.nodata;
+    const bool fits_float = std::isnan(v) || (std::fabs(v) <= 3.4028234663852886e38 &&
+                                              static_cast<double>(static_cast<float>(v)) == v);
+    if (!dem.float64 && !fits_float)
+      throw UsageError("--dem-nodata: " + std::to_string(v) +
+                       " cannot be stored in Float32 cells (use --dem-type Float64)");
+    for (const std::string& co : dem.creation_options)
+      if (co.find('=') == std::string::npos || co.front() == '=')
+        throw UsageError("--dem-co: '" + co + "' is not NAME=VALUE");
+  }
+  const BuildOptions::ContourLines& c = o.contour_lines;
+  if (c.path.empty() && (c.interval != 0 || c.base != 0))
+    throw UsageError("--interval and --base need --contour-lines");
+  if (!c.path.empty()) {
+    if (!(c.interval > 0) || !std::isfinite(c.interval))
+      throw UsageError("--contour-lines needs --interval, an interval > 0");
+    if (!std::isfinite(c.base)) throw UsageError("--base: not a finite number");
+  }
+}
+
 }  // namespace
 
 CheckedOptions check_options(const BuildOptions& options) {
   check_inputs(options);
   check_simplify(options);
   check_terrain(options);
+  check_products(options);
   CheckedOptions checked;
   checked.format = check_outputs(options);
   checked.assign_crs_wkt = srs_option(options.assign_srs, "--a-srs");
@@ -99,6 +138,9 @@ CheckedOptions check_options(const BuildOptions& options) {
   if (options.write.ply_ascii && checked.format != io::TinFormat::ply)
     checked.warnings.push_back("--ply-ascii is ignored: the output is " +
                                std::string(format_name(checked.format)) + ", not PLY");
+  if (options.write.gpkg_tin && checked.format != io::TinFormat::gpkg)
+    checked.warnings.push_back("--gpkg-tin is ignored: the output is " +
+                               std::string(format_name(checked.format)) + ", not GeoPackage");
   const Point3& offset = options.write.offset;
   if (!checked.target_crs_wkt.empty() &&
       (options.write.offset_auto || offset.x != 0 || offset.y != 0 || offset.z != 0))

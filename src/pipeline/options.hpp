@@ -83,6 +83,7 @@ struct BuildOptions {
     bool offset_auto = false;             // --offset auto: the data's min corner, rounded down
                                           // to 1000
     std::string target_srs;               // --t-srs (GeoJSON only), as the user gave it
+    bool gpkg_tin = false;                // --gpkg-tin: GeoPackage TIN Z instead of POLYGON Z
   } write;
   std::string stats_path;  // --stats FILE.json
   // --constraints-out FILE.geojson: every constrained edge of the written TIN with its source
@@ -90,6 +91,23 @@ struct BuildOptions {
   std::string constraints_out;
   // --diagnostics FILE.gpkg: crossings, skipped segments and dropped features as GIS layers.
   std::string diagnostics;
+
+  // ---- products, each made from the final TIN (after every stage that edits it) ---------
+  struct Dem {
+    std::string path;             // --dem FILE.tif: a Cloud-Optimized GeoTIFF; "" = none
+    double resolution = 0;        // --resolution: cell size (> 0), in the CRS's units
+    std::optional<BBox> extent;   // --dem-extent; default: the kept triangles' extent
+    bool target_aligned = false;  // --tap: extent snapped out to multiples of the resolution
+    double nodata = -9999;        // --dem-nodata
+    bool float64 = false;         // --dem-type Float64 (default Float32)
+    std::vector<std::string> creation_options;  // --dem-co NAME=VALUE: GDAL COG options
+  } dem;
+  struct ContourLines {
+    std::string path;     // --contour-lines FILE (any OGR vector format); "" = none
+    std::string format;   // GDAL driver name; "" = from the extension
+    double interval = 0;  // --interval (> 0)
+    double base = 0;      // --base: levels are base + k * interval
+  } contour_lines;
 };
 
 // What check_options() found, resolved for the job.
@@ -102,7 +120,9 @@ struct CheckedOptions {
 
 // Every rule that involves more than one option, or a value no single option can check: some
 // input, the output format, GeoJSON for --t-srs, the extensions of --constraints-out and
-// --diagnostics, --fix-flats with contours, exclusive options, readable --a-srs / --t-srs.
+// --diagnostics, --fix-flats with contours, exclusive options, readable --a-srs / --t-srs, no
+// offset for LandXML and GeoPackage, each product's settings only with the product and the ones
+// it needs.
 // Throws UsageError naming the option. Cheap (no input is read); build() runs it first, and a
 // command line runs it before anything else to tell a usage error from a failed job.
 CheckedOptions check_options(const BuildOptions& options);

@@ -285,6 +285,43 @@ void put_outputs(JsonWriter& j, const BuildReport& r) {
   j.end_array();
 }
 
+// The products asked for: what each holds and its time; null when not asked for.
+void put_products(JsonWriter& j, const BuildReport& r) {
+  if (r.dem.path.empty()) {
+    j.null_field("dem");
+  } else {
+    const BuildReport::Dem& d = r.dem;
+    j.begin_object("dem")
+        .field("path", d.path)
+        .field("type", d.type)
+        .field("width", std::uint64_t{d.width})
+        .field("height", std::uint64_t{d.height})
+        .field("resolution", d.resolution)
+        .field("min_x", d.min_x)
+        .field("max_y", d.max_y)
+        .field("cells_with_value", d.cells_with_value)
+        .field("rasterize_s", d.rasterize_s)
+        .field("write_s", d.write_s)
+        .end_object();
+  }
+  if (r.contour_lines.path.empty()) {
+    j.null_field("contour_lines");
+  } else {
+    const BuildReport::ContourLines& c = r.contour_lines;
+    j.begin_object("contour_lines")
+        .field("path", c.path)
+        .field("driver", c.driver)
+        .field("levels", c.levels)
+        .field("lines", c.lines)
+        .field("closed", c.closed)
+        .field("points", c.points)
+        .field("length", c.length)
+        .field("trace_s", c.trace_s)
+        .field("write_s", c.write_s)
+        .end_object();
+  }
+}
+
 }  // namespace
 
 std::string BuildReport::to_json() const {
@@ -339,6 +376,7 @@ std::string BuildReport::to_json() const {
   j.field("crs", crs);
   j.field("crs_wkt", crs_wkt);
   put_outputs(j, *this);
+  put_products(j, *this);
   j.begin_array("offset").value(offset.x).value(offset.y).value(offset.z).end_array();
   put_inputs(j, inputs);
   j.end_object();

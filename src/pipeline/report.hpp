@@ -109,6 +109,23 @@ struct BuildReport {
   std::vector<Output> outputs;
   // The path of the output of KIND, "" when none was written.
   std::string output_of(std::string_view kind) const;
+  // Products (each also in `outputs` with its size, and in `stages` with its time).
+  struct Dem {
+    std::string path;  // "" when not asked for
+    std::string type;  // "Float32", "Float64"
+    std::uint32_t width = 0, height = 0;
+    double resolution = 0;
+    double min_x = 0, max_y = 0;  // top-left corner
+    std::uint64_t cells_with_value = 0;
+    double rasterize_s = 0, write_s = 0;
+  } dem;
+  struct ContourLines {
+    std::string path;    // "" when not asked for
+    std::string driver;  // GDAL's name of the format
+    std::uint64_t levels = 0, lines = 0, closed = 0, points = 0;
+    double length = 0;  // total, in the CRS's units
+    double trace_s = 0, write_s = 0;
+  } contour_lines;
   Point3 offset{0, 0, 0};     // subtracted from the written coordinates
   std::vector<Input> inputs;  // point files first, then vector sources in the order read
 

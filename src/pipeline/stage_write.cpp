@@ -48,6 +48,10 @@ void run(Job& job) {
   report.triangles = tin.triangle_count();
   report.constraints = kept_constraints(tin);
 
+  if (job.write.format == io::TinFormat::stl) {
+    const std::string warning = io::stl_precision_warning(tin, job.write.offset);
+    if (!warning.empty()) job.warn(warning);
+  }
   io::TinWriteStats ws;
   const io::OutputFile& out = job.write_output(
       job.options.output, "tin", [&](io::OutputFile& f) { ws = io::write_tin(f, tin, job.write); });

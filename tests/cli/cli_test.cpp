@@ -294,7 +294,7 @@ TEST_F(Cli, BadOptionValuesAreUsageErrors) {
       {{"--drop-class", "-1"}, "--drop-class"},
       {{"--keep-class", "2", "--drop-class", "2"}, "both"},
       {{"--on-duplicate", "median"}, "--on-duplicate"},
-      {{"-f", "stl"}, "--format"},
+      {{"-f", "dwg"}, "--format"},
       {{"--first-only", "--last-only"}, "exclude each other"},
       {{"-q", "-v"}, "exclude each other"},
       {{"--t-srs", "EPSG:4326"}, "GeoJSON"},  // OBJ output
@@ -309,8 +309,8 @@ TEST_F(Cli, BadOptionValuesAreUsageErrors) {
 
 TEST_F(Cli, UnknownOutputExtensionIsUsageError) {
   spit(s.path("a.xyz"), grid_xyz());
-  const Outcome r = s.run({s.path("a.xyz"), "-o", s.path("t.stl")});
-  expect_failure(r, 2, "t.stl", "format", s, {"a.xyz"});
+  const Outcome r = s.run({s.path("a.xyz"), "-o", s.path("t.dwg")});
+  expect_failure(r, 2, "t.dwg", "format", s, {"a.xyz"});
 }
 
 TEST_F(Cli, NegativeOffsetIsAValueNotAnOption) {

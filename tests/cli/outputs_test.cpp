@@ -170,20 +170,42 @@ class FullJob : public InScratch {
 
   // Every stage of the pipeline wanted; every output asked for.
   static std::vector<std::string> args(const std::string& max_edge = "30") {
-    return {"pts.xyz",          "--a-srs",
-            "EPSG:32633",       "--contours",
-            "contours.geojson", "--soft-lines",
-            "soft.geojson",     "--clip",
-            "clip.geojson",     "--erase",
-            "hole.geojson",     "--replace",
-            "pad.geojson",      "--fix-flats",
-            "--max-edge",       max_edge,
-            "--validate",       "-o",
-            "tin.ply",          "--stats",
-            "s.json",           "--constraints-out",
-            "c.geojson",        "--diagnostics",
-            "d.gpkg",           "--overwrite",
-            "--max-error",      "0"};
+    return {"pts.xyz",
+            "--a-srs",
+            "EPSG:32633",
+            "--contours",
+            "contours.geojson",
+            "--soft-lines",
+            "soft.geojson",
+            "--clip",
+            "clip.geojson",
+            "--erase",
+            "hole.geojson",
+            "--replace",
+            "pad.geojson",
+            "--fix-flats",
+            "--max-edge",
+            max_edge,
+            "--validate",
+            "-o",
+            "tin.ply",
+            "--stats",
+            "s.json",
+            "--constraints-out",
+            "c.geojson",
+            "--diagnostics",
+            "d.gpkg",
+            "--overwrite",
+            "--max-error",
+            "0",
+            "--dem",
+            "dem.tif",
+            "--resolution",
+            "10",
+            "--contour-lines",
+            "lines.geojson",
+            "--interval",
+            "5"};
   }
 };
 
@@ -201,7 +223,7 @@ TEST_F(FullJob, WantsEveryStage) {
   EXPECT_EQ(names_in(dir_),
             (std::set<std::string>{"pts.xyz", "contours.geojson", "soft.geojson", "clip.geojson",
                                    "hole.geojson", "pad.geojson", "tin.ply", "tin.prj", "s.json",
-                                   "c.geojson", "d.gpkg"}));
+                                   "c.geojson", "d.gpkg", "dem.tif", "lines.geojson"}));
 }
 
 // A Ctrl-C (or kill) at the start of any stage, or just before the outputs move into place: the

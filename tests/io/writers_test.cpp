@@ -287,11 +287,11 @@ TEST(FormatFromPath, KnowsTheExtensionsWhateverTheirCase) {
 
 TEST(FormatFromPath, UnknownExtensionNamesThePathAndTheKnownOnes) {
   try {
-    format_from_path("out/tin.stl");
+    format_from_path("out/tin.dxf");
     FAIL() << "no exception";
   } catch (const OutputError& e) {
-    EXPECT_EQ(e.file(), "out/tin.stl");
-    EXPECT_NE(e.detail().find(".stl"), std::string::npos) << e.what();
+    EXPECT_EQ(e.file(), "out/tin.dxf");
+    EXPECT_NE(e.detail().find(".dxf"), std::string::npos) << e.what();
     EXPECT_NE(e.detail().find(".obj"), std::string::npos) << e.what();
     EXPECT_NE(e.detail().find(".ply"), std::string::npos) << e.what();
     EXPECT_NE(e.detail().find(".geojson"), std::string::npos) << e.what();

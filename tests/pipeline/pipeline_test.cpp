@@ -244,7 +244,7 @@ TEST_F(Pipeline, ExistingOutputFailsBeforeReading) {
 TEST_F(Pipeline, UnknownFormatFailsBeforeReading) {
   pipeline::BuildOptions o;
   o.inputs = {path("does_not_exist.xyz")};
-  o.output = path("t.stl");
+  o.output = path("t.dwg");
   EXPECT_THROW(pipeline::build(o), UsageError);
 }
 

@@ -28,10 +28,10 @@ TEST(Stages, OneTableInTheDocumentedOrder) {
     EXPECT_NE(s->wanted, nullptr) << s->name;
     EXPECT_NE(s->run, nullptr) << s->name;
   }
-  EXPECT_EQ(names, (std::vector<std::string>{"read", "delaunay", "constraints", "surface",
-                                             "simplify", "flats", "replace", "trim", "clip",
-                                             "erase", "validate", "quality", "write",
-                                             "constraint_lines", "diagnostics", "stats"}));
+  EXPECT_EQ(names, (std::vector<std::string>{
+                       "read", "delaunay", "constraints", "surface", "simplify", "flats", "replace",
+                       "trim", "clip", "erase", "validate", "quality", "write", "dem",
+                       "contour_lines", "constraint_lines", "diagnostics", "stats"}));
 }
 
 BuildOptions options_with(const std::string& dir) {
@@ -149,7 +149,7 @@ TEST(CheckOptions, EachRuleNamesItsOptions) {
       {[](BuildOptions& o) { o.fix_flats = true; }, "--fix-flats needs --contours"},
       {[](BuildOptions& o) { o.max_edge = -1; }, "--max-edge"},
       {[](BuildOptions& o) { o.output.clear(); }, "-o"},
-      {[](BuildOptions& o) { o.output = "t.stl"; }, "t.stl"},
+      {[](BuildOptions& o) { o.output = "t.dwg"; }, "t.dwg"},
       {[](BuildOptions& o) { o.write.target_srs = "EPSG:4326"; }, "--t-srs needs GeoJSON"},
       {[](BuildOptions& o) {
          o.output = "t.geojson";

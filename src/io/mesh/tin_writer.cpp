@@ -48,7 +48,13 @@ std::string prj_path(const std::string& path) {
 }
 
 bool wants_prj(TinFormat format, const std::string& crs_wkt) {
-  return format != TinFormat::geojson && !crs_wkt.empty();
+  const bool has_no_crs_of_its_own =
+      format == TinFormat::obj || format == TinFormat::ply || format == TinFormat::stl;
+  return has_no_crs_of_its_own && !crs_wkt.empty();
+}
+
+bool format_takes_offset(TinFormat format) {
+  return format != TinFormat::landxml && format != TinFormat::gpkg;
 }
 
 void write_prj(OutputFile& out, const std::string& crs_wkt) {
@@ -67,7 +73,10 @@ TinFormat format_from_path(const std::string& path) {
   if (ext == ".obj") return TinFormat::obj;
   if (ext == ".ply") return TinFormat::ply;
   if (ext == ".geojson" || ext == ".json") return TinFormat::geojson;
-  const std::string known = "known: .obj, .ply, .geojson, .json";
+  if (ext == ".xml" || ext == ".landxml") return TinFormat::landxml;
+  if (ext == ".gpkg") return TinFormat::gpkg;
+  if (ext == ".stl") return TinFormat::stl;
+  const std::string known = "known: .obj, .ply, .geojson, .json, .xml, .landxml, .gpkg, .stl";
   if (ext.empty())
     throw OutputError(path, "", "no extension to tell the output format (" + known + ")");
   throw OutputError(path, "", "unknown output format '" + ext + "' (" + known + ")");
@@ -76,6 +85,9 @@ TinFormat format_from_path(const std::string& path) {
 namespace {
 
 void check_reprojection(const std::string& path, TinFormat format, const TinWriteOptions& options) {
+  if (!format_takes_offset(format) && !detail::is_zero(options.offset))
+    throw OutputError(path, "",
+                      "LandXML and GeoPackage keep real coordinates: an offset cannot be applied");
   if (options.target_crs_wkt.empty()) return;
   if (format != TinFormat::geojson)
     throw OutputError(path, "", "reprojection is only supported for GeoJSON output");
@@ -100,6 +112,15 @@ TinWriteStats write_tin(OutputFile& out, const mesh::Triangulation& tin,
       break;
     case TinFormat::geojson:
       stats = detail::write_geojson(out, tin, options);
+      break;
+    case TinFormat::landxml:
+      stats = detail::write_landxml(out, tin, options);
+      break;
+    case TinFormat::gpkg:
+      stats = detail::write_gpkg(out, tin, options);
+      break;
+    case TinFormat::stl:
+      stats = detail::write_stl(out, tin, options);
       break;
   }
   return stats;

@@ -255,5 +255,12 @@ TinWriteStats write_ply(OutputFile& out, const mesh::Triangulation& tin,
                         const TinWriteOptions& options);
 TinWriteStats write_geojson(OutputFile& out, const mesh::Triangulation& tin,
                             const TinWriteOptions& options);
+TinWriteStats write_landxml(OutputFile& out, const mesh::Triangulation& tin,
+                            const TinWriteOptions& options);
+TinWriteStats write_stl(OutputFile& out, const mesh::Triangulation& tin,
+                        const TinWriteOptions& options);
+// GDAL creates the GeoPackage itself, at out.take_path().
+TinWriteStats write_gpkg(OutputFile& out, const mesh::Triangulation& tin,
+                         const TinWriteOptions& options);
 
 }  // namespace tincdt::io::detail

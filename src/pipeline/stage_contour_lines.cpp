@@ -1,0 +1,84 @@
+// contour_lines: --contour-lines, contours traced on the final TIN (products::trace_contours)
+// and written through OGR with the TIN's CRS; a shapefile's other files are outputs too.
+#include <cmath>
+#include <filesystem>
+#include <vector>
+
+#include "core/error.hpp"
+#include "io/vector/contour_writer.hpp"
+#include "pipeline/stage.hpp"
+#include "products/contours.hpp"
+
+namespace tincdt::pipeline {
+namespace {
+
+bool wanted(const BuildOptions& o) {
+  return !o.contour_lines.path.empty();
+}
+
+void run(Job& job) {
+  const BuildOptions::ContourLines& o = job.options.contour_lines;
+  BuildReport::ContourLines& r = job.report.contour_lines;
+  r.path = o.path;
+  auto t0 = std::chrono::steady_clock::now();
+  products::ContourSet set;
+  try {
+    set = products::trace_contours(job.tin(), {.interval = o.interval,
+                                               .base = o.base,
+                                               .threads = job.options.threads,
+                                               .progress = job.stage_progress()});
+  } catch (const Cancelled&) {
+    throw;
+  } catch (const Error& e) {
+    throw OutputError(o.path, "", e.detail());
+  }
+  r.trace_s = seconds_since(t0);
+  r.levels = set.levels;
+  r.lines = set.lines.size();
+  r.points = set.points.size();
+  for (const products::ContourLine& line : set.lines) {
+    r.closed += line.closed ? 1 : 0;
+    for (std::size_t i = line.first + 1; i < line.first + line.count; ++i)
+      r.length +=
+          std::hypot(set.points[i].x - set.points[i - 1].x, set.points[i].y - set.points[i - 1].y);
+  }
+
+  t0 = std::chrono::steady_clock::now();
+  io::ContourWriteOptions w;
+  w.format = o.format;
+  w.crs_wkt = job.crs_wkt;
+  w.progress = job.stage_progress();
+  io::OutputFile& out = job.add_output(o.path, "contour_lines");
+  std::vector<io::OutputFile*> siblings;
+  const io::ContourWriteStats stats =
+      io::write_contours(out, set, w, [&](const std::string& path) -> io::OutputFile& {
+        siblings.push_back(&job.add_output(path, "contour_lines"));
+        return *siblings.back();
+      });
+  job.finish_output(out);
+  for (io::OutputFile* s : siblings) job.finish_output(*s);
+  r.driver = stats.driver;
+  r.write_s = seconds_since(t0);
+  job.info("contour lines: " + std::to_string(r.lines) + " lines on " + std::to_string(r.levels) +
+           " levels");
+}
+
+// A shapefile's .shx, .dbf and .prj are planned with it, so that an existing one stops the job
+// before any work.
+void plan(const BuildOptions& o, FilePlan& files) {
+  const BuildOptions::ContourLines& c = o.contour_lines;
+  files.outputs.push_back({c.path, "the contour lines (--contour-lines)"});
+  std::filesystem::path p(c.path);
+  std::string ext = p.extension().string();
+  for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  if (ext == ".shp" && c.format.empty())
+    for (const char* sibling : {".shx", ".dbf", ".prj"})
+      files.outputs.push_back({std::filesystem::path(c.path).replace_extension(sibling).string(),
+                               "a file of the contour lines' shapefile (--contour-lines)"});
+}
+
+}  // namespace
+
+extern const Stage contour_lines_stage{"contour_lines", "contours", wanted, run, plan};
+
+}  // namespace tincdt::pipeline

@@ -1,0 +1,97 @@
+// dem: --dem, the final TIN rasterized (products::rasterize) and written as a Cloud-Optimized
+// GeoTIFF with the TIN's CRS: Float32 cells, or Float64 with --dem-type Float64.
+#include <unistd.h>
+
+#include <cmath>
+#include <span>
+#include <vector>
+
+#include "core/error.hpp"
+#include "io/raster/dem_writer.hpp"
+#include "pipeline/stage.hpp"
+#include "products/rasterize.hpp"
+
+namespace tincdt::pipeline {
+namespace {
+
+bool wanted(const BuildOptions& o) {
+  return !o.dem.path.empty();
+}
+
+// The machine's memory in bytes, 0 if unknown.
+std::uint64_t physical_memory() {
+  const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
+  return pages > 0 && page > 0
+             ? static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page)
+             : 0;
+}
+
+template <class T>
+void rasterize_and_write(Job& job, const products::Grid& grid, io::OutputFile& out) {
+  const BuildOptions::Dem& o = job.options.dem;
+  BuildReport::Dem& r = job.report.dem;
+  // The grid is held whole (GDAL writes it from there): refuse one larger than the machine
+  // rather than fail in the allocator.
+  const double bytes = static_cast<double>(grid.cells()) * sizeof(T);
+  const std::uint64_t memory = physical_memory();
+  if (memory > 0 && bytes > static_cast<double>(memory))
+    throw OutputError(o.path, "",
+                      "a DEM of " + std::to_string(grid.width) + " x " +
+                          std::to_string(grid.height) + " cells needs " +
+                          std::to_string(static_cast<std::uint64_t>(bytes / (1 << 30))) +
+                          " GiB, more than this machine's memory (use a coarser --resolution "
+                          "or a smaller --dem-extent)");
+  auto t0 = std::chrono::steady_clock::now();
+  std::vector<T> cells(grid.cells());
+  const products::RasterizeStats stats =
+      products::rasterize<T>(job.tin(), grid, static_cast<T>(o.nodata), cells,
+                             {.threads = job.options.threads, .progress = job.stage_progress()});
+  r.cells_with_value = stats.cells_with_value;
+  r.rasterize_s = seconds_since(t0);
+  t0 = std::chrono::steady_clock::now();
+  io::DemWriteOptions w;
+  w.nodata = o.nodata;
+  w.crs_wkt = job.crs_wkt;
+  w.creation_options = o.creation_options;
+  w.threads = job.options.threads;
+  w.progress = job.stage_progress();
+  io::write_dem(out, grid, std::span<const T>(cells), w);
+  job.finish_output(out);
+  r.write_s = seconds_since(t0);
+}
+
+void run(Job& job) {
+  const BuildOptions::Dem& o = job.options.dem;
+  const BBox extent = o.extent ? *o.extent : products::kept_extent(job.tin());
+  products::Grid grid;
+  try {
+    grid = products::grid_over(extent, o.resolution, o.target_aligned);
+  } catch (const Error& e) {
+    throw OutputError(o.path, "", e.detail());
+  }
+  BuildReport::Dem& r = job.report.dem;
+  r.path = o.path;
+  r.type = o.float64 ? "Float64" : "Float32";
+  r.width = grid.width;
+  r.height = grid.height;
+  r.resolution = grid.resolution;
+  r.min_x = grid.min_x;
+  r.max_y = grid.max_y;
+  io::OutputFile& out = job.add_output(o.path, "dem");
+  if (o.float64)
+    rasterize_and_write<double>(job, grid, out);
+  else
+    rasterize_and_write<float>(job, grid, out);
+  job.info("DEM: " + std::to_string(grid.width) + " x " + std::to_string(grid.height) + " cells, " +
+           std::to_string(r.cells_with_value) + " with a value");
+}
+
+void plan(const BuildOptions& o, FilePlan& files) {
+  files.outputs.push_back({o.dem.path, "the DEM (--dem)"});
+}
+
+}  // namespace
+
+extern const Stage dem_stage{"dem", "dem", wanted, run, plan};
+
+}  // namespace tincdt::pipeline

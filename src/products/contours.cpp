@@ -1,0 +1,319 @@
+#include "products/contours.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <exception>
+#include <limits>
+#include <mutex>
+#include <string>
+#include <thread>
+
+#include "core/error.hpp"
+
+namespace tincdt::products {
+
+using mesh::prev_edge;
+using mesh::triangle_of;
+
+namespace {
+
+constexpr std::int64_t kMaxLevels = 10'000'000;
+
+// Smallest k with level(k) > z.
+std::int64_t first_level_above(double base, double interval, double z) {
+  auto k = static_cast<std::int64_t>(std::ceil((z - base) / interval));
+  const auto below = [&](std::int64_t i) { return contour_level(base, interval, i) <= z; };
+  // The estimate is off by at most a step or two from rounding; settle it with the formula.
+  while (!below(k - 1)) --k;
+  while (below(k)) ++k;
+  return k;
+}
+
+// One level's work: the geometry of crossings and the chaining through twins.
+//
+// A triangle crossed by the level has one lone corner (alone on its side) and its segment joins
+// the crossings on the two edges at that corner. The chain continues across the edge where the
+// segment ends (its "up" edge) into the triangle on the other side, which starts there.
+//
+// One degenerate case needs more: a ridge exactly at the level. When a triangle's two corners
+// above are both on the level and the triangle across that edge also has its third corner below,
+// both triangles' segments lie on that edge, in opposite directions: the ridge, with lower
+// ground on both sides, would be traced twice (and so it would, in doubles, when its corners are
+// a rounding above the level). Those two segments are left out and the chains
+// spliced at the ridge's ends (the chain arriving at one end continues with the one leaving it
+// on the other side), so a ridge at the level gives no line, like a valley at the level.
+class LevelTracer {
+ public:
+  LevelTracer(const mesh::Triangulation& tin, std::vector<std::uint32_t>& stamp)
+      : tin_(tin), stamp_(stamp) {}
+
+  // Traces every chain through the triangles of BUCKET (the kept triangles crossed by LEVEL),
+  // appending lines to OUT. STAMP_VALUE marks the triangles already traced at this level.
+  void trace(double level, std::uint32_t stamp_value, const TriangleId* bucket, std::size_t n,
+             ContourSet& out) {
+    level_ = level;
+    for (std::size_t i = 0; i < n; ++i) {
+      const TriangleId t = bucket[i];
+      if (stamp_[t] == stamp_value || ridge_twin(t) != kNoId) continue;
+      // Back to the start of t's chain: a triangle whose segment starts on the boundary of the
+      // kept region, or t again (a ring).
+      TriangleId start = t;
+      bool ring = false;
+      for (;;) {
+        const TriangleId before = previous(start);
+        if (before == kNoId) break;
+        if (before == t) {
+          ring = true;
+          break;
+        }
+        start = before;
+      }
+      raw_.clear();
+      TriangleId cur = start;
+      raw_.push_back(crossing(crossed(cur).down));
+      for (;;) {
+        stamp_[cur] = stamp_value;
+        raw_.push_back(crossing(crossed(cur).up));
+        const TriangleId after = next(cur);
+        if (after == start || after == kNoId) break;
+        cur = after;
+      }
+      emit(ring, out);
+    }
+  }
+
+ private:
+  struct Crossed {
+    EdgeId down;      // runs from above to below: the segment starts on it
+    EdgeId up;        // runs from below to above: the segment ends on it
+    EdgeId opposite;  // the edge opposite the lone corner
+    bool lone_below;
+  };
+
+  bool above(VertexId v) const { return tin_.z(v) >= level_; }
+
+  // The two crossed half-edges of a triangle the level crosses: the two at its lone corner.
+  // Going from the crossing on `down` to the one on `up` keeps the ground above on the left.
+  Crossed crossed(TriangleId t) const {
+    const EdgeId e0 = 3 * t;
+    const bool a0 = above(tin_.origin(e0)), a1 = above(tin_.origin(e0 + 1));
+    const bool a2 = above(tin_.origin(e0 + 2));
+    const EdgeId from_lone = a0 != a1 && a0 != a2 ? e0 : (a1 != a0 && a1 != a2 ? e0 + 1 : e0 + 2);
+    const EdgeId to_lone = prev_edge(from_lone);
+    const EdgeId opposite = mesh::next_edge(from_lone);
+    if (above(tin_.origin(from_lone))) return {from_lone, to_lone, opposite, false};
+    return {to_lone, from_lone, opposite, true};
+  }
+
+  // For a triangle whose segment is half of a ridge at the level (see the class comment), the
+  // triangle on the ridge's other side; else kNoId. "At the level" is geometric: the crossings
+  // are the ridge's end vertices themselves, which covers vertices whose z is so close above the
+  // level that the crossing rounds onto them (two lines a rounding apart would be one line
+  // twice in doubles).
+  TriangleId ridge_twin(TriangleId t) const {
+    if (!on_ridge_edge(t)) return kNoId;
+    const EdgeId f = tin_.twin(crossed(t).opposite);
+    const TriangleId other = triangle_of(f);
+    if (!tin_.is_kept(other) || above(tin_.apex(f)) || !on_ridge_edge(other)) return kNoId;
+    return other;
+  }
+
+  // True when T's corner alone below the level is the apex of an edge whose two ends are both
+  // crossings: T's segment runs along that edge.
+  bool on_ridge_edge(TriangleId t) const {
+    const Crossed c = crossed(t);
+    if (!c.lone_below) return false;
+    return crossing(c.down) == tin_.point(tin_.origin(c.down)) &&
+           crossing(c.up) == tin_.point(tin_.dest(c.up));
+  }
+
+  // The next and previous triangles along a chain, skipping ridge halves: the chain arriving at
+  // a ridge half continues after the ridge's other half. (This ends: the triangle before a
+  // triangle is unique, so the skips cannot cycle without passing the start again, which is not
+  // a ridge half.)
+  TriangleId next(TriangleId t) const {
+    for (;;) {
+      const TriangleId after = triangle_of(tin_.twin(crossed(t).up));
+      if (!tin_.is_kept(after)) return kNoId;
+      const TriangleId other = ridge_twin(after);
+      if (other == kNoId) return after;
+      t = other;
+    }
+  }
+  TriangleId previous(TriangleId t) const {
+    for (;;) {
+      const TriangleId before = triangle_of(tin_.twin(crossed(t).down));
+      if (!tin_.is_kept(before)) return kNoId;
+      const TriangleId other = ridge_twin(before);
+      if (other == kNoId) return before;
+      t = other;
+    }
+  }
+
+  // Where the level crosses the edge of E, computed from its (below, above) ends whichever
+  // direction E runs, so both triangles of the edge get the same point to the bit. Exactly the
+  // above end when that is on the level; otherwise interpolated from the nearer end.
+  Point2 crossing(EdgeId e) const {
+    VertexId lo = tin_.origin(e), hi = tin_.dest(e);
+    if (above(lo)) std::swap(lo, hi);
+    const Point2 p = tin_.point(lo), q = tin_.point(hi);
+    const double zp = tin_.z(lo), zq = tin_.z(hi);
+    if (zq == level_) return q;
+    const double dz = zq - zp;
+    const double t = (level_ - zp) / dz;
+    if (t <= 0.5) return {p.x + t * (q.x - p.x), p.y + t * (q.y - p.y)};
+    const double s = (zq - level_) / dz;
+    return {q.x + s * (p.x - q.x), q.y + s * (p.y - q.y)};
+  }
+
+  // Appends raw_ as a line without its repeated points (the zero-length pieces next to a vertex
+  // on the level), cyclically for a ring, unless nothing is left of it (a peak exactly at the
+  // level, where all crossings are the peak itself).
+  void emit(bool ring, ContourSet& out) {
+    if (ring) raw_.pop_back();  // the trace ends where it began
+    const std::size_t first = out.points.size();
+    for (const Point2& p : raw_)
+      if (out.points.size() == first || out.points.back() != p) out.points.push_back(p);
+    if (ring)
+      while (out.points.size() - first >= 2 && out.points.back() == out.points[first])
+        out.points.pop_back();
+    const std::size_t count = out.points.size() - first;
+    if (count < (ring ? 3u : 2u)) {
+      out.points.resize(first);
+      return;
+    }
+    if (ring) out.points.push_back(out.points[first]);
+    out.lines.push_back({level_, ring, first, out.points.size() - first});
+  }
+
+  const mesh::Triangulation& tin_;
+  std::vector<std::uint32_t>& stamp_;
+  double level_ = 0;
+  std::vector<Point2> raw_;
+};
+
+}  // namespace
+
+ContourSet trace_contours(const mesh::Triangulation& tin, const ContourOptions& options) {
+  const double interval = options.interval, base = options.base;
+  if (!(interval > 0) || !std::isfinite(interval))
+    throw Error("the contour interval must be a positive number, not " + std::to_string(interval));
+  if (!std::isfinite(base)) throw Error("the contour base must be a finite number");
+  ContourSet result;
+
+  // Level range over the kept vertices; level(k) for k in [k_lo, k_hi] has z_min < level <= z_max
+  // (a level at z_min crosses nothing: the lowest vertices count as above it).
+  double z_min = std::numeric_limits<double>::infinity(), z_max = -z_min;
+  tin.for_each_triangle([&](TriangleId, const std::array<VertexId, 3>& c) {
+    for (const VertexId v : c) {
+      z_min = std::min(z_min, tin.z(v));
+      z_max = std::max(z_max, tin.z(v));
+    }
+  });
+  if (!(z_min <= z_max)) return result;
+  if (!std::isfinite(z_min) || !std::isfinite(z_max))
+    throw Error("the TIN has a vertex whose z is not a finite number");
+  // Levels closer than the doubles near them would repeat: 2^-40 of the magnitude is far below
+  // any real interval and far above the spacing of doubles.
+  const double magnitude = std::max({std::fabs(z_min), std::fabs(z_max), std::fabs(base)});
+  if (interval < std::ldexp(magnitude, -40))
+    throw Error("a contour interval of " + std::to_string(interval) +
+                " is too small for elevations of magnitude " + std::to_string(magnitude));
+  const double span = (z_max - z_min) / interval;
+  if (span > static_cast<double>(kMaxLevels))
+    throw Error("a contour interval of " + std::to_string(interval) + " gives more than " +
+                std::to_string(kMaxLevels) + " levels over the TIN's z range");
+  const std::int64_t k_lo = first_level_above(base, interval, z_min);
+  const std::int64_t k_hi = first_level_above(base, interval, z_max) - 1;
+  if (k_hi < k_lo) return result;
+  const auto levels = static_cast<std::size_t>(k_hi - k_lo + 1);
+  result.levels = levels;
+
+  // The crossed triangles of each level (CSR by level, triangles in id order within a level).
+  const auto slots = static_cast<TriangleId>(tin.triangle_slots());
+  std::vector<std::size_t> start(levels + 1, 0);
+  const auto level_range = [&](TriangleId t, std::int64_t& lo, std::int64_t& hi) {
+    const auto c = tin.triangle(t);
+    const double a = tin.z(c[0]), b = tin.z(c[1]), d = tin.z(c[2]);
+    lo = first_level_above(base, interval, std::min({a, b, d})) - k_lo;
+    hi = first_level_above(base, interval, std::max({a, b, d})) - 1 - k_lo;
+  };
+  for (TriangleId t = 0; t < slots; ++t) {
+    if (!tin.is_kept(t)) continue;
+    std::int64_t lo, hi;
+    level_range(t, lo, hi);
+    for (std::int64_t j = lo; j <= hi; ++j) ++start[static_cast<std::size_t>(j) + 1];
+  }
+  for (std::size_t j = 0; j < levels; ++j) start[j + 1] += start[j];
+  std::vector<TriangleId> crossed(start[levels]);
+  {
+    std::vector<std::size_t> fill(start.begin(), start.end() - 1);
+    for (TriangleId t = 0; t < slots; ++t) {
+      if (!tin.is_kept(t)) continue;
+      std::int64_t lo, hi;
+      level_range(t, lo, hi);
+      for (std::int64_t j = lo; j <= hi; ++j) crossed[fill[static_cast<std::size_t>(j)]++] = t;
+    }
+  }
+
+  // Levels are independent: threads take them in turn, each with its own stamps.
+  unsigned threads = options.threads != 0 ? options.threads : std::thread::hardware_concurrency();
+  threads =
+      std::clamp<unsigned>(threads, 1, static_cast<unsigned>(std::min<std::size_t>(levels, 64)));
+  std::vector<ContourSet> per_level(levels);
+  Progress progress(options.progress, "contours", levels);
+  std::atomic<std::size_t> next_level{0}, levels_done{0};
+  std::atomic<bool> stop{false};
+  std::exception_ptr failure;
+  std::mutex failure_mutex;
+  const auto work = [&](bool reports) {
+    try {
+      std::vector<std::uint32_t> stamp(slots, 0);
+      LevelTracer tracer(tin, stamp);
+      for (;;) {
+        if (stop.load(std::memory_order_relaxed)) break;
+        const std::size_t j = next_level.fetch_add(1);
+        if (j >= levels) break;
+        const double level = contour_level(base, interval, k_lo + static_cast<std::int64_t>(j));
+        tracer.trace(level, static_cast<std::uint32_t>(j + 1), crossed.data() + start[j],
+                     start[j + 1] - start[j], per_level[j]);
+        const std::size_t done = levels_done.fetch_add(1) + 1;
+        if (reports) progress.tick(done);
+      }
+    } catch (...) {
+      stop = true;
+      const std::lock_guard<std::mutex> lock(failure_mutex);
+      if (!failure) failure = std::current_exception();
+    }
+  };
+  std::vector<std::thread> pool;
+  pool.reserve(threads - 1);
+  for (unsigned i = 1; i < threads; ++i) pool.emplace_back(work, false);
+  work(true);
+  for (std::thread& th : pool) th.join();
+  if (failure) std::rethrow_exception(failure);
+  std::vector<TriangleId>().swap(crossed);
+
+  std::size_t n_lines = 0, n_points = 0;
+  for (const ContourSet& s : per_level) {
+    n_lines += s.lines.size();
+    n_points += s.points.size();
+  }
+  result.lines.reserve(n_lines);
+  result.points.reserve(n_points);
+  for (ContourSet& s : per_level) {
+    const std::size_t shift = result.points.size();
+    for (ContourLine line : s.lines) {
+      line.first += shift;
+      result.lines.push_back(line);
+    }
+    result.points.insert(result.points.end(), s.points.begin(), s.points.end());
+    std::vector<ContourLine>().swap(s.lines);
+    std::vector<Point2>().swap(s.points);
+  }
+  progress.finish();
+  return result;
+}
+
+}  // namespace tincdt::products

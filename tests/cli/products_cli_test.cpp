@@ -1,0 +1,72 @@
+// The product options on the command line: usage errors (exit 2, one line naming the option)
+// before anything is read, and a run writing every product from the project's sample data.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <set>
+#include <string>
+
+#include "support/files.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Outcome {
+  int exit_code;
+  std::string messages;  // standard error
+};
+
+// tincdt ARGS in folder DIR.
+Outcome run(const std::string& dir, const std::string& args) {
+  const std::string err = dir + "/stderr.txt";
+  const int status = std::system(
+      ("cd '" + dir + "' && '" TINCDT_EXE "' " + args + " 2> '" + err + "' > /dev/null").c_str());
+  Outcome r{WIFEXITED(status) ? WEXITSTATUS(status) : -1, tincdt::test::slurp(err)};
+  fs::remove(err);
+  return r;
+}
+
+const std::string kSample = std::string(TINCDT_SOURCE_DIR) + "/data/sample.las";
+
+TEST(ProductsCli, MissingOrStrayProductOptionsAreUsageErrors) {
+  const std::string dir = tincdt::test::scratch_dir("products_cli");
+  const std::pair<std::string, std::string> cases[] = {
+      {"--dem d.tif", "--resolution"},
+      {"--resolution 1", "--dem"},
+      {"--dem d.tif --resolution 0", "--resolution"},
+      {"--dem d.tif --resolution 1 --dem-extent 10 0 5 5", "--dem-extent"},
+      {"--dem d.tif --resolution 1 --dem-nodata x", "--dem-nodata"},
+      {"--contour-lines c.gpkg", "--interval"},
+      {"--interval 2", "--contour-lines"},
+      {"--contour-lines c.gpkg --interval -2", "--interval"},
+      {"--offset auto", "--offset"},
+  };
+  for (const auto& [args, named] : cases) {
+    SCOPED_TRACE(args);
+    const Outcome r = run(dir, "'" + kSample + "' -o t.gpkg " + args);
+    EXPECT_EQ(r.exit_code, 2) << r.messages;
+    EXPECT_NE(r.messages.find(named), std::string::npos) << r.messages;
+  }
+  EXPECT_EQ(tincdt::test::names_in(dir), std::set<std::string>{});
+}
+
+TEST(ProductsCli, EveryProductInOneRun) {
+  const std::string dir = tincdt::test::scratch_dir("products_cli");
+  const Outcome r = run(dir, "'" + kSample +
+                                 "' -o surface.data -f landxml --dem dem.tif --resolution 2 --tap "
+                                 "--dem-type Float64 --contour-lines lines.shp --interval 2.5 "
+                                 "--base 0.5 --stats s.json");
+  ASSERT_EQ(r.exit_code, 0) << r.messages;
+  EXPECT_EQ(tincdt::test::names_in(dir),
+            (std::set<std::string>{"dem.tif", "lines.dbf", "lines.prj", "lines.shp", "lines.shx",
+                                   "s.json", "surface.data"}));
+  EXPECT_NE(tincdt::test::slurp(dir + "/surface.data").find("<Definition surfType=\"TIN\">"),
+            std::string::npos);
+  EXPECT_NE(r.messages.find("wrote dem.tif (COG Float64"), std::string::npos) << r.messages;
+  EXPECT_NE(r.messages.find("wrote lines.shp (ESRI Shapefile"), std::string::npos) << r.messages;
+}
+
+}  // namespace
