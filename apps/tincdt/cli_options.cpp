@@ -78,7 +78,10 @@ void parse_classes(const std::string& value, std::vector<std::uint8_t>& classes)
 class UsageFormatter : public CLI::Formatter {
  public:
   std::string make_usage(const CLI::App*, std::string) const override {
-    return "Usage: tincdt [OPTIONS] [INPUT...] [--contours LINES]... -o OUTPUT\n";
+    return "Usage: tincdt [OPTIONS] [INPUT...] [--contours LINES]... -o OUTPUT\n"
+           "       tincdt --plan PLAN.json --tile N [OPTIONS] -o OUTPUT\n"
+           "       tincdt plan INPUT... --tile-size S --buffer B -o PLAN.json  (plan --help)\n"
+           "       tincdt merge TILE... -o OUTPUT                              (merge --help)\n";
   }
 };
 
@@ -335,6 +338,25 @@ void output_options(CLI::App& app, BuildOptions& o) {
            "FILE.json");
 }
 
+void tile_options(CLI::App& app, BuildOptions& o) {
+  Group g(app, "Tiled jobs (one tile of a plan made by 'tincdt plan')");
+  g.option("--plan", o.plan, "The plan; the inputs and how to read them come from it", "PLAN.json");
+  app.add_option("--tile", o.tile, "The tile to build: its index in the plan (0, 1, ...)")
+      ->type_name("N")
+      ->check(CLI::NonNegativeNumber)
+      ->group("Tiled jobs (one tile of a plan made by 'tincdt plan')");
+  app.add_option("--buffer", o.tile_buffer,
+                 "Read this far around the tile instead of the plan's buffer\n"
+                 "(the tiles already built stay valid)")
+      ->type_name("LENGTH")
+      ->check(CLI::NonNegativeNumber)
+      ->group("Tiled jobs (one tile of a plan made by 'tincdt plan')");
+  g.option("--outline", o.tile_outline,
+           "Also write the tile's outline, for 'tincdt merge --check'\n"
+           "when the tiles are too many to keep or to merge",
+           "FILE.ply");
+}
+
 void run_options(CLI::App& app, BuildOptions& o, Verbosity& v) {
   Group g(app, "Run");
   app.add_option("--threads", o.threads,
@@ -372,6 +394,7 @@ void define_options(CLI::App& app, BuildOptions& options, Verbosity& verbosity) 
   simplify_options(app, options);
   terrain_options(app, options);
   output_options(app, options);
+  tile_options(app, options);
   run_options(app, options, verbosity);
 }
 
