@@ -13,6 +13,7 @@ packages=(
   libgtest-dev libgmock-dev             # tests
   libbenchmark-dev                      # benchmarks
   clang-format                          # format check
+  parallel                              # GNU parallel: the tiled-jobs recipe and its CI test
 )
 packages+=("$@")
 
