@@ -153,6 +153,8 @@ int run_plan(int argc, char** argv) {
       ->type_name("B")
       ->required();
   app.add_option("-o,--output", o.output, "The plan (JSON)")->type_name("PLAN.json")->required();
+  app.add_option("--threads", o.threads, "Point files read at once for the rim; 0 = one per core")
+      ->type_name("N");
   app.add_flag("--overwrite", o.overwrite, "Replace an existing plan");
   app.add_flag("-q,--quiet", quiet, "Only warnings and errors");
   app.add_flag("-v,--verbose", verbose, "Also debug messages");

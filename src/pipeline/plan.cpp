@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -12,6 +13,7 @@
 #include <utility>
 
 #include "core/error.hpp"
+#include "core/parallel.hpp"
 #include "io/output_set.hpp"
 #include "io/points/point_summary.hpp"
 #include "io/vector/line_reader.hpp"
@@ -289,23 +291,45 @@ TilePlan make_plan(const PlanOptions& options, std::vector<Point3>& rim, const L
   if (plan.rim_width > 0) {
     std::vector<Point2> hull = tiles::convex_hull(line_vertices);
     std::size_t scanned = 0, skipped = 0;
-    for (const std::size_t i : outermost_first(plan.inputs, all)) {
-      PlanInput& in = plan.inputs[i];
-      if (detail::deep_inside(inflated(in), hull, plan.rim_width)) {
-        ++skipped;
-        continue;
+    // In batches of one file per thread: each batch skips what the hull so far already holds.
+    const std::vector<std::size_t> order = outermost_first(plan.inputs, all);
+    const std::size_t threads = thread_count(options.threads);
+    for (std::size_t next = 0; next < order.size();) {
+      std::vector<std::size_t> batch;
+      for (; next < order.size() && batch.size() < threads; ++next) {
+        if (detail::deep_inside(inflated(plan.inputs[order[next]]), hull, plan.rim_width))
+          ++skipped;
+        else
+          batch.push_back(order[next]);
       }
-      detail::PointScan scan = detail::scan_points(options.inputs[i], plan.filter, plan.rim_width);
-      ++scanned;
-      in.count = scan.points;  // exact now, and the bounds too
-      in.bounds = scan.bounds;
-      in.tolerance = 0;
-      hull.insert(hull.end(), scan.hull.begin(), scan.hull.end());
+      std::vector<detail::PointScan> scans(batch.size());
+      std::vector<std::exception_ptr> errors(batch.size());
+      parallel_chunks(
+          threads, batch.size(),
+          [&](std::size_t begin, std::size_t end) {
+            for (std::size_t k = begin; k < end; ++k) try {
+                scans[k] = detail::scan_points(options.inputs[batch[k]], plan.filter,
+                                               plan.rim_width, batch.size() > 1 ? 1 : 0);
+              } catch (...) {
+                errors[k] = std::current_exception();
+              }
+          },
+          1);
+      for (std::size_t k = 0; k < batch.size(); ++k) {
+        if (errors[k]) std::rethrow_exception(errors[k]);
+        PlanInput& in = plan.inputs[batch[k]];
+        const detail::PointScan& scan = scans[k];
+        ++scanned;
+        in.count = scan.points;  // exact now, and the bounds too
+        in.bounds = scan.bounds;
+        in.tolerance = 0;
+        hull.insert(hull.end(), scan.hull.begin(), scan.hull.end());
+        for (const Point3& p : scan.near_outline) near.emplace_back(batch[k], p);
+        if (log)
+          log(log_debug, in.path + ": " + std::to_string(scan.points) + " points, " +
+                             std::to_string(scan.near_outline.size()) + " near its outline");
+      }
       hull = tiles::convex_hull(std::move(hull));
-      for (const Point3& p : scan.near_outline) near.emplace_back(i, p);
-      if (log)
-        log(log_debug, in.path + ": " + std::to_string(scan.points) + " points, " +
-                           std::to_string(scan.near_outline.size()) + " near its outline");
     }
     plan.hull = std::move(hull);
     const tiles::Rim r{plan.hull, plan.rim_width};

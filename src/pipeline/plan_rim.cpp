@@ -44,10 +44,11 @@ double magnitude(const BBox& b) {
 
 }  // namespace
 
-PointScan scan_points(const std::string& path, const io::PointFilter& filter, double width) {
+PointScan scan_points(const std::string& path, const io::PointFilter& filter, double width,
+                      unsigned threads) {
   PointScan s;
   std::vector<Point3> points;
-  io::read_points(path, filter, points);
+  io::read_points(path, filter, points, threads);
   s.points = points.size();
   if (points.empty()) return s;
   // The extremes in eight directions span an octagon inside the hull; the points strictly

@@ -20,8 +20,9 @@ struct PointScan {
   std::vector<Point3> near_outline;
 };
 
-// Reads PATH with FILTER and measures it.
-PointScan scan_points(const std::string& path, const io::PointFilter& filter, double width);
+// Reads PATH with FILTER (XYZ text on THREADS threads, 0 = every core) and measures it.
+PointScan scan_points(const std::string& path, const io::PointFilter& filter, double width,
+                      unsigned threads);
 
 // Whether the closed box B lies inside the convex polygon HULL (counter-clockwise) farther than
 // WIDTH from its boundary, with room for rounding.
