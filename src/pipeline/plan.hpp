@@ -30,6 +30,7 @@ struct PlanOptions {
   double tile_size = 0;       // > 0
   double buffer = -1;         // >= 0
   double rim_width = -1;      // < 0: ten times the points' mean spacing; 0: no rim
+  unsigned threads = 0;       // files read at once for the rim; 0 = one per core
   std::string output;         // the plan (JSON)
   bool overwrite = false;
 };

@@ -180,6 +180,10 @@ void check_tile_options(const BuildOptions& o) {
   if (o.max_edge > 0)
     refuse("--max-edge", "it trims inward from the whole TIN's hull, which a tile does not see");
   if (o.fix_flats) refuse("--fix-flats", "its new vertices depend on triangles beyond the tile");
+  if (o.max_error || o.max_vertices > 0)
+    refuse(o.max_error ? "--max-error" : "--max-vertices",
+           "each tile's greedy insertion would keep its own points, and the seams would not "
+           "match (simplify the merged TIN, or each tile without --plan)");
   if (!o.soft_lines.empty() || !o.clip.empty() || !o.erase.empty() || !o.replace.empty())
     refuse("--soft-lines, --clip, --erase and --replace",
            "their vertices are draped on triangles a tile may not have");

@@ -30,7 +30,7 @@ TEST(Stages, OneTableInTheDocumentedOrder) {
   }
   EXPECT_EQ(names, (std::vector<std::string>{"read", "delaunay", "constraints", "surface",
                                              "simplify", "flats", "replace", "trim", "clip",
-                                             "erase", "validate", "quality", "write",
+                                             "erase", "tile", "validate", "quality", "write",
                                              "constraint_lines", "diagnostics", "stats"}));
 }
 

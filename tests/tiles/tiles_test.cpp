@@ -330,6 +330,10 @@ TEST(Tiles, OptionsThatCannotBeTiledAreRefused) {
   EXPECT_NE(error_of<UsageError>([&] { pipeline::build(o); }).find("--max-edge"),
             std::string::npos);
   o.max_edge = 0;
+  o.max_error = 0.1;
+  EXPECT_NE(error_of<UsageError>([&] { pipeline::build(o); }).find("--max-error"),
+            std::string::npos);
+  o.max_error.reset();
   o.inputs = {"p.xyz"};
   EXPECT_NE(error_of<UsageError>([&] { pipeline::build(o); }).find("come from the plan"),
             std::string::npos);
