@@ -15,6 +15,7 @@ packages=(
   libbenchmark-dev                      # benchmarks
   clang-format                          # format check
   libxml2-utils                         # xmllint: the LandXML test validates against the schema
+  parallel                              # GNU parallel: the tiled-jobs recipe and its CI test
 )
 packages+=("$@")
 

@@ -78,7 +78,10 @@ void parse_classes(const std::string& value, std::vector<std::uint8_t>& classes)
 class UsageFormatter : public CLI::Formatter {
  public:
   std::string make_usage(const CLI::App*, std::string) const override {
-    return "Usage: tincdt [OPTIONS] [INPUT...] [--contours LINES]... -o OUTPUT\n";
+    return "Usage: tincdt [OPTIONS] [INPUT...] [--contours LINES]... -o OUTPUT\n"
+           "       tincdt --plan PLAN.json --tile N [OPTIONS] -o OUTPUT\n"
+           "       tincdt plan INPUT... --tile-size S --buffer B -o PLAN.json  (plan --help)\n"
+           "       tincdt merge TILE... -o OUTPUT                              (merge --help)\n";
   }
 };
 
@@ -183,7 +186,7 @@ class Group {
 };
 
 void input_options(CLI::App& app, BuildOptions& o) {
-  app.add_option("INPUT", o.inputs, "Point files: LAS 1.0-1.4, or XYZ text ('-' = stdin)")
+  app.add_option("INPUT", o.inputs, "Point files: LAS 1.0-1.4, LAZ, COPC or XYZ text ('-' = stdin)")
       ->type_name("FILE");
   Group g(app, "Input");
   g.option("--a-srs", o.assign_srs,
@@ -423,6 +426,25 @@ void product_options(CLI::App& app, BuildOptions& o) {
       ->group(group);
 }
 
+void tile_options(CLI::App& app, BuildOptions& o) {
+  Group g(app, "Tiled jobs (one tile of a plan made by 'tincdt plan')");
+  g.option("--plan", o.plan, "The plan; the inputs and how to read them come from it", "PLAN.json");
+  app.add_option("--tile", o.tile, "The tile to build: its index in the plan (0, 1, ...)")
+      ->type_name("N")
+      ->check(CLI::NonNegativeNumber)
+      ->group("Tiled jobs (one tile of a plan made by 'tincdt plan')");
+  app.add_option("--buffer", o.tile_buffer,
+                 "Read this far around the tile instead of the plan's buffer\n"
+                 "(the tiles already built stay valid)")
+      ->type_name("LENGTH")
+      ->check(CLI::NonNegativeNumber)
+      ->group("Tiled jobs (one tile of a plan made by 'tincdt plan')");
+  g.option("--outline", o.tile_outline,
+           "Also write the tile's outline, for 'tincdt merge --check'\n"
+           "when the tiles are too many to keep or to merge",
+           "FILE.ply");
+}
+
 void run_options(CLI::App& app, BuildOptions& o, Verbosity& v) {
   Group g(app, "Run");
   app.add_option("--threads", o.threads,
@@ -461,6 +483,7 @@ void define_options(CLI::App& app, BuildOptions& options, Verbosity& verbosity) 
   terrain_options(app, options);
   output_options(app, options);
   product_options(app, options);
+  tile_options(app, options);
   run_options(app, options, verbosity);
 }
 

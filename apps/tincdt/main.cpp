@@ -21,6 +21,7 @@
 #include "pipeline/build.hpp"
 #include "summary.hpp"
 #include "terminal.hpp"
+#include "tile_commands.hpp"
 
 #ifndef TINCDT_VERSION
 #error "TINCDT_VERSION must be defined by the build (the CMake project version)"
@@ -154,6 +155,8 @@ int build(const pipeline::BuildOptions& options, bool quiet) {
 
 int run(int argc, char** argv) {
   cli::setup_logging();
+  if (argc > 1 && std::string_view(argv[1]) == "plan") return cli::run_plan(argc - 1, argv + 1);
+  if (argc > 1 && std::string_view(argv[1]) == "merge") return cli::run_merge(argc - 1, argv + 1);
   CLI::App app("tincdt " TINCDT_VERSION
                ": exact constrained Delaunay TIN from LiDAR (LAS, LAZ) and XYZ points with "
                "breaklines, as a mesh (OBJ, PLY, GeoJSON, LandXML, GeoPackage, STL), a DEM and "

@@ -8,6 +8,7 @@
 #include "pipeline/file_checks.hpp"
 #include "pipeline/job.hpp"
 #include "pipeline/stage.hpp"
+#include "pipeline/tile_job.hpp"
 
 namespace tincdt::pipeline {
 
@@ -46,9 +47,12 @@ std::uint64_t peak_rss_bytes() {
   return 0;
 }
 
-BuildReport build(const BuildOptions& options, const ProgressFn* progress, const LogFn& log) {
-  const CheckedOptions checked = check_options(options);
+namespace {
+
+BuildReport run_job(const BuildOptions& options, const CheckedOptions& checked,
+                    const TileSetup* tile, const ProgressFn* progress, const LogFn& log) {
   Job job(options, checked, progress, log);
+  job.tile = tile;
   for (const std::string& warning : checked.warnings) job.warn(warning);
   detail::check_files(options, plan_files(options, stages()));
   run_stages(job, stages());
@@ -60,6 +64,16 @@ BuildReport build(const BuildOptions& options, const ProgressFn* progress, const
   job.report.timings_s.total = seconds_since(job.started);
   job.report.peak_rss_bytes = peak_rss_bytes();
   return std::move(job.report);
+}
+
+}  // namespace
+
+BuildReport build(const BuildOptions& options, const ProgressFn* progress, const LogFn& log) {
+  const CheckedOptions checked = check_options(options);
+  if (options.plan.empty()) return run_job(options, checked, nullptr, progress, log);
+  TileSetup tile;
+  const BuildOptions tile_job = tile_options(options, tile);
+  return run_job(tile_job, checked, &tile, progress, log);
 }
 
 }  // namespace tincdt::pipeline

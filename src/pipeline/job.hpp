@@ -22,6 +22,8 @@
 
 namespace tincdt::pipeline {
 
+struct TileSetup;
+
 // CRS labels for messages, each distinct WKT identified once (identification can search the
 // whole EPSG database, a noticeable fraction of a second).
 class CrsNames {
@@ -43,6 +45,8 @@ struct Job {
 
   const BuildOptions& options;
   BuildReport report;
+  // In a tiled job (--plan), the tile: its boxes and the plan's bounds (tile_job.hpp).
+  const TileSetup* tile = nullptr;
 
   // ---- inputs (read) --------------------------------------------------------------------------
   const std::string assign_crs_wkt;  // --a-srs as WKT, "" when not given

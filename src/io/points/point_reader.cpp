@@ -26,10 +26,22 @@ bool has_extension(const std::string& path, const char* ext) {
       [](char a, char b) { return std::tolower(static_cast<unsigned char>(a)) == b; });
 }
 
-}  // namespace
+// Keeps the points of out[first, end) inside BOX, in order, and measures the extent of all.
+void keep_inside(const BBox& box, std::size_t first, std::vector<Point3>& out,
+                 PointReadStats& stats) {
+  std::size_t kept = first;
+  for (std::size_t i = first; i < out.size(); ++i) {
+    const Point3 p = out[i];
+    stats.extent.add(p.x, p.y);
+    if (p.x >= box.min_x && p.x <= box.max_x && p.y >= box.min_y && p.y <= box.max_y)
+      out[kept++] = p;
+  }
+  stats.points_kept -= out.size() - kept;
+  out.resize(kept);
+}
 
-PointReadStats read_points(const std::string& path, const PointFilter& filter,
-                           std::vector<Point3>& out, unsigned threads) {
+PointReadStats read_any(const std::string& path, const PointFilter& filter,
+                        std::vector<Point3>& out, unsigned threads) {
   if (path == "-") return read_xyz(path, out, threads);
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0) throw InputError(path, "", detail::open_error_text(errno));
@@ -50,6 +62,16 @@ PointReadStats read_points(const std::string& path, const PointFilter& filter,
     return read_las(path, filter, out, threads);
   }
   return read_xyz(path, out, threads);
+}
+
+}  // namespace
+
+PointReadStats read_points(const std::string& path, const PointFilter& filter,
+                           std::vector<Point3>& out, unsigned threads) {
+  const std::size_t first = out.size();
+  PointReadStats stats = read_any(path, filter, out, threads);
+  if (filter.box) keep_inside(*filter.box, first, out, stats);
+  return stats;
 }
 
 }  // namespace tincdt::io

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,8 @@ struct PointFilter {
   std::vector<std::uint8_t> drop_classes;
   bool first_return_only = false;
   bool last_return_only = false;
+  // Tiled jobs: keep only the points inside this closed x, y box; unset = everywhere.
+  std::optional<BBox> box;
 };
 
 struct PointReadStats {
@@ -23,6 +26,7 @@ struct PointReadStats {
   std::uint64_t points_kept = 0;  // appended after filtering
   std::string crs_wkt;            // empty when the file carries no CRS
   std::string format;             // "xyz", "las 1.4 pdrf 6", "laz 1.2 pdrf 3", for the log
+  BBox extent;  // with PointFilter::box: the x, y range of the points the other filters kept
   // Things the caller should log: the data was read, but something about it is odd (an
   // unreadable CRS record, more VLRs announced than present). Each names the file.
   std::vector<std::string> warnings;

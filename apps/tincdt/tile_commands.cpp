@@ -1,0 +1,219 @@
+#include "tile_commands.hpp"
+
+#include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
+
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <exception>
+#include <new>
+#include <string>
+#include <vector>
+
+#include "core/error.hpp"
+#include "pipeline/merge.hpp"
+#include "pipeline/plan.hpp"
+#include "terminal.hpp"
+
+namespace tincdt::cli {
+namespace {
+
+constexpr int kExitOk = 0;
+constexpr int kExitFailure = 1;
+constexpr int kExitUsage = 2;
+
+int usage_error(const std::string& command, const std::string& message) {
+  spdlog::error(message);
+  Terminal::get().line("Try 'tincdt " + command + " --help' for more information.");
+  return kExitUsage;
+}
+
+// Parses ARGV into APP; a return value >= 0 is the exit code to return at once.
+int parse(CLI::App& app, const std::string& command, int argc, char** argv) {
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    return usage_error(command, e.what());
+  }
+  return -1;
+}
+
+void set_verbosity(bool quiet, bool verbose) {
+  if (quiet) spdlog::set_level(spdlog::level::warn);
+  if (verbose) spdlog::set_level(spdlog::level::debug);
+}
+
+// "2,8" or repeated options: LAS classification codes.
+std::vector<std::uint8_t> parse_classes(const std::vector<std::string>& values,
+                                        const char* option) {
+  std::vector<std::uint8_t> classes;
+  for (const std::string& value : values) {
+    std::size_t start = 0;
+    while (true) {
+      const std::size_t comma = value.find(',', start);
+      const std::string item =
+          value.substr(start, comma == std::string::npos ? comma : comma - start);
+      unsigned code = 0;
+      const auto [end, ec] = std::from_chars(item.data(), item.data() + item.size(), code);
+      if (item.empty() || ec != std::errc() || end != item.data() + item.size() || code > 255)
+        throw UsageError(std::string(option) + ": '" + item +
+                         "' is not a LAS classification code (0-255)");
+      classes.push_back(static_cast<std::uint8_t>(code));
+      if (comma == std::string::npos) break;
+      start = comma + 1;
+    }
+  }
+  return classes;
+}
+
+const pipeline::LogFn kLog = [](int level, const std::string& message) {
+  if (level == pipeline::log_debug)
+    spdlog::debug(message);
+  else if (level == pipeline::log_info)
+    spdlog::info(message);
+  else
+    spdlog::warn(message);
+};
+
+// Runs F, turning tincdt errors into a message and an exit code.
+template <class F>
+int guarded(const std::string& command, F&& f) {
+  try {
+    f();
+    return kExitOk;
+  } catch (const UsageError& e) {
+    return usage_error(command, e.what());
+  } catch (const Error& e) {
+    spdlog::error(e.what());
+  } catch (const std::bad_alloc&) {
+    spdlog::error("out of memory");
+  } catch (const std::exception& e) {
+    spdlog::error(e.what());
+  }
+  return kExitFailure;
+}
+
+}  // namespace
+
+int run_plan(int argc, char** argv) {
+  CLI::App app(
+      "tincdt plan: split the inputs' area into tiles for independent jobs. Reads only the "
+      "headers (LAS/LAZ bounds and counts, vector layer extents) and writes a JSON plan: per "
+      "tile, its box (multiples of the tile size) and the inputs within its buffer. Then build "
+      "each tile with 'tincdt --plan PLAN --tile N -o tile_N.ply' (any job engine: GNU parallel, "
+      "Slurm, Kubernetes; see examples/tiles/) and join them with 'tincdt merge'.",
+      "tincdt plan");
+  pipeline::PlanOptions o;
+  std::vector<std::string> hard_lines;
+  bool quiet = false, verbose = false;
+  app.add_option("INPUT", o.inputs, "Point files: LAS, LAZ (header only) or XYZ (read whole)")
+      ->type_name("FILE");
+  app.add_option("--contours", o.contours, "Contour lines (any OGR source: FILE or FILE:LAYER)")
+      ->type_name("LINES")
+      ->expected(1)
+      ->allow_extra_args(false)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  app.add_option("--hard-lines,--breaklines", hard_lines, "Hard lines (breaklines)")
+      ->type_name("LINES")
+      ->expected(1)
+      ->allow_extra_args(false)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  app.add_option("--layer", o.lines.layer, "Layer to read from each vector source")
+      ->type_name("NAME");
+  app.add_option("--z-field", o.lines.z_field, "Take the lines' z from this attribute")
+      ->type_name("NAME");
+  app.add_flag("--z-from-m", o.lines.z_from_m, "Take the lines' z from the M values");
+  std::vector<std::string> keep, drop;
+  app.add_option("--keep-class", keep, "Keep only these LAS classes (e.g. 2,8)")
+      ->type_name("N[,N...]")
+      ->expected(1)
+      ->allow_extra_args(false)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  app.add_option("--drop-class", drop, "Drop these LAS classes")
+      ->type_name("N[,N...]")
+      ->expected(1)
+      ->allow_extra_args(false)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  app.add_flag("--first-only", o.filter.first_return_only, "Keep only first returns (LAS)");
+  app.add_flag("--last-only", o.filter.last_return_only, "Keep only last returns (LAS)");
+  app.add_option("--rim", o.rim_width,
+                 "Width of the rim: the points this near the data's convex hull, which\n"
+                 "every tile along the outline reads (default: ten times the mean point\n"
+                 "spacing; 0: none, and the plan reads headers only)")
+      ->type_name("W");
+  app.add_option("--tile-size", o.tile_size, "Tile width and height; tiles start at multiples")
+      ->type_name("S")
+      ->required();
+  app.add_option("--buffer", o.buffer,
+                 "How far around its tile each job reads: enough that every triangle near\n"
+                 "the tile is settled (a tile that needs more fails and says how much)")
+      ->type_name("B")
+      ->required();
+  app.add_option("-o,--output", o.output, "The plan (JSON)")->type_name("PLAN.json")->required();
+  app.add_option("--threads", o.threads, "Point files read at once for the rim; 0 = one per core")
+      ->type_name("N");
+  app.add_flag("--overwrite", o.overwrite, "Replace an existing plan");
+  app.add_flag("-q,--quiet", quiet, "Only warnings and errors");
+  app.add_flag("-v,--verbose", verbose, "Also debug messages");
+  if (const int code = parse(app, "plan", argc, argv); code >= 0) return code;
+  o.breaklines = hard_lines;
+  set_verbosity(quiet, verbose);
+  return guarded("plan", [&] {
+    o.filter.keep_classes = parse_classes(keep, "--keep-class");
+    o.filter.drop_classes = parse_classes(drop, "--drop-class");
+    if (o.filter.first_return_only && o.filter.last_return_only)
+      throw UsageError("--first-only and --last-only exclude each other");
+    std::vector<Point3> rim;
+    pipeline::TilePlan plan = pipeline::make_plan(o, rim, kLog);
+    pipeline::write_plan(plan, rim, o.output, o.overwrite);
+    std::size_t most = 0;
+    for (const pipeline::PlanTile& t : plan.tiles) most = std::max(most, t.inputs.size());
+    spdlog::info("wrote {}: {} tiles of {} (buffer {}) over {} inputs; a tile reads at most {}",
+                 o.output, plan.tiles.size(), o.tile_size, o.buffer, plan.inputs.size(), most);
+  });
+}
+
+int run_merge(int argc, char** argv) {
+  CLI::App app(
+      "tincdt merge: join the TINs of a plan's tiles into one, welding the vertices on the seams "
+      "by their exact coordinates. Checks that every edge has one triangle on each side or lies "
+      "on the convex hull, and that the result is a valid constrained Delaunay TIN; a crack or an "
+      "overlap is an error naming the tiles. With --check, only checks (memory: the tiles' "
+      "outlines), writing nothing.",
+      "tincdt merge");
+  pipeline::MergeOptions o;
+  bool quiet = false, verbose = false;
+  app.add_option("TILE", o.inputs, "Tile TINs written by tile jobs (PLY), or outlines (--outline)")
+      ->type_name("FILE")
+      ->required();
+  app.add_option("-o,--output", o.output,
+                 "The merged TIN: .obj, .ply or .geojson; or, with\n"
+                 "--outline, the outline of the tiles together (PLY)")
+      ->type_name("FILE");
+  app.add_flag("--check", o.check_only, "Check the seams only; write nothing");
+  app.add_flag("--outline", o.outline,
+               "Write only the outline of the tiles (their border edges, for a later --check),\n"
+               "so that the tiles themselves can be deleted");
+  app.add_flag("--overwrite", o.overwrite, "Replace an existing output");
+  app.add_flag("-q,--quiet", quiet, "Only warnings and errors");
+  app.add_flag("-v,--verbose", verbose, "Also debug messages");
+  if (const int code = parse(app, "merge", argc, argv); code >= 0) return code;
+  set_verbosity(quiet, verbose);
+  if (o.check_only && !o.output.empty())
+    return usage_error("merge", "--check writes nothing: give no -o");
+  if (!o.check_only && o.output.empty())
+    return usage_error("merge", "give -o OUTPUT, or --check to only check the seams");
+  if (o.check_only && o.outline)
+    return usage_error("merge", "--check and --outline exclude each other");
+  return guarded("merge", [&] {
+    const pipeline::MergeReport r = pipeline::merge_tiles(o, kLog);
+    spdlog::info("{} {} tiles: {} vertices, {} triangles, {} seam edges matched, {} hull edges{}",
+                 o.check_only ? "checked" : "merged", r.tiles, r.vertices, r.triangles,
+                 r.seam_edges, r.hull_edges, o.check_only ? "" : "; wrote " + o.output);
+  });
+}
+
+}  // namespace tincdt::cli

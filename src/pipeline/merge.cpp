@@ -1,0 +1,410 @@
+#include "pipeline/merge.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cstdio>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/error.hpp"
+#include "io/crs.hpp"
+#include "io/mesh/ply_reader.hpp"
+#include "io/mesh/tin_writer.hpp"
+#include "io/output_set.hpp"
+#include "mesh/geometry.hpp"
+#include "mesh/triangulation.hpp"
+#include "pipeline/merge_outline.hpp"
+#include "predicates/predicates.hpp"
+
+namespace tincdt::pipeline {
+namespace {
+
+std::string at(Point2 p) {
+  char buf[80];
+  std::snprintf(buf, sizeof buf, "(%.3f, %.3f)", p.x, p.y);
+  return buf;
+}
+
+bool xy_less(const Point2& a, const Point2& b) {
+  return a.x < b.x || (a.x == b.x && a.y < b.y);
+}
+
+Point2 xy(const Point3& p) {
+  return {p.x, p.y};
+}
+
+// Whether D may lie beside edge a -> b of the counter-clockwise triangle a, b, c: not strictly
+// inside its circle (the same test Triangulation::validate() makes).
+bool delaunay_across(Point2 a, Point2 b, Point2 c, Point2 d) {
+  return predicates::incircle(a, b, c, d) <= 0;
+}
+
+// ---- welding vertices by their exact x, y
+// --------------------------------------------------------
+
+class Welder {
+ public:
+  // The id of P, a new one when its x, y are new. When they are not, the z must agree.
+  std::uint32_t add(const Point3& p, std::uint32_t tile, const std::vector<std::string>& names) {
+    if (2 * (points_.size() + 1) > slots_.size()) grow();
+    std::size_t i = hash(p) & (slots_.size() - 1);
+    while (slots_[i] != kNoId) {
+      const Point3& q = points_[slots_[i]];
+      if (q.x == p.x && q.y == p.y) {
+        if (q.z != p.z) {
+          char buf[96];
+          std::snprintf(buf, sizeof buf, ": z %.17g here, %.17g in ", p.z, q.z);
+          throw InputError(names[tile], "vertex at " + at(xy(p)),
+                           std::string("the tiles disagree on its height") + buf +
+                               names[tile_[slots_[i]]] + " (tiles of different runs?)");
+        }
+        return slots_[i];
+      }
+      i = (i + 1) & (slots_.size() - 1);
+    }
+    slots_[i] = static_cast<std::uint32_t>(points_.size());
+    points_.push_back(p);
+    tile_.push_back(tile);
+    return slots_[i];
+  }
+
+  const std::vector<Point3>& points() const { return points_; }
+  std::uint32_t tile_of(std::uint32_t v) const { return tile_[v]; }
+
+ private:
+  static std::size_t hash(const Point3& p) {
+    std::uint64_t h = std::bit_cast<std::uint64_t>(p.x) * 0x9E3779B97F4A7C15ULL;
+    h ^= std::bit_cast<std::uint64_t>(p.y) + 0x632BE59BD9B4E019ULL + (h << 6) + (h >> 2);
+    h *= 0xC2B2AE3D27D4EB4FULL;
+    return static_cast<std::size_t>(h ^ (h >> 29));
+  }
+  void grow() {
+    std::vector<std::uint32_t> old(std::max<std::size_t>(1024, 2 * slots_.size()), kNoId);
+    old.swap(slots_);
+    for (std::uint32_t v = 0; v < points_.size(); ++v) {
+      std::size_t i = hash(points_[v]) & (slots_.size() - 1);
+      while (slots_[i] != kNoId) i = (i + 1) & (slots_.size() - 1);
+      slots_[i] = v;
+    }
+  }
+
+  std::vector<std::uint32_t> slots_;
+  std::vector<Point3> points_;
+  std::vector<std::uint32_t> tile_;
+};
+
+// ---- half-edges of a triangle soup ------------------------------------------------------------
+
+std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
+  return (std::uint64_t{a} << 32) | b;
+}
+
+// Half-edge e = 3 t + i runs from corner i to corner i + 1 of triangle t. Sorted (key, e) pairs,
+// so that a half-edge's twin is found by its reversed key.
+class HalfEdges {
+ public:
+  explicit HalfEdges(const std::vector<std::array<std::uint32_t, 3>>& tris) {
+    keys_.reserve(3 * tris.size());
+    for (std::uint32_t t = 0; t < tris.size(); ++t)
+      for (std::uint32_t i = 0; i < 3; ++i)
+        keys_.push_back({edge_key(tris[t][i], tris[t][(i + 1) % 3]), 3 * t + i});
+    std::sort(keys_.begin(), keys_.end());
+  }
+  // The half-edge a -> b, kNoId when none. Two with the same key: *twice set.
+  std::uint32_t find(std::uint32_t a, std::uint32_t b, bool* twice = nullptr) const {
+    const std::uint64_t k = edge_key(a, b);
+    auto it =
+        std::lower_bound(keys_.begin(), keys_.end(), std::pair<std::uint64_t, std::uint32_t>{k, 0});
+    if (it == keys_.end() || it->first != k) return kNoId;
+    if (twice) *twice = it + 1 != keys_.end() && (it + 1)->first == k;
+    return it->second;
+  }
+  // The first pair of half-edges with the same origin and destination, if any.
+  bool repeated(std::uint32_t& e, std::uint32_t& f) const {
+    for (std::size_t i = 1; i < keys_.size(); ++i)
+      if (keys_[i].first == keys_[i - 1].first) {
+        e = keys_[i - 1].second;
+        f = keys_[i].second;
+        return true;
+      }
+    return false;
+  }
+
+ private:
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> keys_;
+};
+
+// ---- borders and outlines -----------------------------------------------------------------------
+
+using detail::Border;
+
+bool border_less(const Border& p, const Border& q) {
+  // By the undirected edge: its smaller end, then its larger end.
+  const Point2 p0 = std::min(xy(p.a), xy(p.b), xy_less), p1 = std::max(xy(p.a), xy(p.b), xy_less);
+  const Point2 q0 = std::min(xy(q.a), xy(q.b), xy_less), q1 = std::max(xy(q.a), xy(q.b), xy_less);
+  if (xy_less(p0, q0)) return true;
+  if (xy_less(q0, p0)) return false;
+  return xy_less(p1, q1);
+}
+
+bool same_edge(const Border& p, const Border& q) {
+  return !border_less(p, q) && !border_less(q, p);
+}
+
+// The border edges of one tile's TIN, after checking that no edge is used twice on one side.
+void borders_of(const io::PlyMesh& m, std::uint32_t tile, const std::vector<std::string>& names,
+                std::vector<Border>& out) {
+  const HalfEdges half(m.faces);
+  std::uint32_t e = 0, f = 0;
+  if (half.repeated(e, f)) {
+    const Point3& p = m.vertices[m.faces[e / 3][e % 3]];
+    throw InputError(names[tile],
+                     "triangles " + std::to_string(e / 3) + " and " + std::to_string(f / 3),
+                     "overlap: both have the edge from " + at(xy(p)) + " on the same side");
+  }
+  std::vector<std::uint64_t> constrained;
+  for (const io::PlyMesh::Edge& c : m.edges) {
+    constrained.push_back(edge_key(c.a, c.b));
+    constrained.push_back(edge_key(c.b, c.a));
+  }
+  std::sort(constrained.begin(), constrained.end());
+  for (std::uint32_t t = 0; t < m.faces.size(); ++t)
+    for (std::uint32_t i = 0; i < 3; ++i) {
+      const std::uint32_t a = m.faces[t][i], b = m.faces[t][(i + 1) % 3];
+      if (half.find(b, a) != kNoId) continue;
+      out.push_back({m.vertices[a], m.vertices[b], m.vertices[m.faces[t][(i + 2) % 3]],
+                     std::binary_search(constrained.begin(), constrained.end(), edge_key(a, b)),
+                     tile});
+    }
+}
+
+// Pairs the border edges of different tiles. Returns the edges left unmatched; throws for an
+// overlap, a height disagreement or a seam edge that is not Delaunay.
+std::vector<Border> match_borders(std::vector<Border> borders,
+                                  const std::vector<std::string>& names, std::uint64_t& matched) {
+  std::sort(borders.begin(), borders.end(), border_less);
+  std::vector<Border> left;
+  for (std::size_t i = 0; i < borders.size();) {
+    std::size_t j = i + 1;
+    while (j < borders.size() && same_edge(borders[i], borders[j])) ++j;
+    const Border& p = borders[i];
+    if (j - i == 1) {
+      left.push_back(p);
+    } else {
+      const Border& q = borders[i + 1];
+      const bool opposite = xy(p.a) == xy(q.b) && xy(p.b) == xy(q.a);
+      if (j - i > 2 || !opposite)
+        throw InputError(names[q.tile], "edge from " + at(xy(p.a)) + " to " + at(xy(p.b)),
+                         "overlap: " + names[p.tile] + " has a triangle on the same side of it");
+      if (p.a.z != q.b.z || p.b.z != q.a.z)
+        throw InputError(names[q.tile], "edge from " + at(xy(p.a)) + " to " + at(xy(p.b)),
+                         "the tiles disagree on its heights with " + names[p.tile]);
+      if (!p.constrained && !q.constrained &&
+          !delaunay_across(xy(p.a), xy(p.b), xy(p.apex), xy(q.apex)))
+        throw InputError(names[q.tile], "edge from " + at(xy(p.a)) + " to " + at(xy(p.b)),
+                         "the triangles on its two sides (this tile and " + names[p.tile] +
+                             ") are not Delaunay across it: tiles of different inputs or runs?");
+      ++matched;
+    }
+    i = j;
+  }
+  return left;
+}
+
+// The border edges left over must be the convex hull: one loop, counter-clockwise, turning left
+// (or going straight) at every vertex.
+void check_hull(std::vector<Border> hull, const std::vector<std::string>& names) {
+  if (hull.empty()) throw InputError(names.front(), "", "the tiles hold no triangle");
+  const auto by_start = [](const Border& p, const Border& q) { return xy_less(xy(p.a), xy(q.a)); };
+  std::sort(hull.begin(), hull.end(), by_start);
+  for (std::size_t i = 1; i < hull.size(); ++i)
+    if (xy(hull[i].a) == xy(hull[i - 1].a))
+      throw InputError(names[hull[i].tile], "vertex at " + at(xy(hull[i].a)),
+                       "a crack: two edges of the outline leave this vertex (a tile missing, or "
+                       "tiles of different runs)");
+  std::size_t loops = 0, walked = 0;
+  std::vector<char> seen(hull.size(), 0);
+  for (std::size_t s = 0; s < hull.size(); ++s) {
+    if (seen[s]) continue;
+    ++loops;
+    std::size_t e = s;
+    while (!seen[e]) {
+      seen[e] = 1;
+      ++walked;
+      const Border probe{hull[e].b, {}, {}, false, 0};
+      const auto it = std::lower_bound(hull.begin(), hull.end(), probe, by_start);
+      if (it == hull.end() || xy(it->a) != xy(hull[e].b))
+        throw InputError(names[hull[e].tile], "vertex at " + at(xy(hull[e].b)),
+                         "a crack: the outline stops here");
+      const Border& next = *it;
+      if (predicates::orient2d(xy(hull[e].a), xy(hull[e].b), xy(next.b)) < 0)
+        throw InputError(names[hull[e].tile], "vertex at " + at(xy(hull[e].b)),
+                         "a crack or a missing tile: the outline of the tiles turns inward here, "
+                         "so it is not the convex hull");
+      e = static_cast<std::size_t>(it - hull.begin());
+    }
+  }
+  if (loops != 1)
+    throw InputError(names.front(), "",
+                     "a crack: the outline of the tiles is " + std::to_string(loops) +
+                         " loops, not one (a hole between tiles, or tiles of different runs)");
+}
+
+// ---- the whole merge --------------------------------------------------------------------------
+
+MergeReport merge_outlines(const MergeOptions& options, const LogFn& log) {
+  MergeReport r;
+  std::vector<Border> borders;
+  std::string crs;
+  for (std::uint32_t t = 0; t < options.inputs.size(); ++t) {
+    const io::PlyMesh m = io::read_ply(options.inputs[t]);
+    if (crs.empty()) crs = m.crs;
+    ++r.tiles;
+    r.vertices += m.vertices.size();
+    r.triangles += m.faces.size();
+    if (m.outline) {
+      for (const io::PlyMesh::Edge& e : m.edges)
+        borders.push_back({m.vertices[e.a], m.vertices[e.b], m.vertices[e.apex], e.constrained, t});
+    } else {
+      borders_of(m, t, options.inputs, borders);
+    }
+    if (log)
+      log(log_debug, options.inputs[t] + ": " + std::to_string(m.faces.size()) + " triangles, " +
+                         std::to_string(borders.size()) + " border edges so far");
+  }
+  std::vector<Border> left = match_borders(std::move(borders), options.inputs, r.seam_edges);
+  r.hull_edges = left.size();
+  if (options.outline) {
+    io::OutputSet set(options.overwrite);
+    detail::write_outline(set.add(options.output, "outline"), left, crs);
+    set.commit();
+  } else {
+    check_hull(std::move(left), options.inputs);
+  }
+  return r;
+}
+
+MergeReport merge_whole(const MergeOptions& options, const LogFn& log) {
+  const std::vector<std::string>& names = options.inputs;
+  MergeReport r;
+  Welder welder;
+  std::vector<std::array<std::uint32_t, 3>> tris;
+  std::vector<std::uint32_t> tri_tile;
+  std::vector<std::array<std::uint32_t, 2>> constrained;
+  std::string crs;
+  Point3 offset{0, 0, 0};
+  bool one_offset = true;
+  for (std::uint32_t t = 0; t < names.size(); ++t) {
+    const io::PlyMesh m = io::read_ply(names[t]);
+    if (m.outline)
+      throw InputError(names[t], "", "is a tile outline: merge outlines with --check or --outline");
+    if (t == 0) {
+      crs = m.crs;
+      offset = m.offset;
+    } else if (!(m.offset == offset)) {
+      one_offset = false;
+    }
+    std::vector<std::uint32_t> id(m.vertices.size());
+    for (std::size_t v = 0; v < m.vertices.size(); ++v) id[v] = welder.add(m.vertices[v], t, names);
+    for (const auto& f : m.faces) {
+      tris.push_back({id[f[0]], id[f[1]], id[f[2]]});
+      tri_tile.push_back(t);
+    }
+    for (const io::PlyMesh::Edge& e : m.edges) constrained.push_back({id[e.a], id[e.b]});
+    ++r.tiles;
+    if (log) log(log_debug, names[t] + ": " + std::to_string(m.faces.size()) + " triangles");
+  }
+  const std::vector<Point3>& points = welder.points();
+  if (tris.empty()) throw InputError(names.front(), "", "the tiles hold no triangle");
+  r.vertices = points.size();
+  r.triangles = tris.size();
+
+  const HalfEdges half(tris);
+  std::uint32_t e = 0, f = 0;
+  if (half.repeated(e, f)) {
+    const Point3& p = points[tris[e / 3][e % 3]];
+    throw InputError(
+        names[tri_tile[f / 3]], "edge from " + at(xy(p)),
+        "overlap: " + names[tri_tile[e / 3]] + " has a triangle on the same side of it");
+  }
+  // Twins, and the border: half-edges without one, each of which must be on the hull.
+  std::vector<std::uint32_t> twin(3 * tris.size(), kNoId);
+  std::vector<Border> border;
+  std::vector<std::uint32_t> border_edge;
+  for (std::uint32_t h = 0; h < twin.size(); ++h) {
+    const std::uint32_t a = tris[h / 3][h % 3], b = tris[h / 3][(h + 1) % 3];
+    twin[h] = half.find(b, a);
+    if (twin[h] != kNoId) {
+      if (tri_tile[h / 3] != tri_tile[twin[h] / 3] && a < b) ++r.seam_edges;
+      continue;
+    }
+    border.push_back(
+        {points[a], points[b], points[tris[h / 3][(h + 2) % 3]], false, tri_tile[h / 3]});
+    border_edge.push_back(h);
+  }
+  check_hull(border, names);
+  r.hull_edges = border.size();
+
+  // The TIN: the triangles, then one ghost per hull edge, chained around the hull.
+  mesh::Triangulation tin;
+  tin.reserve_vertices(points.size());
+  for (const Point3& p : points) tin.add_vertex({p.x, p.y}, p.z);
+  tin.reserve_triangles(tris.size() + border_edge.size());
+  for (const auto& t : tris) tin.add_triangle(t[0], t[1], t[2]);
+  for (std::uint32_t h = 0; h < twin.size(); ++h)
+    if (twin[h] != kNoId && h < twin[h]) tin.link(h, twin[h]);
+  std::vector<std::uint32_t> ghost_into(points.size(), kNoId);  // vertex -> ghost edge inf -> v
+  std::vector<std::uint32_t> ghost_out(points.size(), kNoId);   // vertex -> ghost edge v -> inf
+  for (const std::uint32_t h : border_edge) {
+    const std::uint32_t a = tris[h / 3][h % 3], b = tris[h / 3][(h + 1) % 3];
+    const TriangleId g = tin.add_triangle(b, a, mesh::kInfinite);  // b -> a, a -> inf, inf -> b
+    tin.link(h, 3 * g);
+    ghost_out[a] = 3 * g + 1;
+    ghost_into[b] = 3 * g + 2;
+  }
+  for (std::uint32_t v = 0; v < points.size(); ++v)
+    if (ghost_out[v] != kNoId) tin.link(ghost_out[v], ghost_into[v]);
+  for (const auto& c : constrained) {
+    std::uint32_t h = half.find(c[0], c[1]);
+    if (h == kNoId) h = half.find(c[1], c[0]);
+    if (h == kNoId)
+      throw InputError(names[welder.tile_of(c[0])], "constrained edge at " + at(xy(points[c[0]])),
+                       "is no edge of the merged triangles");
+    tin.set_constrained(h, true);
+  }
+  tin.recount();
+  const std::string problem = tin.validate();
+  if (!problem.empty())
+    throw InputError(
+        names.front(), "",
+        "the merged TIN is not valid: " + problem + " (tiles of different inputs or runs?)");
+
+  if (options.check_only) return r;
+  io::TinWriteOptions w;
+  w.format = io::format_from_path(options.output);
+  w.overwrite = options.overwrite;
+  if (one_offset) w.offset = offset;
+  if (!crs.empty()) w.crs_wkt = io::crs_from_user(crs);
+  io::OutputSet set(options.overwrite);
+  io::OutputFile& out = set.add(options.output, "tin");
+  io::write_tin(out, tin, w);
+  out.close();
+  if (io::wants_prj(*w.format, w.crs_wkt)) {
+    io::OutputFile& prj = set.add(io::prj_path(options.output), "prj");
+    io::write_prj(prj, w.crs_wkt);
+    prj.close();
+  }
+  set.commit();
+  return r;
+}
+
+}  // namespace
+
+MergeReport merge_tiles(const MergeOptions& options, const LogFn& log) {
+  if (options.inputs.empty()) throw UsageError("no tiles to merge");
+  if (options.check_only || options.outline) return merge_outlines(options, log);
+  return merge_whole(options, log);
+}
+
+}  // namespace tincdt::pipeline

@@ -1,0 +1,31 @@
+// Internal to the plan (plan.cpp): the convex hull of a point file and its points near the hull,
+// from which the plan makes the rim of all the data (tile_rules.hpp, Rim).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/types.hpp"
+#include "io/points/point_reader.hpp"
+
+namespace tincdt::pipeline::detail {
+
+struct PointScan {
+  std::uint64_t points = 0;  // kept by the filter
+  BBox bounds;               // exact
+  std::vector<Point2> hull;  // counter-clockwise
+  // Every point within WIDTH of the hull's boundary (a superset of the file's part of the rim:
+  // a point is at least as far from the whole data's hull boundary as from its file's).
+  std::vector<Point3> near_outline;
+};
+
+// Reads PATH with FILTER (XYZ text on THREADS threads, 0 = every core) and measures it.
+PointScan scan_points(const std::string& path, const io::PointFilter& filter, double width,
+                      unsigned threads);
+
+// Whether the closed box B lies inside the convex polygon HULL (counter-clockwise) farther than
+// WIDTH from its boundary, with room for rounding.
+bool deep_inside(const BBox& b, const std::vector<Point2>& hull, double width);
+
+}  // namespace tincdt::pipeline::detail

@@ -1,0 +1,197 @@
+// tile: in a tiled job (--plan), keeps the triangles the tile owns and proves that each of them,
+// and every other triangle near the tile, is final: a triangle of the whole TIN (tile_rules.hpp).
+//
+// A triangle is final when no point or line the tile lacks can change it: its circumdisk meets
+// none of the regions where such data may lie (TileSetup::missing). Across a constrained edge of
+// the triangle nothing is visible, so for a triangle with constrained edges only the part of the
+// disk beyond its other edges counts (and the triangle itself).
+//
+// Checked: every triangle that meets the tile's box (grown by a hair for the rounding of the
+// owner point) and every hull edge whose outer side reaches it. If they are all final, the
+// triangles of the whole TIN owned by this tile are exactly the local ones it owns: the owner
+// point of a whole-TIN triangle lies inside it, in the tile, so inside a checked local triangle,
+// which is final and therefore that same triangle; a point of the tile outside the local hull is
+// outside the whole hull too (its hull edge is final).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "core/error.hpp"
+#include "pipeline/merge_outline.hpp"
+#include "pipeline/stage.hpp"
+#include "pipeline/tile_job.hpp"
+
+namespace tincdt::pipeline {
+namespace {
+
+std::string number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4g", v);
+  return buf;
+}
+
+// A buffer comfortably above NEEDED: rounded up to two significant digits, plus a tenth.
+double suggested_buffer(double needed) {
+  const double v = needed * 1.1;
+  const double unit = std::pow(10.0, std::floor(std::log10(v)) - 1);
+  return std::ceil(v / unit) * unit;
+}
+
+// The kept triangles' border: each edge whose other side is not kept, in the kept triangle's
+// direction (its interior on the left).
+std::vector<detail::Border> outline_of(const mesh::Triangulation& tin) {
+  std::vector<detail::Border> border;
+  const auto point = [&tin](VertexId v) {
+    const Point2 p = tin.point(v);
+    return Point3{p.x, p.y, tin.z(v)};
+  };
+  tin.for_each_triangle([&](TriangleId t, const std::array<VertexId, 3>& c) {
+    for (std::uint32_t i = 0; i < 3; ++i) {
+      if (tin.is_kept(mesh::triangle_of(tin.twin(3 * t + i)))) continue;
+      border.push_back({point(c[i]), point(c[(i + 1) % 3]), point(c[(i + 2) % 3]),
+                        tin.is_constrained(3 * t + i), 0});
+    }
+  });
+  return border;
+}
+
+bool wanted(const BuildOptions& o) {
+  return !o.plan.empty();
+}
+
+void plan(const BuildOptions& o, FilePlan& files) {
+  if (!o.tile_outline.empty())
+    files.outputs.push_back({o.tile_outline, "the tile's outline (--outline)"});
+}
+
+void run(Job& job) {
+  const TileSetup& tile = *job.tile;
+  mesh::Triangulation& tin = job.tin();
+  // The owner point of a triangle is its centroid computed in doubles: within a few ulps of the
+  // true centroid, so the checked region is the tile grown by a bound on that.
+  const double magnitude = std::max({std::fabs(tile.box.min_x), std::fabs(tile.box.max_x),
+                                     std::fabs(tile.box.min_y), std::fabs(tile.box.max_y)});
+  const double span = tile.buffered.max_x - tile.buffered.min_x;
+  const BBox near = tiles::grown(tile.box, 16 * 0x1p-52 * (magnitude + span));
+  const double margin = tile.margin;
+  const auto is_final = [&](TriangleId t, const tiles::Disk& d) {
+    if (tiles::inside(d, tile.buffered)) return true;
+    const auto c = tin.triangle(t);
+    const Point2 p[3] = {tin.point(c[0]), tin.point(c[1]), tin.point(c[2])};
+    bool constrained[3];
+    bool any = false;
+    for (int i = 0; i < 3; ++i) any |= constrained[i] = tin.is_constrained(3 * t + i);
+    for (const tiles::Polygon& piece : tile.missing) {
+      if (!tiles::may_meet(d, piece, margin)) continue;
+      if (!any || tiles::may_meet(p[0], p[1], p[2], piece, margin)) return false;
+      for (int i = 0; i < 3; ++i) {
+        if (constrained[i]) continue;
+        // Beyond edge p[i] -> p[i + 1]: on its right, the left of p[i + 1] -> p[i].
+        const tiles::Polygon beyond = tiles::clip_left(piece, p[(i + 1) % 3], p[i], margin);
+        if (tiles::may_meet(d, beyond, margin)) return false;
+      }
+    }
+    return true;
+  };
+
+  std::uint64_t owned = 0, checked = 0, failed = 0;
+  std::uint64_t beyond = 0;  // final with a circumcircle beyond the buffered box
+  double reach = 0;          // how far the other circumcircles reach beyond the tile
+  double failed_reach = 0;   // how far those of the failures do
+  bool unbounded = false;    // a failure no estimate covers (hull edge, flat triangle)
+  Point2 at{0, 0};           // a failure, for the message
+  const std::size_t slots = tin.triangle_slots();
+  for (std::size_t s = 0; s < slots; ++s) {
+    const auto t = static_cast<TriangleId>(s);
+    const auto c = tin.triangle(t);
+    if (tin.is_ghost(t)) {
+      // Ghost (u, v, inf): the outer side of hull edge v -> u is the open half-plane left of
+      // u -> v. Where it reaches the tile, no data may lie in it outside the buffered box.
+      const int i = c[0] == mesh::kInfinite ? 1 : (c[1] == mesh::kInfinite ? 2 : 0);
+      const Point2 u = tin.point(c[i]), v = tin.point(c[(i + 1) % 3]);
+      if (!tiles::reaches_left_of(u, v, near)) continue;
+      ++checked;
+      const bool final = std::none_of(
+          tile.missing.begin(), tile.missing.end(),
+          [&](const tiles::Polygon& piece) { return tiles::may_meet_left(u, v, piece, margin); });
+      ++beyond;
+      if (!final) {
+        ++failed;
+        unbounded = true;
+        at = {(u.x + v.x) / 2, (u.y + v.y) / 2};
+      }
+      continue;
+    }
+    const Point2 a = tin.point(c[0]), b = tin.point(c[1]), p = tin.point(c[2]);
+    BBox box;
+    box.add(a.x, a.y);
+    box.add(b.x, b.y);
+    box.add(p.x, p.y);
+    if (!tiles::intersects(box, near)) {
+      tin.set_removed(t, true);
+      continue;
+    }
+    ++checked;
+    const tiles::Disk d = tiles::circumdisk_bound(a, b, p);
+    const double r = tiles::reach_beyond(d, tile.box);
+    if (r <= tile.buffer)
+      reach = std::max(reach, r);
+    else
+      ++beyond;
+    if (!is_final(t, d)) {
+      ++failed;
+      if (!std::isfinite(r)) {
+        unbounded = true;
+      } else if (r >= failed_reach) {
+        failed_reach = r;
+        at = {(a.x + b.x + p.x) / 3, (a.y + b.y + p.y) / 3};
+      }
+    }
+    if (tile.grid.holds(tile.col, tile.row, tiles::owner_point(a, b, p))) {
+      ++owned;
+    } else {
+      tin.set_removed(t, true);
+    }
+  }
+
+  const std::string name = "tile " + std::to_string(tile.index);
+  if (failed > 0) {
+    char where[80];
+    std::snprintf(where, sizeof where, "(%.3f, %.3f)", at.x, at.y);
+    std::string detail =
+        "buffer " + number(tile.buffer) + " is too small: " + std::to_string(failed) + " triangle" +
+        (failed == 1 ? "" : "s") + " near the tile could still change (one near " + where + ")";
+    // Past a hull edge of the points read, a larger buffer usually finds more points; the
+    // estimate from the circles is then a lower bound.
+    if (failed_reach > 0) {
+      detail += "; a buffer of " + number(suggested_buffer(failed_reach)) +
+                (unbounded ? " or more" : "") +
+                " is needed (make the plan again with --buffer, or run this tile with --buffer: "
+                "tiles already built stay valid)";
+    } else {
+      detail +=
+          "; the data's outline near the tile is not settled within the buffer: try a "
+          "buffer of a tile size or more";
+    }
+    throw InputError(tile.plan_path, name, detail);
+  }
+  if (!job.options.tile_outline.empty()) {
+    io::OutputFile& out = job.add_output(job.options.tile_outline, "outline");
+    detail::write_outline(out, outline_of(tin), "");
+    job.finish_output(out);
+  }
+  job.info(name + ": " + std::to_string(owned) + " triangles owned, " + std::to_string(checked) +
+           " checked final: " + std::to_string(checked - beyond) +
+           " with a circumcircle inside the buffered box (reaching " + number(reach) +
+           " beyond the tile; buffer " + number(tile.buffer) + "), " + std::to_string(beyond) +
+           " by the rim, their constrained edges or areas without data");
+}
+
+}  // namespace
+
+extern const Stage tile_stage{"tile", "tile", wanted, run, plan};
+
+}  // namespace tincdt::pipeline

@@ -1,0 +1,370 @@
+#include "pipeline/tile_job.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "core/error.hpp"
+#include "pipeline/job.hpp"
+#include "pipeline/plan.hpp"
+#include "predicates/predicates.hpp"
+
+namespace tincdt::pipeline {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.10g", v);
+  return buf;
+}
+
+std::string point_text(double x, double y) {
+  char buf[80];
+  std::snprintf(buf, sizeof buf, "(%.3f, %.3f)", x, y);
+  return buf;
+}
+
+std::string box_text(const BBox& b) {
+  return "x " + number(b.min_x) + " to " + number(b.max_x) + ", y " + number(b.min_y) + " to " +
+         number(b.max_y);
+}
+
+bool within(const BBox& inner, const BBox& outer) {
+  return inner.min_x >= outer.min_x && inner.max_x <= outer.max_x && inner.min_y >= outer.min_y &&
+         inner.max_y <= outer.max_y;
+}
+
+// ---- crossing lines ---------------------------------------------------------------------------
+
+struct SegmentBox {
+  Point2 a, b;
+  BBox box;
+};
+
+// Refuses the first proper crossing (the interiors cross at one point) between a segment marked
+// LOCAL and any other. Candidates are binned on a grid over the local segments' extent.
+void refuse_crossings(const Job& job, const std::vector<SegmentBox>& segs,
+                      const std::vector<char>& local) {
+  BBox region;
+  std::size_t locals = 0;
+  for (std::size_t i = 0; i < segs.size(); ++i) {
+    if (!local[i]) continue;
+    ++locals;
+    region.add(segs[i].box.min_x, segs[i].box.min_y);
+    region.add(segs[i].box.max_x, segs[i].box.max_y);
+  }
+  if (locals == 0) return;
+  std::vector<std::uint32_t> candidates;
+  for (std::uint32_t i = 0; i < segs.size(); ++i)
+    if (tiles::intersects(segs[i].box, region)) candidates.push_back(i);
+  const double width = std::max(region.max_x - region.min_x, 1e-300);
+  const double height = std::max(region.max_y - region.min_y, 1e-300);
+  const double cells_wanted = std::max(1.0, static_cast<double>(candidates.size()));
+  const double cell = std::sqrt(width * height / cells_wanted);
+  const auto dim = [&](double extent) {
+    return static_cast<std::size_t>(std::clamp(std::ceil(extent / cell), 1.0, 2048.0));
+  };
+  const std::size_t nx = dim(width), ny = dim(height);
+  const auto col = [&](double x) {
+    return static_cast<std::size_t>(std::clamp((x - region.min_x) / width * static_cast<double>(nx),
+                                               0.0, static_cast<double>(nx - 1)));
+  };
+  const auto row = [&](double y) {
+    return static_cast<std::size_t>(std::clamp(
+        (y - region.min_y) / height * static_cast<double>(ny), 0.0, static_cast<double>(ny - 1)));
+  };
+  // Cells as a counting sort: first, then entries.
+  std::vector<std::uint32_t> start(nx * ny + 1, 0);
+  const auto for_cells = [&](const BBox& b, auto&& f) {
+    for (std::size_t r = row(b.min_y); r <= row(b.max_y); ++r)
+      for (std::size_t c = col(b.min_x); c <= col(b.max_x); ++c) f(r * nx + c);
+  };
+  for (std::uint32_t i : candidates) for_cells(segs[i].box, [&](std::size_t k) { ++start[k + 1]; });
+  for (std::size_t k = 0; k < nx * ny; ++k) start[k + 1] += start[k];
+  std::vector<std::uint32_t> entries(start.back());
+  std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+  for (std::uint32_t i : candidates)
+    for_cells(segs[i].box, [&](std::size_t k) { entries[fill[k]++] = i; });
+
+  std::vector<std::uint32_t> seen(segs.size(), kNoId);
+  using predicates::orient2d;
+  for (std::uint32_t i = 0; i < segs.size(); ++i) {
+    if (!local[i]) continue;
+    const SegmentBox& s = segs[i];
+    for_cells(s.box, [&](std::size_t k) {
+      for (std::uint32_t e = start[k]; e < start[k + 1]; ++e) {
+        const std::uint32_t j = entries[e];
+        if (j == i || seen[j] == i || (local[j] && j < i)) continue;
+        seen[j] = i;
+        const SegmentBox& t = segs[j];
+        if (!tiles::intersects(s.box, t.box)) continue;
+        if (orient2d(s.a, s.b, t.a) * orient2d(s.a, s.b, t.b) >= 0) continue;
+        if (orient2d(t.a, t.b, s.a) * orient2d(t.a, t.b, s.b) >= 0) continue;
+        const io::LineData& lines = job.lines;
+        const io::LineFeature& fi = lines.features[lines.segments[i].feature];
+        const io::LineFeature& fj = lines.features[lines.segments[j].feature];
+        const double d1 = (t.b.x - t.a.x) * (s.a.y - t.a.y) - (t.b.y - t.a.y) * (s.a.x - t.a.x);
+        const double d2 = (t.b.x - t.a.x) * (s.b.y - t.a.y) - (t.b.y - t.a.y) * (s.b.x - t.a.x);
+        const double u = d1 / (d1 - d2);
+        throw InputError(lines.files[fi.file], "feature " + std::to_string(fi.fid),
+                         "crosses " + lines.files[fj.file] + " feature " + std::to_string(fj.fid) +
+                             " near " +
+                             point_text(s.a.x + u * (s.b.x - s.a.x), s.a.y + u * (s.b.y - s.a.y)) +
+                             ": tiled jobs (--plan) need contours and hard lines that do not "
+                             "cross (join them at a shared vertex), or a build without --plan");
+      }
+    });
+  }
+}
+
+// Throws unless the file of input IN (at PATH) is the one the plan was made from.
+void check_unchanged(const PlanInput& in, const std::string& path, const std::string& plan_path,
+                     const std::string& where) {
+  const std::string file =
+      in.kind == "contours" || in.kind == "breaklines" ? io::vector_source_file(path) : path;
+  std::error_code ec;
+  const bool regular = fs::is_regular_file(file, ec);
+  if (in.fingerprint.empty()) return;  // not a plain file (a database, a URL): nothing to compare
+  if (!regular)
+    throw InputError(plan_path, where,
+                     "input " + path + " is missing: the plan was made from other inputs");
+  const auto bytes = static_cast<std::uint64_t>(fs::file_size(file, ec));
+  if (bytes != in.bytes || file_fingerprint(file) != in.fingerprint)
+    throw InputError(plan_path, where,
+                     "input " + path + " has changed since the plan was made (" +
+                         (bytes != in.bytes ? std::to_string(in.bytes) + " bytes then, " +
+                                                  std::to_string(bytes) + " now"
+                                            : std::string("same size, other content")) +
+                         "): make the plan again");
+}
+
+// The regions where data the tile does not hold may lie (TileSetup::missing).
+void find_missing(TileSetup& setup, bool reads_rim) {
+  const tiles::Polygon clip = reads_rim ? setup.rim.inner() : setup.rim.hull;
+  for (const BBox& r : tiles::data_outside(setup.data, setup.buffered)) {
+    tiles::Polygon piece = tiles::box_polygon(r);
+    for (std::size_t i = 0; i < clip.size() && clip.size() >= 3 && !piece.empty(); ++i)
+      piece = tiles::clip_left(piece, clip[i], clip[(i + 1) % clip.size()], setup.margin);
+    if (!piece.empty()) setup.missing.push_back(std::move(piece));
+  }
+}
+
+}  // namespace
+
+void check_tile_options(const BuildOptions& o) {
+  if (o.plan.empty()) {
+    if (o.tile >= 0 || o.tile_buffer >= 0 || !o.tile_outline.empty())
+      throw UsageError(
+          "--tile, --buffer and --outline need --plan: the plan that defines the tiles");
+    return;
+  }
+  const auto refuse = [](const std::string& option, const std::string& why) {
+    throw UsageError(option + " cannot be used with --plan: " + why);
+  };
+  const io::PointFilter& f = o.filter;
+  if (!o.inputs.empty() || !o.contours.empty() || !o.breaklines.empty() || !o.lines.layer.empty() ||
+      !o.lines.z_field.empty() || o.lines.z_from_m || !f.keep_classes.empty() ||
+      !f.drop_classes.empty() || f.first_return_only || f.last_return_only)
+    throw UsageError(
+        "with --plan the inputs, and how they are read, come from the plan: give no "
+        "INPUT, --contours, --breaklines, --layer, --z-field, --z-from-m or class and "
+        "return filters (give them to 'tincdt plan')");
+  if (o.tile < 0) throw UsageError("--plan needs --tile N: the index of the tile to build");
+  if (!(o.tile_buffer >= 0) && o.tile_buffer != -1)
+    throw UsageError("--buffer must be a length >= 0");
+  if (o.max_edge > 0)
+    refuse("--max-edge", "it trims inward from the whole TIN's hull, which a tile does not see");
+  if (o.fix_flats) refuse("--fix-flats", "its new vertices depend on triangles beyond the tile");
+  if (o.max_error || o.max_vertices > 0)
+    refuse(o.max_error ? "--max-error" : "--max-vertices",
+           "each tile's greedy insertion would keep its own points, and the seams would not "
+           "match (simplify the merged TIN, or each tile without --plan)");
+  if (!o.soft_lines.empty() || !o.clip.empty() || !o.erase.empty() || !o.replace.empty())
+    refuse("--soft-lines, --clip, --erase and --replace",
+           "their vertices are draped on triangles a tile may not have");
+  if (o.constraint.restore != constraints::Restore::delaunay)
+    refuse(
+        "--restore " +
+            std::string(o.constraint.restore == constraints::Restore::aspect ? "aspect" : "none"),
+        "only the constrained Delaunay triangulation is the same whatever the tiling");
+}
+
+BuildOptions tile_options(const BuildOptions& options, TileSetup& setup) {
+  check_tile_options(options);
+  const std::string& plan_path = options.plan;
+  const TilePlan plan = read_plan(plan_path);
+  if (plan.tiles.empty()) throw InputError(plan_path, "", "the plan has no tiles");
+  if (static_cast<std::uint64_t>(options.tile) >= plan.tiles.size())
+    throw InputError(plan_path, "",
+                     "no tile " + std::to_string(options.tile) + ": the plan has tiles 0 to " +
+                         std::to_string(plan.tiles.size() - 1));
+  const PlanTile& tile = plan.tiles[static_cast<std::size_t>(options.tile)];
+  setup.plan_path = plan_path;
+  setup.index = tile.index;
+  setup.col = tile.col;
+  setup.row = tile.row;
+  setup.grid = tiles::TileGrid{plan.tile_size};
+  setup.buffer = options.tile_buffer >= 0 ? options.tile_buffer : plan.buffer;
+  setup.box = setup.grid.box(tile.col, tile.row);
+  setup.buffered = setup.grid.buffered(tile.col, tile.row, setup.buffer);
+  for (const PlanInput& in : plan.inputs)
+    setup.data.push_back(tiles::empty(in.bounds) ? in.bounds
+                                                 : tiles::grown(in.bounds, in.tolerance));
+
+  // The inputs in reach: the plan's list, or with another buffer, those whose bounds meet it.
+  std::vector<std::uint32_t> reads = tile.inputs;
+  if (options.tile_buffer >= 0) {
+    reads.clear();
+    for (std::uint32_t i = 0; i < plan.inputs.size(); ++i)
+      if (!tiles::empty(setup.data[i]) && tiles::intersects(setup.data[i], setup.buffered))
+        reads.push_back(i);
+  }
+  const std::string where = "tile " + std::to_string(tile.index);
+  if (reads.empty())
+    throw InputError(plan_path, where,
+                     "no input within its buffer (" + number(setup.buffer) +
+                         "), yet the data's outline covers the tile: a larger buffer is needed "
+                         "(--buffer on the tile job, or a new plan)");
+
+  BuildOptions o = options;
+  o.inputs.clear();
+  o.contours.clear();
+  o.breaklines.clear();
+  for (const std::uint32_t i : reads) {
+    const PlanInput& in = plan.inputs[i];
+    const std::string path = resolve_input(plan.inputs[i], plan_path);
+    check_unchanged(in, path, plan_path, where);
+    if (in.kind == "points") {
+      o.inputs.push_back(path);
+      setup.point_bounds.push_back(setup.data[i]);
+    }
+  }
+  for (const char* kind : {"contours", "breaklines"})
+    for (const std::uint32_t i : reads)
+      if (plan.inputs[i].kind == kind) {
+        (std::string(kind) == "contours" ? o.contours : o.breaklines)
+            .push_back(resolve_input(plan.inputs[i], plan_path));
+        setup.line_bounds.push_back(setup.data[i]);
+      }
+  o.lines = plan.lines;
+  o.filter = plan.filter;
+  o.filter.box = setup.buffered;
+
+  // The rim, for a tile whose buffered box reaches within the rim's width of the hull.
+  double magnitude = 1;
+  for (const double v :
+       {setup.buffered.min_x, setup.buffered.max_x, setup.buffered.min_y, setup.buffered.max_y})
+    magnitude = std::max(magnitude, std::fabs(v));
+  for (const Point2& p : plan.hull)
+    magnitude = std::max({magnitude, std::fabs(p.x), std::fabs(p.y)});
+  setup.margin = 256 * 0x1p-52 * magnitude;
+  setup.rim = tiles::Rim{plan.hull, plan.rim_width};
+  bool reads_rim = false;
+  if (plan.rim_width > 0) {
+    const tiles::Polygon inner = setup.rim.inner();
+    const BBox& b = setup.buffered;
+    for (const Point2 c : {Point2{b.min_x, b.min_y}, Point2{b.max_x, b.min_y},
+                           Point2{b.max_x, b.max_y}, Point2{b.min_x, b.max_y}}) {
+      const tiles::Polygon point{c};
+      bool in = inner.size() >= 3;
+      for (std::size_t i = 0; i < inner.size() && in; ++i)
+        in = !tiles::may_meet_left(inner[(i + 1) % inner.size()], inner[i], point, setup.margin);
+      reads_rim = reads_rim || !in;
+    }
+    if (reads_rim) {
+      setup.rim_path = resolve_input(plan.rim, plan_path);
+      check_unchanged(plan.rim, setup.rim_path, plan_path, where);
+    }
+  }
+  find_missing(setup, reads_rim);
+  if (o.write.offset_auto) {  // one offset for every tile: the plan's extent, rounded down to 1000
+    o.write.offset_auto = false;
+    o.write.offset = {std::floor(plan.extent.min_x / 1000.0) * 1000.0,
+                      std::floor(plan.extent.min_y / 1000.0) * 1000.0, 0.0};
+  }
+  return o;
+}
+
+namespace detail {
+
+void check_tile_points(const Job& job, std::size_t input, const BBox& extent) {
+  const TileSetup& tile = *job.tile;
+  if (tiles::empty(extent) || within(extent, tile.point_bounds[input])) return;
+  throw InputError(job.options.inputs[input], "",
+                   "holds points outside the bounds the plan has from its header (points: " +
+                       box_text(extent) + "; header: " + box_text(tile.point_bounds[input]) +
+                       "): tiled jobs rely on them; fix the header (e.g. 'lasinfo "
+                       "-repair_bb') and make the plan again");
+}
+
+void add_tile_rim(Job& job) {
+  const TileSetup& tile = *job.tile;
+  if (tile.rim_path.empty()) return;
+  std::vector<Point3> rim;
+  io::read_points(tile.rim_path, {}, rim);
+  const BBox& b = tile.buffered;
+  std::size_t added = 0;
+  for (const Point3& p : rim) {
+    if (p.x >= b.min_x && p.x <= b.max_x && p.y >= b.min_y && p.y <= b.max_y) continue;
+    job.points.push_back(p);
+    ++added;
+  }
+  job.debug("tile " + std::to_string(tile.index) + ": " + std::to_string(added) +
+            " rim points outside the buffered box");
+}
+
+void keep_tile_lines(Job& job) {
+  const TileSetup& tile = *job.tile;
+  io::LineData& lines = job.lines;
+  std::vector<SegmentBox> segs;
+  segs.reserve(lines.segments.size());
+  std::vector<char> local(lines.segments.size(), 0);
+  for (std::size_t i = 0; i < lines.segments.size(); ++i) {
+    const io::LineData::Segment& s = lines.segments[i];
+    const Point3 &a = lines.vertices[s.a], &b = lines.vertices[s.b];
+    SegmentBox sb{{a.x, a.y}, {b.x, b.y}, {}};
+    sb.box.add(a.x, a.y);
+    sb.box.add(b.x, b.y);
+    const std::uint32_t file = lines.features[s.feature].file;
+    if (!within(sb.box, tile.line_bounds[file]))
+      throw InputError(
+          lines.files[file], "feature " + std::to_string(lines.features[s.feature].fid),
+          "lies outside the layer extent the plan has (" + box_text(tile.line_bounds[file]) +
+              "): tiled jobs rely on it; make the plan again");
+    const bool in_rim = !tile.rim_path.empty() && (tile.rim.holds(sb.a) || tile.rim.holds(sb.b));
+    local[i] = tiles::intersects(sb.box, tile.buffered) || in_rim ? 1 : 0;
+    segs.push_back(sb);
+  }
+  refuse_crossings(job, segs, local);
+  // Keep the local segments whole, and only their vertices, in their order (--on-duplicate first
+  // takes the first of coincident points in input order).
+  std::vector<std::uint32_t> renumber(lines.vertices.size(), kNoId);
+  for (std::size_t i = 0; i < lines.segments.size(); ++i)
+    if (local[i]) renumber[lines.segments[i].a] = renumber[lines.segments[i].b] = 0;
+  std::vector<Point3> vertices;
+  for (std::size_t v = 0; v < renumber.size(); ++v) {
+    if (renumber[v] == kNoId) continue;
+    renumber[v] = static_cast<std::uint32_t>(vertices.size());
+    vertices.push_back(lines.vertices[v]);
+  }
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < lines.segments.size(); ++i) {
+    if (!local[i]) continue;
+    io::LineData::Segment s = lines.segments[i];
+    s.a = renumber[s.a];
+    s.b = renumber[s.b];
+    lines.segments[kept++] = s;
+  }
+  job.debug("tile " + std::to_string(tile.index) + ": " + std::to_string(kept) + " of " +
+            std::to_string(lines.segments.size()) + " line segments meet the buffered box");
+  lines.segments.resize(kept);
+  lines.vertices = std::move(vertices);
+}
+
+}  // namespace detail
+}  // namespace tincdt::pipeline

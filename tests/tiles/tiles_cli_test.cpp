@@ -1,0 +1,185 @@
+// `tincdt plan`, `tincdt --plan P --tile N` and `tincdt merge` run the way a user (or a job
+// engine) runs them: exit codes, one-line errors naming the plan and the tile, no file left by a
+// failed job, and a GNU parallel run of every tile of a plan (skipped when parallel is missing).
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "support/files.hpp"
+#include "support/mesh_files.hpp"
+
+extern char** environ;
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Outcome {
+  int exit_code = -1;
+  std::string err;
+};
+
+// Runs ARGS (ARGS[0] the program) in DIR, stderr captured.
+Outcome run(const fs::path& dir, std::vector<std::string> args) {
+  const fs::path err_path = dir / ".stderr";
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, 2, err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
+                                   0644);
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  const fs::path here = fs::current_path();
+  fs::current_path(dir);
+  pid_t pid = 0;
+  const int rc = posix_spawnp(&pid, argv[0], &actions, nullptr, argv.data(), environ);
+  fs::current_path(here);
+  posix_spawn_file_actions_destroy(&actions);
+  Outcome r;
+  if (rc != 0) {
+    ADD_FAILURE() << "cannot run " << args[0] << ": " << std::strerror(rc);
+    return r;
+  }
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.err = tincdt::test::slurp(err_path);
+  fs::remove(err_path);
+  return r;
+}
+
+Outcome tincdt_run(const fs::path& dir, std::vector<std::string> args) {
+  args.insert(args.begin(), TINCDT_EXE);
+  return run(dir, std::move(args));
+}
+
+// Exactly one line on stderr, an error containing TEXT.
+void expect_one_error(const Outcome& r, int code, const std::string& text) {
+  EXPECT_EQ(r.exit_code, code) << r.err;
+  EXPECT_EQ(r.err.rfind("tincdt: error: ", 0), 0u) << r.err;
+  EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << "more than one line:\n" << r.err;
+  EXPECT_NE(r.err.find(text), std::string::npos) << r.err;
+}
+
+// A small LiDAR-like cloud over 200 m x 150 m as XYZ text.
+void write_cloud(const fs::path& path, int n) {
+  std::mt19937_64 rng(42);
+  std::uniform_real_distribution<double> at(0, 1);
+  std::string s;
+  char line[128];
+  for (int i = 0; i < n; ++i) {
+    const double x = 300000 + 200 * at(rng), y = 5000000 + 150 * at(rng);
+    std::snprintf(line, sizeof line, "%.17g %.17g %.17g\n", x, y,
+                  100 + 5 * std::sin(x / 30) + 3 * std::cos(y / 20));
+    s += line;
+  }
+  tincdt::test::spit(path, s);
+}
+
+class TilesCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = tincdt::test::scratch_dir("tiles_cli");
+    write_cloud(dir_ / "cloud.xyz", 4000);
+  }
+  fs::path dir_;
+};
+
+TEST_F(TilesCli, PlanTileMergeAsAUserRunsThem) {
+  Outcome r = tincdt_run(
+      dir_, {"plan", "cloud.xyz", "--tile-size", "100", "--buffer", "40", "-o", "plan.json", "-q"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string plan = tincdt::test::slurp(dir_ / "plan.json");
+  EXPECT_NE(plan.find("\"tile_count\": 4,"), std::string::npos) << plan;  // 2 x 2 tiles
+  fs::create_directories(dir_ / "out");
+  for (int i = 0; i < 4; ++i) {
+    const std::string n = std::to_string(i);
+    r = tincdt_run(dir_,
+                   {"--plan", "plan.json", "--tile", n, "-o", "out/tile_" + n + ".ply", "-q"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+  std::vector<std::string> merge = {"merge"};
+  for (int i = 0; i < 4; ++i) merge.push_back("out/tile_" + std::to_string(i) + ".ply");
+  std::vector<std::string> check = merge;
+  check.push_back("--check");
+  EXPECT_EQ(tincdt_run(dir_, check).exit_code, 0);
+  merge.insert(merge.end(), {"-o", "merged.ply", "-q"});
+  r = tincdt_run(dir_, merge);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = tincdt_run(dir_, {"cloud.xyz", "-o", "whole.ply", "-q"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string a = tincdt::test::ply_header(dir_ / "whole.ply");
+  const std::string b = tincdt::test::ply_header(dir_ / "merged.ply");
+  EXPECT_EQ(tincdt::test::ply_element_count(a, "vertex"),
+            tincdt::test::ply_element_count(b, "vertex"));
+  EXPECT_EQ(tincdt::test::ply_element_count(a, "face"), tincdt::test::ply_element_count(b, "face"));
+}
+
+TEST_F(TilesCli, BadPlansGiveOneLineAndExitOne) {
+  ASSERT_EQ(tincdt_run(dir_, {"plan", "cloud.xyz", "--tile-size", "100", "--buffer", "2", "-o",
+                              "plan.json", "-q"})
+                .exit_code,
+            0);
+  // A tile index the plan does not have.
+  expect_one_error(tincdt_run(dir_, {"--plan", "plan.json", "--tile", "4", "-o", "t.ply"}), 1,
+                   "plan.json: no tile 4: the plan has tiles 0 to 3");
+  // Too small a buffer: the tile and the buffer it needs.
+  expect_one_error(tincdt_run(dir_, {"--plan", "plan.json", "--tile", "1", "-o", "t.ply"}), 1,
+                   "plan.json: tile 1: buffer 2 is too small");
+  // A plan from other inputs: the cloud changed since.
+  tincdt::test::spit(dir_ / "cloud.xyz",
+                     tincdt::test::slurp(dir_ / "cloud.xyz") + "300050 5000050 1\n");
+  expect_one_error(tincdt_run(dir_, {"--plan", "plan.json", "--tile", "0", "-o", "t.ply"}), 1,
+                   "cloud.xyz has changed since the plan was made");
+  EXPECT_FALSE(fs::exists(dir_ / "t.ply"));
+  // Options a tile cannot honour are usage errors.
+  const Outcome r =
+      tincdt_run(dir_, {"--plan", "plan.json", "--tile", "0", "--max-edge", "5", "-o", "t.ply"});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("--max-edge cannot be used with --plan"), std::string::npos) << r.err;
+  EXPECT_EQ(tincdt_run(dir_, {"--plan", "plan.json", "-o", "t.ply"}).exit_code, 2);
+  EXPECT_EQ(tincdt_run(dir_, {"merge", "a.ply"}).exit_code, 2);  // neither -o nor --check
+}
+
+// The engine recipe examples/tiles/parallel.sh, as CI runs it: every tile of a plan through GNU
+// parallel, then merged, against the one-job TIN.
+TEST_F(TilesCli, GnuParallelRecipeBuildsTheWholeTin) {
+  if (run(dir_, {"sh", "-c", "command -v parallel"}).exit_code != 0)
+    GTEST_SKIP() << "GNU parallel is not installed (cmake/setup.sh installs it)";
+  const fs::path script = fs::path(TINCDT_SOURCE_DIR) / "examples/tiles/parallel.sh";
+  ASSERT_EQ(tincdt_run(dir_, {"plan", "cloud.xyz", "--tile-size", "50", "--buffer", "40", "-o",
+                              "plan.json", "-q"})
+                .exit_code,
+            0);
+  setenv("TINCDT", TINCDT_EXE, 1);
+  setenv("JOBS", "2", 1);
+  Outcome r = run(dir_, {"bash", script.string(), "plan.json", "out"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(dir_ / "out/merged.ply")) << r.err;
+  r = tincdt_run(dir_, {"cloud.xyz", "-o", "whole.ply", "-q"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string a = tincdt::test::ply_header(dir_ / "whole.ply");
+  const std::string b = tincdt::test::ply_header(dir_ / "out/merged.ply");
+  EXPECT_EQ(tincdt::test::ply_element_count(a, "vertex"),
+            tincdt::test::ply_element_count(b, "vertex"));
+  EXPECT_EQ(tincdt::test::ply_element_count(a, "face"), tincdt::test::ply_element_count(b, "face"));
+}
+
+}  // namespace
