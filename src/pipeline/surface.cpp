@@ -214,121 +214,123 @@ std::vector<Point3> cut_to_hull(const std::vector<Point3>& ring, const std::vect
   return out;
 }
 
-}  // namespace
-
-SurfaceResult insert_surface_features(mesh::Triangulation& tin,
-                                      const std::vector<const SurfaceInput*>& inputs,
-                                      const SourceTable& sources,
-                                      const std::vector<constraints::Piece>& hard_pieces,
-                                      constraints::Restore restore, const ProgressFn* progress) {
-  SurfaceResult result;
-
-  // 0. The parts each feature inserts, in order: its own, or for clip and erase polygons, their
-  // rings cut to the hull. A ring without area is refused, naming it.
-  std::vector<const std::vector<io::ShapePart>*> parts_of;  // per feature of every input
-  std::deque<std::vector<io::ShapePart>> cut_parts;         // the cut ones
-  {
-    std::vector<Point2> hull;
-    Point2 inside{0, 0};
-    bool clip_given = false, clip_inside = false;
-    for (const SurfaceInput* input : inputs) {
-      const bool cut = input->kind == SourceKind::clip || input->kind == SourceKind::erase;
-      if (cut && hull.empty()) {
-        hull = strict_hull(tin);
-        if (hull.size() >= 3) inside = interior_point(hull);
+// The parts each feature inserts, in order (one entry per feature of every input): its own, or
+// for clip and erase polygons their rings cut to the hull, kept in `cut_parts`. A ring without
+// area is refused, naming it.
+std::vector<const std::vector<io::ShapePart>*> parts_to_insert(
+    const mesh::Triangulation& tin, const std::vector<const SurfaceInput*>& inputs,
+    const SourceTable& sources, std::deque<std::vector<io::ShapePart>>& cut_parts,
+    SurfaceResult& result) {
+  std::vector<const std::vector<io::ShapePart>*> parts_of;
+  std::vector<Point2> hull;
+  Point2 inside{0, 0};
+  bool clip_given = false, clip_inside = false;
+  for (const SurfaceInput* input : inputs) {
+    const bool cut = input->kind == SourceKind::clip || input->kind == SourceKind::erase;
+    if (cut && hull.empty()) {
+      hull = strict_hull(tin);
+      if (hull.size() >= 3) inside = interior_point(hull);
+    }
+    for (std::size_t i = 0; i < input->data.features.size(); ++i) {
+      const io::ShapeFeature& f = input->data.features[i];
+      const auto source = static_cast<std::uint32_t>(input->first_source + i);
+      for (std::size_t r = 0; r < f.parts.size() && is_polygon(input->kind); ++r) {
+        if (f.parts[r].points.size() >= 3 && !zero_area(f.parts[r].points)) continue;
+        throw InputError(
+            sources.file(source), where(f.fid),
+            "ring " + std::to_string(r) + " encloses no area (its vertices lie on one line)");
       }
-      for (std::size_t i = 0; i < input->data.features.size(); ++i) {
-        const io::ShapeFeature& f = input->data.features[i];
-        const auto source = static_cast<std::uint32_t>(input->first_source + i);
-        for (std::size_t r = 0; r < f.parts.size() && is_polygon(input->kind); ++r) {
-          if (f.parts[r].points.size() >= 3 && !zero_area(f.parts[r].points)) continue;
-          throw InputError(
-              sources.file(source), where(f.fid),
-              "ring " + std::to_string(r) + " encloses no area (its vertices lie on one line)");
-        }
-        if (!cut || hull.size() < 3) {
-          parts_of.push_back(&f.parts);
+      if (!cut || hull.size() < 3) {
+        parts_of.push_back(&f.parts);
+        continue;
+      }
+      std::vector<io::ShapePart>& mine = cut_parts.emplace_back();
+      for (const io::ShapePart& part : f.parts) {
+        const bool whole =
+            std::all_of(part.points.begin(), part.points.end(), [&](const Point3& p) {
+              return inside_or_on(hull, {p.x, p.y});
+            });
+        if (whole) {
+          mine.push_back(part);
           continue;
         }
-        std::vector<io::ShapePart>& mine = cut_parts.emplace_back();
-        for (const io::ShapePart& part : f.parts) {
-          const bool whole =
-              std::all_of(part.points.begin(), part.points.end(), [&](const Point3& p) {
-                return inside_or_on(hull, {p.x, p.y});
-              });
-          if (whole) {
-            mine.push_back(part);
+        io::ShapePart piece{cut_to_hull(part.points, hull, inside), true};
+        if (piece.points.empty()) {
+          ++result.rings_outside;
+        } else {
+          ++result.rings_cut;
+          mine.push_back(std::move(piece));
+        }
+      }
+      if (input->kind == SourceKind::clip) {
+        clip_given = true;
+        clip_inside = clip_inside || !mine.empty();
+      }
+      parts_of.push_back(&mine);
+    }
+  }
+  if (clip_given && !clip_inside) {
+    const SurfaceInput* clip = *std::find_if(
+        inputs.begin(), inputs.end(), [](const auto* in) { return in->kind == SourceKind::clip; });
+    throw InputError(sources.file(clip->first_source), "",
+                     "the clip polygons lie wholly outside the TIN of the points and hard "
+                     "lines: nothing would be left (are they in another place or CRS?)");
+  }
+  return parts_of;
+}
+
+// The z of every vertex of every part, in order: draped ones from the TIN as it is, before
+// anything is inserted.
+std::vector<double> part_heights(const mesh::Triangulation& tin,
+                                 const std::vector<const SurfaceInput*>& inputs,
+                                 const SourceTable& sources,
+                                 const std::vector<const std::vector<io::ShapePart>*>& parts_of,
+                                 SurfaceResult& result) {
+  std::vector<double> z;
+  terrain::SurfaceSampler sampler(tin);
+  std::size_t feature = 0;
+  for (const SurfaceInput* input : inputs) {
+    for (std::size_t i = 0; i < input->data.features.size(); ++i) {
+      const io::ShapeFeature& f = input->data.features[i];
+      const auto source = static_cast<std::uint32_t>(input->first_source + i);
+      const bool draped = sources.draped(source);
+      for (const io::ShapePart& part : *parts_of[feature++]) {
+        for (const Point3& p : part.points) {
+          ++result.vertices;
+          if (!draped) {
+            z.push_back(p.z);
             continue;
           }
-          io::ShapePart piece{cut_to_hull(part.points, hull, inside), true};
-          if (piece.points.empty()) {
-            ++result.rings_outside;
-          } else {
-            ++result.rings_cut;
-            mine.push_back(std::move(piece));
+          const double h = sampler.z_at({p.x, p.y});
+          if (std::isnan(h)) {
+            char at[80];
+            std::snprintf(at, sizeof at, "(%.3f, %.3f)", p.x, p.y);
+            const char* what = input->kind == SourceKind::soft_line ? "a soft line"
+                               : input->kind == SourceKind::replace ? "a replace polygon"
+                                                                    : "a 2D polygon ring";
+            throw InputError(sources.file(source), where(f.fid),
+                             std::string("vertex ") + at + " lies outside the TIN: " + what +
+                                 " must lie on the TIN of the points and hard lines, which "
+                                 "covers only their convex hull (cut the feature to the data)");
           }
-        }
-        if (input->kind == SourceKind::clip) {
-          clip_given = true;
-          clip_inside = clip_inside || !mine.empty();
-        }
-        parts_of.push_back(&mine);
-      }
-    }
-    if (clip_given && !clip_inside) {
-      const SurfaceInput* clip = *std::find_if(inputs.begin(), inputs.end(), [](const auto* in) {
-        return in->kind == SourceKind::clip;
-      });
-      throw InputError(sources.file(clip->first_source), "",
-                       "the clip polygons lie wholly outside the TIN of the points and hard "
-                       "lines: nothing would be left (are they in another place or CRS?)");
-    }
-  }
-
-  // 1. Heights: draped ones from the TIN as it is, before anything is inserted.
-  std::vector<double> z;  // per vertex of every part of every feature, in order
-  {
-    terrain::SurfaceSampler sampler(tin);
-    std::size_t feature = 0;
-    for (const SurfaceInput* input : inputs) {
-      for (std::size_t i = 0; i < input->data.features.size(); ++i) {
-        const io::ShapeFeature& f = input->data.features[i];
-        const auto source = static_cast<std::uint32_t>(input->first_source + i);
-        const bool draped = sources.draped(source);
-        for (const io::ShapePart& part : *parts_of[feature++]) {
-          for (const Point3& p : part.points) {
-            ++result.vertices;
-            if (!draped) {
-              z.push_back(p.z);
-              continue;
-            }
-            const double h = sampler.z_at({p.x, p.y});
-            if (std::isnan(h)) {
-              char at[80];
-              std::snprintf(at, sizeof at, "(%.3f, %.3f)", p.x, p.y);
-              const char* what = input->kind == SourceKind::soft_line ? "a soft line"
-                                 : input->kind == SourceKind::replace ? "a replace polygon"
-                                                                      : "a 2D polygon ring";
-              throw InputError(sources.file(source), where(f.fid),
-                               std::string("vertex ") + at + " lies outside the TIN: " + what +
-                                   " must lie on the TIN of the points and hard lines, which "
-                                   "covers only their convex hull (cut the feature to the data)");
-            }
-            z.push_back(h);
-            ++result.draped;
-            if (input->kind == SourceKind::soft_line) ++result.soft_line_vertices;
-          }
+          z.push_back(h);
+          ++result.draped;
+          if (input->kind == SourceKind::soft_line) ++result.soft_line_vertices;
         }
       }
     }
   }
+  return z;
+}
 
-  // 2. Vertices, 3. segments.
+// Inserts the vertices of every part (one on an existing vertex reuses it) and appends the
+// parts' segments to `segments`.
+void insert_part_vertices(mesh::Triangulation& tin, const std::vector<const SurfaceInput*>& inputs,
+                          const std::vector<const std::vector<io::ShapePart>*>& parts_of,
+                          const std::vector<double>& z, std::vector<constraints::Segment>& segments,
+                          SurfaceResult& result) {
   if (!tin.has_vertex_index()) tin.build_vertex_index();
   mesh::PointInserter inserter(tin);
-  std::vector<constraints::Segment> segments;
-  segments.reserve(hard_pieces.size() + result.vertices);
-  for (const constraints::Piece& p : hard_pieces) segments.push_back({p.a, p.b, p.source});
   std::size_t k = 0, feature = 0;
   std::vector<VertexId> ids;
   for (const SurfaceInput* input : inputs) {
@@ -356,6 +358,24 @@ SurfaceResult insert_surface_features(mesh::Triangulation& tin,
     }
   }
   tin.recount();
+}
+
+}  // namespace
+
+SurfaceResult insert_surface_features(mesh::Triangulation& tin,
+                                      const std::vector<const SurfaceInput*>& inputs,
+                                      const SourceTable& sources,
+                                      const std::vector<constraints::Piece>& hard_pieces,
+                                      constraints::Restore restore, const ProgressFn* progress) {
+  SurfaceResult result;
+  std::deque<std::vector<io::ShapePart>> cut_parts;
+  const auto parts_of = parts_to_insert(tin, inputs, sources, cut_parts, result);
+  const std::vector<double> z = part_heights(tin, inputs, sources, parts_of, result);
+
+  std::vector<constraints::Segment> segments;
+  segments.reserve(hard_pieces.size() + result.vertices);
+  for (const constraints::Piece& p : hard_pieces) segments.push_back({p.a, p.b, p.source});
+  insert_part_vertices(tin, inputs, parts_of, z, segments, result);
   result.segments = segments.size() - hard_pieces.size();
 
   constraints::ConstraintOptions options;
@@ -365,7 +385,7 @@ SurfaceResult insert_surface_features(mesh::Triangulation& tin,
   result.given.assign(segments.begin() + static_cast<std::ptrdiff_t>(hard_pieces.size()),
                       segments.end());
 
-  // 4. A draped constraint crossing one with its own z takes that z there.
+  // A draped constraint crossing one with its own z takes that z there.
   for (const constraints::Crossing& x : result.constraints.crossings) {
     if (!sources.known(x.source_a) || !sources.known(x.source_b)) continue;
     const bool draped_a = sources.draped(x.source_a), draped_b = sources.draped(x.source_b);
