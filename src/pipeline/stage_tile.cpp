@@ -6,8 +6,10 @@
 // the triangle nothing is visible, so for a triangle with constrained edges only the part of the
 // disk beyond its other edges counts (and the triangle itself).
 //
-// Checked: every triangle that meets the tile's box (grown by a hair for the rounding of the
-// owner point) and every hull edge whose outer side reaches it. If they are all final, the
+// Checked: every triangle whose bounding box meets the tile's box (grown by a hair for the
+// rounding of the owner point) and every hull edge whose outer side reaches it. So every triangle
+// that holds a point of the tile is final, owned or not: the tile's DEM (stage_dem.cpp) fills
+// the cells of its box from all of them. If they are all final, the
 // triangles of the whole TIN owned by this tile are exactly the local ones it owns: the owner
 // point of a whole-TIN triangle lies inside it, in the tile, so inside a checked local triangle,
 // which is final and therefore that same triangle; a point of the tile outside the local hull is
@@ -154,6 +156,7 @@ void run(Job& job) {
       ++owned;
     } else {
       tin.set_removed(t, true);
+      job.tile_final_unowned.push_back(t);
     }
   }
 
