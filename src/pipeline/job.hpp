@@ -81,6 +81,9 @@ struct Job {
   std::vector<constraints::Segment> given_segments;
   // flats: 1 per vertex on a contour (also for the quality stage's flat count).
   std::vector<std::uint8_t> on_contour;
+  // tile: the triangles proven final that other tiles own (removed from the TIN, for the mesh
+  // outputs); the tile's DEM takes the cells of its box from them too (stage_dem.cpp).
+  std::vector<TriangleId> tile_final_unowned;
 
   // ---- outputs --------------------------------------------------------------------------------
   // The TIN's write options: from the options, crs_wkt (read), the automatic offset (write);

@@ -1,5 +1,12 @@
 // dem: --dem, the final TIN rasterized (products::rasterize) and written as a Cloud-Optimized
 // GeoTIFF with the TIN's CRS: Float32 cells, or Float64 with --dem-type Float64.
+//
+// In a tiled job (--plan) the DEM covers exactly the tile's box [min, max): the tile size is a
+// multiple of the resolution (tile_options() checks it), so the cell edges are min + i * res, on
+// one lattice for every tile, and gdalbuildvrt joins the tiles with whole-cell offsets. Its cells
+// are filled from every triangle the tile stage proved final, owned by this tile or a neighbour:
+// each cell centre in the box then gets the value the whole job gives it (products::rasterize
+// interpolates a triangle the same way in any TIN that holds it).
 #include <unistd.h>
 
 #include <cmath>
@@ -9,6 +16,7 @@
 #include "core/error.hpp"
 #include "io/raster/dem_writer.hpp"
 #include "pipeline/stage.hpp"
+#include "pipeline/tile_job.hpp"
 #include "products/rasterize.hpp"
 
 namespace tincdt::pipeline {
@@ -43,8 +51,24 @@ void rasterize_and_write(Job& job, const products::Grid& grid, io::OutputFile& o
                           "or a smaller --dem-extent)");
   auto t0 = std::chrono::steady_clock::now();
   std::vector<T> cells(grid.cells());
+  // A tile's neighbours' final triangles are kept while it rasterizes (the outputs after this
+  // stage see the tile's own triangles again).
+  mesh::Triangulation& tin = job.tin();
+  struct KeepFinal {
+    mesh::Triangulation& tin;
+    const std::vector<TriangleId>& triangles;
+    explicit KeepFinal(mesh::Triangulation& m, const std::vector<TriangleId>& t)
+        : tin(m), triangles(t) {
+      for (const TriangleId id : triangles) tin.set_removed(id, false);
+    }
+    ~KeepFinal() {
+      for (const TriangleId id : triangles) tin.set_removed(id, true);
+    }
+    KeepFinal(const KeepFinal&) = delete;
+    KeepFinal& operator=(const KeepFinal&) = delete;
+  } keep_final(tin, job.tile_final_unowned);
   const products::RasterizeStats stats =
-      products::rasterize<T>(job.tin(), grid, static_cast<T>(o.nodata), cells,
+      products::rasterize<T>(tin, grid, static_cast<T>(o.nodata), cells,
                              {.threads = job.options.threads, .progress = job.stage_progress()});
   r.cells_with_value = stats.cells_with_value;
   r.rasterize_s = seconds_since(t0);
@@ -62,12 +86,16 @@ void rasterize_and_write(Job& job, const products::Grid& grid, io::OutputFile& o
 
 void run(Job& job) {
   const BuildOptions::Dem& o = job.options.dem;
-  const BBox extent = o.extent ? *o.extent : products::kept_extent(job.tin());
   products::Grid grid;
-  try {
-    grid = products::grid_over(extent, o.resolution, o.target_aligned);
-  } catch (const Error& e) {
-    throw OutputError(o.path, "", e.detail());
+  if (job.tile) {
+    grid = tile_grid(job.tile->box, o.resolution);
+  } else {
+    const BBox extent = o.extent ? *o.extent : products::kept_extent(job.tin());
+    try {
+      grid = products::grid_over(extent, o.resolution, o.target_aligned);
+    } catch (const Error& e) {
+      throw OutputError(o.path, "", e.detail());
+    }
   }
   BuildReport::Dem& r = job.report.dem;
   r.path = o.path;

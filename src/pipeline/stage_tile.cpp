@@ -7,7 +7,10 @@
 // disk beyond its other edges counts (and the triangle itself).
 //
 // Checked: every triangle that meets the tile's box (grown by a hair for the rounding of the
-// owner point) and every hull edge whose outer side reaches it. If they are all final, the
+// owner point; the test errs on the side of meeting) and every hull edge whose outer side reaches
+// it. So every triangle
+// that holds a point of the tile is final, owned or not: the tile's DEM (stage_dem.cpp) fills
+// the cells of its box from all of them. If they are all final, the
 // triangles of the whole TIN owned by this tile are exactly the local ones it owns: the owner
 // point of a whole-TIN triangle lies inside it, in the tile, so inside a checked local triangle,
 // which is final and therefore that same triangle; a point of the tile outside the local hull is
@@ -76,6 +79,7 @@ void run(Job& job) {
                                      std::fabs(tile.box.min_y), std::fabs(tile.box.max_y)});
   const double span = tile.buffered.max_x - tile.buffered.min_x;
   const BBox near = tiles::grown(tile.box, 16 * 0x1p-52 * (magnitude + span));
+  const tiles::Polygon near_polygon = tiles::box_polygon(near);
   const double margin = tile.margin;
   const auto is_final = [&](TriangleId t, const tiles::Disk& d) {
     if (tiles::inside(d, tile.buffered)) return true;
@@ -130,7 +134,11 @@ void run(Job& job) {
     box.add(a.x, a.y);
     box.add(b.x, b.y);
     box.add(p.x, p.y);
-    if (!tiles::intersects(box, near)) {
+    // The triangle itself, not only its bounding box: where the tile reads the rim, the gap
+    // between the buffered box and the rim is spanned by large triangles that cannot be final,
+    // and their boxes may reach the tile although they do not (a lattice's rim column on the
+    // tile's edge did).
+    if (!tiles::intersects(box, near) || !tiles::may_meet(a, b, p, near_polygon, margin)) {
       tin.set_removed(t, true);
       continue;
     }
@@ -154,6 +162,7 @@ void run(Job& job) {
       ++owned;
     } else {
       tin.set_removed(t, true);
+      job.tile_final_unowned.push_back(t);
     }
   }
 

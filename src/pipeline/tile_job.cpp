@@ -154,7 +154,27 @@ void find_missing(TileSetup& setup, bool reads_rim) {
   }
 }
 
+// How many cells of RESOLUTION make SIZE; 0 unless SIZE is a whole multiple of it (up to
+// 1e-9 cell of rounding, as products::grid_over() counts cells).
+double cells_across(double size, double resolution) {
+  const double n = size / resolution;
+  const double whole = std::round(n);
+  return whole >= 1 && std::fabs(n - whole) <= 1e-9 * whole ? whole : 0;
+}
+
 }  // namespace
+
+products::Grid tile_grid(const BBox& box, double resolution) {
+  products::Grid g;
+  g.min_x = box.min_x;
+  g.max_y = box.max_y;
+  g.resolution = resolution;
+  g.width = static_cast<std::uint32_t>(cells_across(box.max_x - box.min_x, resolution));
+  g.height = static_cast<std::uint32_t>(cells_across(box.max_y - box.min_y, resolution));
+  if (g.width == 0 || g.height == 0)
+    throw InternalError("tile_grid: the tile is not a multiple of the resolution");
+  return g;
+}
 
 void check_tile_options(const BuildOptions& o) {
   if (o.plan.empty()) {
@@ -187,6 +207,9 @@ void check_tile_options(const BuildOptions& o) {
   if (!o.soft_lines.empty() || !o.clip.empty() || !o.erase.empty() || !o.replace.empty())
     refuse("--soft-lines, --clip, --erase and --replace",
            "their vertices are draped on triangles a tile may not have");
+  if (o.dem.extent)
+    refuse("--dem-extent",
+           "a tile's DEM covers exactly its tile, so that the tiles join (gdalbuildvrt)");
   if (o.constraint.restore != constraints::Restore::delaunay)
     refuse(
         "--restore " +
@@ -209,6 +232,11 @@ BuildOptions tile_options(const BuildOptions& options, TileSetup& setup) {
   setup.col = tile.col;
   setup.row = tile.row;
   setup.grid = tiles::TileGrid{plan.tile_size};
+  if (!options.dem.path.empty() && cells_across(plan.tile_size, options.dem.resolution) == 0)
+    throw UsageError("--resolution " + number(options.dem.resolution) +
+                     " does not divide the plan's tile size " + number(plan.tile_size) +
+                     ": a tile's DEM covers exactly its tile, in whole cells (give a resolution "
+                     "that divides the tile size)");
   setup.buffer = options.tile_buffer >= 0 ? options.tile_buffer : plan.buffer;
   setup.box = setup.grid.box(tile.col, tile.row);
   setup.buffered = setup.grid.buffered(tile.col, tile.row, setup.buffer);

@@ -12,6 +12,7 @@
 #include "core/types.hpp"
 #include "pipeline/options.hpp"
 #include "pipeline/tile_rules.hpp"
+#include "products/grid.hpp"
 
 namespace tincdt::pipeline {
 
@@ -51,6 +52,12 @@ void check_tile_options(const BuildOptions& options);
 // cannot be tiled, InputError naming the plan for a missing tile, a changed input, a tile with no
 // input in reach.
 BuildOptions tile_options(const BuildOptions& options, TileSetup& setup);
+
+// The DEM grid of a tile job: its box [min, max) in cells of RESOLUTION, the top-left corner
+// (box.min_x, box.max_y). Every tile's cells then lie on one lattice of the plane (the tile
+// size is a multiple of the resolution: tile_options() checks it), and the tiles' DEMs join
+// pixel-aligned.
+products::Grid tile_grid(const BBox& box, double resolution);
 
 namespace detail {
 

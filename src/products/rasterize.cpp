@@ -149,8 +149,18 @@ RasterizeStats rasterize(const mesh::Triangulation& tin, const Grid& grid, T nod
         for (std::size_t i = start[b]; i < start[b + 1]; ++i) {
           const TriangleId t = band_triangles[i];
           // The plane through the corners, as z(a) + gx (x - a.x) + gy (y - a.y): differences
-          // from a corner keep the digits of map coordinates.
-          const auto v = tin.triangle(t);
+          // from a corner keep the digits of map coordinates. A is the corner smallest by (x, y)
+          // and the others follow in the triangle's order, so the same triangle gives the same
+          // doubles in any TIN that holds it (the DEM tiles of a tiled job match the whole job).
+          auto v = tin.triangle(t);
+          const auto before = [&tin](VertexId p, VertexId q) {
+            const Point2 pp = tin.point(p), pq = tin.point(q);
+            return pp.x < pq.x || (pp.x == pq.x && pp.y < pq.y);
+          };
+          if (before(v[1], v[0]) && before(v[1], v[2]))
+            v = {v[1], v[2], v[0]};
+          else if (before(v[2], v[0]) && before(v[2], v[1]))
+            v = {v[2], v[0], v[1]};
           const Point2 a = tin.point(v[0]), pb = tin.point(v[1]), pc = tin.point(v[2]);
           const double za = tin.z(v[0]);
           const double bx = pb.x - a.x, by = pb.y - a.y, bz = tin.z(v[1]) - za;
