@@ -7,10 +7,11 @@
 #   e.g. tests/bench/determinism_check.sh build/release /tmp/det grid_4M 500 /tmp/tinbench/grid_4M/points.xyz
 #
 # POINTS is an XYZ or LAS file (LAS: point formats 0-5, class 2 kept with --keep-class 2 in
-# LINE OPTIONS); TILE_SIZE is chosen by the caller so that the plan has 4 x 4 tiles. Prints one
+# LINE OPTIONS); TILE_SIZE is chosen by the caller so that the plan has 4 x 4 tiles (BUFFER: the
+# plan's buffer, default 25). Prints one
 # markdown row: name, triangles, the four digests, and whether they agree. Exit 1 if they do not.
 set -euo pipefail
-(($# >= 5)) || { sed -n '2,11p' "$0" >&2; exit 2; }
+(($# >= 5)) || { sed -n '2,12p' "$0" >&2; exit 2; }
 build=$(cd "$1" && pwd) work=$2 name=$3 side=$4 points=$(realpath "$5")
 shift 5
 opts=("$@")
@@ -62,7 +63,7 @@ for o in "${opts[@]}"; do
 done
 "$tincdt" shuffled.xyz "${line_opts[@]}" -o shuffled.ply -q
 
-"$tincdt" plan "$points" "${opts[@]}" --tile-size "$side" --buffer 25 -o plan.json -q
+"$tincdt" plan "$points" "${opts[@]}" --tile-size "$side" --buffer "${BUFFER:-25}" -o plan.json -q
 n=$(sed -n 's/^  "tile_count": \([0-9]*\),$/\1/p' plan.json)
 seq 0 $((n - 1)) | parallel -j 2 "$tincdt" --plan plan.json --tile {} -o out/tile_{}.ply -q --threads 1
 "$tincdt" merge out/tile_*.ply -o tiled.ply -q
