@@ -72,20 +72,108 @@ struct Tally {
   }
 };
 
-// A triangle's worst point in the queue: stale once the triangle's worst is another.
+// A triangle's worst point, as the queue holds it.
 struct Entry {
   double error;
   std::uint32_t point;
   TriangleId tri;
 };
 
-// Largest error first; equal errors by the points' x, then y.
-struct HeapOrder {
-  const Point2* xy;
-  bool operator()(const Entry& a, const Entry& b) const {  // a pops after b
-    if (a.error != b.error) return a.error < b.error;
-    return xy_less(xy[b.point], xy[a.point]);
+// The triangles beyond the tolerance, largest error first (equal errors by the points' x, then
+// y), as a 4-ary heap that knows where each triangle is: an insertion updates or removes the
+// entries of the slots it reused, so the heap holds one entry per unsettled triangle and never
+// a stale one. (A lazy heap of duplicates grew to twice the triangle count, and its sift-downs
+// were cache misses.) Four children are one or two cache lines, and half the levels of a
+// binary heap.
+class WorstQueue {
+ public:
+  explicit WorstQueue(const Point2* xy) : xy_(xy) {}
+
+  bool empty() const { return heap_.empty(); }
+  const Entry& top() const { return heap_.front(); }
+  void grow(std::size_t slots) {
+    if (pos_.size() < slots) pos_.resize(slots, kNoId);
   }
+
+  // Adds an entry (its slot absent) without ordering; build() orders them all.
+  void append(const Entry& e) {
+    pos_[e.tri] = static_cast<std::uint32_t>(heap_.size());
+    heap_.push_back(e);
+  }
+  void build() {
+    for (std::size_t i = heap_.size() / 4 + 1; i-- > 0;)
+      if (i < heap_.size()) down(static_cast<std::uint32_t>(i));
+  }
+
+  // The entry of e.tri becomes e (added if absent).
+  void set(const Entry& e) {
+    std::uint32_t i = pos_[e.tri];
+    if (i == kNoId) {
+      i = static_cast<std::uint32_t>(heap_.size());
+      heap_.push_back(e);
+      up(i);
+      return;
+    }
+    const bool rises = before(e, heap_[i]);
+    heap_[i] = e;
+    if (rises)
+      up(i);
+    else
+      down(i);
+  }
+
+  void erase(TriangleId t) {
+    const std::uint32_t i = pos_[t];
+    if (i == kNoId) return;
+    pos_[t] = kNoId;
+    const Entry last = heap_.back();
+    heap_.pop_back();
+    if (i == heap_.size()) return;
+    heap_[i] = last;
+    if (i > 0 && before(last, heap_[(i - 1) / 4]))
+      up(i);
+    else
+      down(i);
+  }
+
+ private:
+  bool before(const Entry& a, const Entry& b) const {
+    if (a.error != b.error) return a.error > b.error;
+    return xy_less(xy_[a.point], xy_[b.point]);
+  }
+  void up(std::uint32_t i) {
+    const Entry e = heap_[i];
+    while (i > 0) {
+      const std::uint32_t parent = (i - 1) / 4;
+      if (!before(e, heap_[parent])) break;
+      heap_[i] = heap_[parent];
+      pos_[heap_[i].tri] = i;
+      i = parent;
+    }
+    heap_[i] = e;
+    pos_[e.tri] = i;
+  }
+  void down(std::uint32_t i) {
+    const Entry e = heap_[i];
+    const auto n = static_cast<std::uint32_t>(heap_.size());
+    for (;;) {
+      const std::uint32_t first = 4 * i + 1;
+      if (first >= n) break;
+      std::uint32_t best = first;
+      for (std::uint32_t c = first + 1; c < std::min(first + 4, n); ++c)
+        if (before(heap_[c], heap_[best])) best = c;
+      if (!before(heap_[best], e)) break;
+      heap_[i] = heap_[best];
+      pos_[heap_[i].tri] = i;
+      i = best;
+    }
+    heap_[i] = e;
+    pos_[e.tri] = i;
+  }
+
+  const Point2* xy_;
+  std::vector<Entry> heap_;
+  std::vector<std::uint32_t> pos_;  // per triangle slot: its place in heap_, or kNoId
 };
 
 // A new triangle (apex, ring[i], ring[i + 1]) around an inserted vertex.
@@ -254,7 +342,8 @@ class Simplifier {
         z_(z),
         options_(options),
         progress_(progress),
-        pool_(thread_count(options.threads)) {
+        pool_(thread_count(options.threads)),
+        queue_(xy.data()) {
     if (xy.size() != z.size()) throw Error("simplify: x, y and z counts differ");
     if (xy.size() >= kKept) throw GeometryError("simplify: too many points for 32-bit ids");
     if (!(options.max_error >= 0))
@@ -393,9 +482,9 @@ class Simplifier {
       if (worst_error_[t] <= options_.max_error)
         settled_ += count_[t];
       else
-        heap_.push_back({worst_error_[t], worst_[t], static_cast<TriangleId>(t)});
+        queue_.append({worst_error_[t], worst_[t], static_cast<TriangleId>(t)});
     }
-    std::make_heap(heap_.begin(), heap_.end(), HeapOrder{xy_.data()});
+    queue_.build();
   }
 
   // The greedy loop: the worst point in, the points of the triangles it replaced measured
@@ -403,12 +492,8 @@ class Simplifier {
   void run() {
     Progress report(progress_, "simplify", candidates_ ? candidates_ : 1);
     mesh::PointInserter inserter(tin_);
-    const HeapOrder order{xy_.data()};
-    while (!heap_.empty()) {
-      const Entry top = heap_.front();
-      std::pop_heap(heap_.begin(), heap_.end(), order);
-      heap_.pop_back();
-      if (worst_[top.tri] != top.point || worst_error_[top.tri] != top.error) continue;  // stale
+    while (!queue_.empty()) {
+      const Entry top = queue_.top();  // insert() updates its slot
       if (options_.max_vertices && tin_.vertex_count() >= options_.max_vertices) {
         report_.stopped_at_max_vertices = true;
         break;
@@ -416,7 +501,6 @@ class Simplifier {
       insert(inserter, top.point, top.tri);
       ++report_.inserted;
       report.tick(settled_);
-      if (heap_.size() > 2 * tin_.triangle_slots() + 4096) rebuild_heap();
     }
     report.finish();
   }
@@ -460,6 +544,7 @@ class Simplifier {
     worst_.resize(slots, kNoId);
     worst_error_.resize(slots, -1.0);
     sum_sq_.resize(slots, 0.0);
+    queue_.grow(slots);
   }
 
   // Adds a tally to triangle u.
@@ -589,15 +674,18 @@ class Simplifier {
     else
       redistribute(fan, p, total, cone32_, kNoId);
 
+    // The star's slots held the replaced triangles: their entries go or take the new values.
+    for (const EdgeId s : star_) {
+      const TriangleId u = triangle_of(s);
+      if (count_[u] == 0 || worst_error_[u] <= options_.max_error) queue_.erase(u);
+    }
     for (const Cone& cone : cones_) {
       const TriangleId u = cone.tri;
       if (count_[u] == 0) continue;
-      if (worst_error_[u] <= options_.max_error) {
+      if (worst_error_[u] <= options_.max_error)
         settled_ += count_[u];
-        continue;
-      }
-      heap_.push_back({worst_error_[u], worst_[u], u});
-      std::push_heap(heap_.begin(), heap_.end(), HeapOrder{xy_.data()});
+      else
+        queue_.set({worst_error_[u], worst_[u], u});
     }
   }
 
@@ -701,14 +789,6 @@ class Simplifier {
     arena_end_ = at;
   }
 
-  void rebuild_heap() {
-    heap_.clear();
-    for (std::size_t t = 0; t < count_.size(); ++t)
-      if (count_[t] > 0 && worst_error_[t] > options_.max_error)
-        heap_.push_back({worst_error_[t], worst_[t], static_cast<TriangleId>(t)});
-    std::make_heap(heap_.begin(), heap_.end(), HeapOrder{xy_.data()});
-  }
-
   std::span<const Point2> xy_;
   std::span<const double> z_;
   SimplifyOptions options_;
@@ -727,10 +807,8 @@ class Simplifier {
   std::vector<std::uint32_t> count_;
   std::vector<std::uint32_t> worst_;  // the point with the largest error, or kNoId
   std::vector<double> worst_error_;
-  std::vector<double> sum_sq_;  // of the errors of its points
-  // Triangles with a point beyond the tolerance, worst first. Lazy: an entry is stale once its
-  // triangle's worst changed.
-  std::vector<Entry> heap_;
+  std::vector<double> sum_sq_;                  // of the errors of its points
+  WorstQueue queue_;                            // the triangles with a point beyond the tolerance
   std::uint64_t candidates_ = 0, settled_ = 0;  // points, and those in triangles within max_error
 
   // Scratch of insert().
