@@ -58,12 +58,10 @@ bool worse(double e, std::uint32_t p, double we, std::uint32_t w, const Point2* 
 // What a set of points (a triangle's, or one thread's share of it) holds.
 struct Tally {
   double worst_error = -1.0;
-  double sum_sq = 0;
   std::uint32_t worst = kNoId;
   std::uint32_t count = 0;
 
   void add(double e, std::uint32_t p, const Point2* xy) {
-    sum_sq += e * e;
     ++count;
     if (worse(e, p, worst_error, worst, xy)) {
       worst_error = e;
@@ -445,36 +443,12 @@ class Simplifier {
       if (ids_[i] != kKept) ids_[cursor[ids_[i]]++] = static_cast<std::uint32_t>(i);
     release(cursor);
 
-    // Each triangle's errors, triangle by triangle (so the sums do not depend on the chunks).
-    std::vector<std::size_t> first_slot{0};  // chunks of slots holding similar point counts
-    const std::size_t chunks = std::clamp<std::size_t>(n / kChunkPoints, 1, kMaxChunks);
-    for (std::size_t t = 0, seen = 0; t < slots; ++t) {
-      seen += count_[t];
-      if (seen * chunks >= first_slot.size() * n && first_slot.size() < chunks)
-        first_slot.push_back(t + 1);
-    }
-    first_slot.push_back(slots);
-    auto measure_chunk = [&](std::size_t c, std::size_t) {
-      for (std::size_t t = first_slot[c]; t < first_slot[c + 1]; ++t) {
-        if (count_[t] == 0) continue;
-        const EdgeId e = 3 * static_cast<EdgeId>(t);
-        const VertexId a = tin_.origin(e), b = tin_.origin(e + 1), d = tin_.origin(e + 2);
-        const Point2 pa = pt(a);
-        const double za = tin_.z(a);
-        const Gradient g(pa, za, pt(b), tin_.z(b), pt(d), tin_.z(d));
-        Tally tally;
-        for (std::size_t k = begin_[t]; k < begin_[t] + count_[t]; ++k) {
-          const std::uint32_t q = ids_[k];
-          const Point2 p = xy_[q];
-          tally.add(std::fabs(z_[q] - (za + g.gx * (p.x - pa.x) + g.gy * (p.y - pa.y))), q,
-                    xy_.data());
-        }
-        worst_[t] = tally.worst;
-        worst_error_[t] = tally.worst_error;
-        sum_sq_[t] = tally.sum_sq;
-      }
-    };
-    pool_.run(measure_chunk, first_slot.size() - 1);
+    // Each triangle's worst point.
+    for_each_range([&](std::size_t t) {
+      const Tally tally = measure(t, nullptr);
+      worst_[t] = tally.worst;
+      worst_error_[t] = tally.worst_error;
+    });
 
     candidates_ = n - report_.kept_vertices;
     for (std::size_t t = 0; t < slots; ++t) {
@@ -506,11 +480,15 @@ class Simplifier {
   }
 
   SimplifyResult finish() {
+    // The squares summed triangle by triangle, then in slot order: the same for any thread count.
+    // (The greedy loop keeps only the worst point of each triangle.)
+    std::vector<double> sum_sq_of(count_.size(), 0.0);
+    for_each_range([&](std::size_t t) { measure(t, &sum_sq_of[t]); });
     double max_error = 0, sum_sq = 0;
     for (std::size_t t = 0; t < count_.size(); ++t) {
       if (count_[t] == 0) continue;
       max_error = std::max(max_error, worst_error_[t]);
-      sum_sq += sum_sq_[t];
+      sum_sq += sum_sq_of[t];
     }
     report_.max_error = max_error;
     report_.rmse = report_.points ? std::sqrt(sum_sq / static_cast<double>(report_.points)) : 0;
@@ -536,6 +514,49 @@ class Simplifier {
 
   Point2 pt(VertexId v) const { return tin_.point(v); }
 
+  // The points of triangle slot t measured against its plane: their worst, and (if asked)
+  // the sum of their squared errors.
+  Tally measure(std::size_t t, double* sum_sq) const {
+    const EdgeId e = 3 * static_cast<EdgeId>(t);
+    const VertexId a = tin_.origin(e), b = tin_.origin(e + 1), d = tin_.origin(e + 2);
+    const Point2 pa = pt(a);
+    const double za = tin_.z(a);
+    const Gradient g(pa, za, pt(b), tin_.z(b), pt(d), tin_.z(d));
+    Tally tally;
+    double sum = 0;
+    for (std::size_t k = begin_[t]; k < begin_[t] + count_[t]; ++k) {
+      const std::uint32_t q = ids_[k];
+      const Point2 p = xy_[q];
+      const double error = std::fabs(z_[q] - (za + g.gx * (p.x - pa.x) + g.gy * (p.y - pa.y)));
+      tally.add(error, q, xy_.data());
+      sum += error * error;
+    }
+    if (sum_sq) *sum_sq = sum;
+    return tally;
+  }
+
+  // Calls f(t) for every triangle slot t holding points, on all threads, in chunks of slots
+  // holding similar point counts.
+  template <class F>
+  void for_each_range(F&& f) {
+    const std::size_t slots = count_.size();
+    std::size_t points = 0;
+    for (std::size_t t = 0; t < slots; ++t) points += count_[t];
+    const std::size_t chunks = std::clamp<std::size_t>(points / kChunkPoints, 1, kMaxChunks);
+    std::vector<std::size_t> first_slot{0};
+    for (std::size_t t = 0, seen = 0; t < slots; ++t) {
+      seen += count_[t];
+      if (seen * chunks >= first_slot.size() * points && first_slot.size() < chunks)
+        first_slot.push_back(t + 1);
+    }
+    first_slot.push_back(slots);
+    auto chunk = [&](std::size_t c, std::size_t) {
+      for (std::size_t t = first_slot[c]; t < first_slot[c + 1]; ++t)
+        if (count_[t] > 0) f(t);
+    };
+    pool_.run(chunk, first_slot.size() - 1);
+  }
+
   void grow() {
     const std::size_t slots = tin_.triangle_slots();
     if (begin_.size() >= slots) return;
@@ -543,14 +564,12 @@ class Simplifier {
     count_.resize(slots, 0);
     worst_.resize(slots, kNoId);
     worst_error_.resize(slots, -1.0);
-    sum_sq_.resize(slots, 0.0);
     queue_.grow(slots);
   }
 
   // Adds a tally to triangle u.
   void absorb(const Tally& t, TriangleId u) {
     if (t.count == 0) return;
-    sum_sq_[u] += t.sum_sq;
     count_[u] += t.count;
     if (worse(t.worst_error, t.worst, worst_error_[u], worst_[u], xy_.data())) {
       worst_error_[u] = t.worst_error;
@@ -659,7 +678,6 @@ class Simplifier {
       count_[u] = 0;
       worst_[u] = kNoId;
       worst_error_[u] = -1.0;
-      sum_sq_[u] = 0;
     }
     const Fan fan{at,
                   z_[p],
@@ -748,8 +766,10 @@ class Simplifier {
   // Classifies and measures `count` points: their cones into `cone` (p, the new vertex,
   // gets `skip`), their errors into the cones' tallies. Returns the last cone, the next hint.
   template <class C>
-  int scan(const Fan& fan, const std::uint32_t* ids, std::size_t count, std::uint32_t p, C* cone,
-           C skip, Tally* tally, int hint) const {
+  int scan(const Fan& shared_fan, const std::uint32_t* ids, std::size_t count, std::uint32_t p,
+           C* cone, C skip, Tally* tally, int hint) const {
+    // A copy in registers: the byte stores to `cone` may alias anything in memory.
+    const Fan fan = shared_fan;
     const Point2* xy = xy_.data();
     const double* z = z_.data();
     for (std::size_t i = 0; i < count; ++i) {
@@ -807,7 +827,6 @@ class Simplifier {
   std::vector<std::uint32_t> count_;
   std::vector<std::uint32_t> worst_;  // the point with the largest error, or kNoId
   std::vector<double> worst_error_;
-  std::vector<double> sum_sq_;                  // of the errors of its points
   WorstQueue queue_;                            // the triangles with a point beyond the tolerance
   std::uint64_t candidates_ = 0, settled_ = 0;  // points, and those in triangles within max_error
 
