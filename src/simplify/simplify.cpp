@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdlib>
+#include <cstring>
 #include <exception>
 #include <mutex>
 #include <string>
@@ -353,13 +355,16 @@ class Simplifier {
     ids_.assign(arena, kNoId);
   }
 
-  // The constrained Delaunay triangulation of the kept points and the segments' ends.
-  void start(std::span<const std::uint32_t> kept, std::span<const constraints::Segment> segments) {
+  // The constrained Delaunay triangulation of the kept points, the segments' ends and the
+  // seeds (points inserted up front, counted as inserted; none of them kept).
+  void start(std::span<const std::uint32_t> kept, std::span<const constraints::Segment> segments,
+             std::span<const std::uint32_t> seeds = {}) {
     const auto n = static_cast<std::uint32_t>(xy_.size());
     for (std::uint32_t i : kept) {
       if (i >= n) throw Error("simplify: a kept point index is out of range");
       ids_[i] = kKept;
     }
+    for (std::uint32_t i : seeds) ids_[i] = kKept;
     for (const constraints::Segment& s : segments) {
       if (s.a >= n || s.b >= n) throw Error("simplify: a segment names a point out of range");
       ids_[s.a] = ids_[s.b] = kKept;
@@ -372,7 +377,9 @@ class Simplifier {
       point_of.push_back(i);
     }
     report_.points = n;
-    report_.kept_vertices = points.size();
+    report_.kept_vertices = points.size() - seeds.size();
+    report_.inserted = seeds.size();
+    candidates_ = n - points.size();
     delaunay::DelaunayOptions d;
     d.keep_point_map = true;
     delaunay::DelaunayResult r = delaunay::triangulate(std::move(points), d);
@@ -404,6 +411,7 @@ class Simplifier {
       point_of_vertex_.resize(tin_.vertex_count(), kNoId);  // crossings
     }
     if (!tin_.has_vertex_index()) tin_.build_vertex_index();
+    first_greedy_vertex_ = tin_.vertex_count();
   }
 
   // Every other point into the range of the triangle holding it, its error measured: on all
@@ -450,7 +458,6 @@ class Simplifier {
       worst_error_[t] = tally.worst_error;
     });
 
-    candidates_ = n - report_.kept_vertices;
     for (std::size_t t = 0; t < slots; ++t) {
       if (count_[t] == 0) continue;
       if (worst_error_[t] <= options_.max_error)
@@ -477,6 +484,12 @@ class Simplifier {
       report.tick(settled_);
     }
     report.finish();
+  }
+
+  // The points the greedy loop inserted, in the order it did.
+  std::vector<std::uint32_t> greedy_order() const {
+    return {point_of_vertex_.begin() + static_cast<std::ptrdiff_t>(first_greedy_vertex_),
+            point_of_vertex_.end()};
   }
 
   SimplifyResult finish() {
@@ -827,7 +840,8 @@ class Simplifier {
   std::vector<std::uint32_t> count_;
   std::vector<std::uint32_t> worst_;  // the point with the largest error, or kNoId
   std::vector<double> worst_error_;
-  WorstQueue queue_;                            // the triangles with a point beyond the tolerance
+  WorstQueue queue_;  // the triangles with a point beyond the tolerance
+  std::size_t first_greedy_vertex_ = 0;
   std::uint64_t candidates_ = 0, settled_ = 0;  // points, and those in triangles within max_error
 
   // Scratch of insert().
@@ -843,22 +857,129 @@ class Simplifier {
 
 }  // namespace
 
+namespace {
+
+// Inputs this large start from seeds (below); smaller ones are cheap enough without.
+constexpr std::size_t kSeedMinPoints = std::size_t{1} << 16;
+// The coarse run sees about one point in 2^kThinningBits (kThinningBits of a hash per depth)
+// and hands on the first 1/kSeedShare of its insertions.
+constexpr int kThinningBits = 4;
+constexpr std::size_t kSeedShare = 4;
+
+struct GreedyRun {
+  SimplifyResult result;
+  std::vector<std::uint32_t> order;  // the inserted points, seeds first, in insertion order
+};
+
+GreedyRun greedy(std::span<const Point2> xy, std::span<const double> z,
+                 std::span<const std::uint32_t> kept,
+                 std::span<const constraints::Segment> segments, const SimplifyOptions& options,
+                 const ProgressFn* progress, int depth = 0);
+
+// A hash of a point's x, y bits: which points the coarse run sees depends on nothing else.
+std::uint64_t xy_hash(Point2 p) {
+  const auto mix = [](std::uint64_t h) {
+    h ^= h >> 31;
+    h *= 0x7fb5d329728ea185ULL;
+    h ^= h >> 27;
+    h *= 0x81dadef4bc2dd44dULL;
+    return h ^ (h >> 33);
+  };
+  std::uint64_t x, y;
+  const double px = p.x + 0.0, py = p.y + 0.0;  // -0 as +0
+  std::memcpy(&x, &px, sizeof x);
+  std::memcpy(&y, &py, sizeof y);
+  return mix(x ^ mix(y + 0x9e3779b97f4a7c15ULL));
+}
+
+// The early insertions of the greedy loop rescan nearly every point each (the first triangles
+// hold millions): O(n log k) work for the first k insertions. The same greedy run on a thinned
+// subset (the kept points and segments, and about one point in 2^kThinningBits, chosen by a
+// hash of x, y; other bits of it at each depth) finds nearly the same first insertions at a
+// fraction of that cost; its first 1/kSeedShare insertions start the full run, which then refines
+// as before. (Recursively: a large subset is itself seeded.) Costs well under 1% in vertex count on
+// the benchmark grids. Not with a vertex budget: there the greedy order alone decides which
+// vertices are in.
+std::vector<std::uint32_t> coarse_seeds(std::span<const Point2> xy, std::span<const double> z,
+                                        std::span<const std::uint32_t> kept,
+                                        std::span<const constraints::Segment> segments,
+                                        const SimplifyOptions& options, int depth) {
+  const std::size_t n = xy.size();
+  if (n < kSeedMinPoints || options.max_vertices) return {};
+  // The points that must be in (few next to n), sorted: merged with the scan below, so that no
+  // array of n entries is needed (fresh pages cost more than their use here).
+  std::vector<std::uint32_t> must;
+  for (std::uint32_t i : kept)
+    if (i < n) must.push_back(i);
+  for (const constraints::Segment& s : segments)
+    if (s.a < n && s.b < n) must.insert(must.end(), {s.a, s.b});
+  std::sort(must.begin(), must.end());
+  must.erase(std::unique(must.begin(), must.end()), must.end());
+  std::vector<Point2> sub_xy;
+  std::vector<double> sub_z;
+  std::vector<std::uint32_t> point_of_sub;
+  const std::size_t expected = must.size() + (n >> kThinningBits) + (n >> (kThinningBits + 3));
+  sub_xy.reserve(expected);
+  sub_z.reserve(expected);
+  point_of_sub.reserve(expected);
+  const std::uint64_t mask = (std::uint64_t{1} << kThinningBits) - 1;
+  std::size_t next = 0;  // in must
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const bool required = next < must.size() && must[next] == i;
+    next += required;
+    if (!required && ((xy_hash(xy[i]) >> (kThinningBits * depth)) & mask) != 0) continue;
+    point_of_sub.push_back(i);
+    sub_xy.push_back(xy[i]);
+    sub_z.push_back(z[i]);
+  }
+  const auto sub_of = [&](std::uint32_t i) {
+    return static_cast<std::uint32_t>(
+        std::lower_bound(point_of_sub.begin(), point_of_sub.end(), i) - point_of_sub.begin());
+  };
+  std::vector<std::uint32_t> sub_kept;
+  for (std::uint32_t i : kept)
+    if (i < n) sub_kept.push_back(sub_of(i));
+  std::vector<constraints::Segment> sub_segments;
+  for (const constraints::Segment& s : segments)
+    if (s.a < n && s.b < n) sub_segments.push_back({sub_of(s.a), sub_of(s.b), s.source});
+  const GreedyRun coarse =
+      greedy(sub_xy, sub_z, sub_kept, sub_segments, options, nullptr, depth + 1);
+  std::vector<std::uint32_t> seeds;
+  for (std::size_t k = 0; k < coarse.order.size() / kSeedShare; ++k)
+    seeds.push_back(point_of_sub[coarse.order[k]]);
+  return seeds;
+}
+
+GreedyRun greedy(std::span<const Point2> xy, std::span<const double> z,
+                 std::span<const std::uint32_t> kept,
+                 std::span<const constraints::Segment> segments, const SimplifyOptions& options,
+                 const ProgressFn* progress, int depth) {
+  const std::vector<std::uint32_t> seeds = coarse_seeds(xy, z, kept, segments, options, depth);
+  Simplifier s(xy, z, options, progress);
+  s.start(kept, segments, seeds);
+  s.assign_points();
+  s.run();
+  GreedyRun run;
+  run.order = seeds;
+  const std::vector<std::uint32_t> order = s.greedy_order();
+  run.order.insert(run.order.end(), order.begin(), order.end());
+  run.result = s.finish();
+  return run;
+}
+
+}  // namespace
+
 SimplifyResult simplify(std::span<const Point2> xy, std::span<const double> z,
                         std::span<const std::uint32_t> kept,
                         std::span<const constraints::Segment> segments,
                         const SimplifyOptions& options, const ProgressFn* progress) {
-  Simplifier s(xy, z, options, progress);
   std::vector<std::uint32_t> all = hull_corners(xy);
   all.insert(all.end(), kept.begin(), kept.end());
-  s.start(all, segments);
-  s.assign_points();
-  s.run();
-  return s.finish();
+  return greedy(xy, z, all, segments, options, progress).result;
 }
 
 SimplifyResult simplify_tin(const mesh::Triangulation& full, const SimplifyOptions& options,
                             const ProgressFn* progress) {
-  Simplifier s(full.points(), full.heights(), options, progress);
   std::vector<std::uint32_t> kept;
   std::vector<constraints::Segment> segments;
   full.for_each_constrained_edge([&](EdgeId e) {
@@ -876,10 +997,7 @@ SimplifyResult simplify_tin(const mesh::Triangulation& full, const SimplifyOptio
     const VertexId w = full.dest(next_edge(inf_v));
     if (orient2d(full.point(w), full.point(v), full.point(u)) != 0) kept.push_back(v);
   }
-  s.start(kept, segments);
-  s.assign_points();
-  s.run();
-  return s.finish();
+  return greedy(full.points(), full.heights(), kept, segments, options, progress).result;
 }
 
 }  // namespace tincdt::simplify
