@@ -194,6 +194,19 @@ TEST(Simplify, ThreadsDoNotChangeTheResult) {
   check(in, one, a);
 }
 
+// Inputs of 65536 points or more start from the insertions of a coarse run on a thinned subset
+// (chosen by a hash of x, y): the result must still not depend on the input order.
+TEST(Simplify, SeededLargeInputDoesNotDependOnOrder) {
+  const Input in = random_input(7, 140000, true);
+  SimplifyOptions options;
+  options.max_error = 0.5;
+  const SimplifyResult a = run(in, options), b = run(shuffled(in, 8), options);
+  EXPECT_EQ(test::triangle_set(a.tin), test::triangle_set(b.tin));
+  EXPECT_EQ(a.report.max_error, b.report.max_error);
+  EXPECT_EQ(a.report.inserted, b.report.inserted);
+  check(in, options, a);
+}
+
 // A grid: every cell cocircular, many points on every long edge, and equal errors everywhere
 // (integer heights): the ties are broken by the points, whatever their order.
 TEST(Simplify, GridWithTiesIsDeterministic) {
