@@ -285,78 +285,96 @@ MergeReport merge_outlines(const MergeOptions& options, const LogFn& log) {
   return r;
 }
 
-MergeReport merge_whole(const MergeOptions& options, const LogFn& log) {
-  const std::vector<std::string>& names = options.inputs;
-  MergeReport r;
+// The tiles' triangles over one set of vertices, welded by their exact x, y.
+struct WeldedTiles {
   Welder welder;
   std::vector<std::array<std::uint32_t, 3>> tris;
   std::vector<std::uint32_t> tri_tile;
   std::vector<std::array<std::uint32_t, 2>> constrained;
   std::string crs;
   Point3 offset{0, 0, 0};
-  bool one_offset = true;
+  bool one_offset = true;  // all tiles share the first tile's offset, so the output may keep it
+};
+
+WeldedTiles weld_tiles(const std::vector<std::string>& names, const LogFn& log, MergeReport& r) {
+  WeldedTiles w;
   for (std::uint32_t t = 0; t < names.size(); ++t) {
     const io::PlyMesh m = io::read_ply(names[t]);
     if (m.outline)
       throw InputError(names[t], "", "is a tile outline: merge outlines with --check or --outline");
     if (t == 0) {
-      crs = m.crs;
-      offset = m.offset;
-    } else if (!(m.offset == offset)) {
-      one_offset = false;
+      w.crs = m.crs;
+      w.offset = m.offset;
+    } else if (!(m.offset == w.offset)) {
+      w.one_offset = false;
     }
     std::vector<std::uint32_t> id(m.vertices.size());
-    for (std::size_t v = 0; v < m.vertices.size(); ++v) id[v] = welder.add(m.vertices[v], t, names);
+    for (std::size_t v = 0; v < m.vertices.size(); ++v)
+      id[v] = w.welder.add(m.vertices[v], t, names);
     for (const auto& f : m.faces) {
-      tris.push_back({id[f[0]], id[f[1]], id[f[2]]});
-      tri_tile.push_back(t);
+      w.tris.push_back({id[f[0]], id[f[1]], id[f[2]]});
+      w.tri_tile.push_back(t);
     }
-    for (const io::PlyMesh::Edge& e : m.edges) constrained.push_back({id[e.a], id[e.b]});
+    for (const io::PlyMesh::Edge& e : m.edges) w.constrained.push_back({id[e.a], id[e.b]});
     ++r.tiles;
     if (log) log(log_debug, names[t] + ": " + std::to_string(m.faces.size()) + " triangles");
   }
-  const std::vector<Point3>& points = welder.points();
-  if (tris.empty()) throw InputError(names.front(), "", "the tiles hold no triangle");
-  r.vertices = points.size();
-  r.triangles = tris.size();
+  if (w.tris.empty()) throw InputError(names.front(), "", "the tiles hold no triangle");
+  r.vertices = w.welder.points().size();
+  r.triangles = w.tris.size();
+  return w;
+}
 
-  const HalfEdges half(tris);
+// Each half-edge's twin (kNoId on the border) and the border half-edges, which must be the hull.
+struct SeamedEdges {
+  std::vector<std::uint32_t> twin;
+  std::vector<std::uint32_t> border_edge;
+};
+
+SeamedEdges pair_half_edges(const WeldedTiles& w, const HalfEdges& half,
+                            const std::vector<std::string>& names, MergeReport& r) {
+  const std::vector<Point3>& points = w.welder.points();
+  const auto& tris = w.tris;
   std::uint32_t e = 0, f = 0;
   if (half.repeated(e, f)) {
     const Point3& p = points[tris[e / 3][e % 3]];
     throw InputError(
-        names[tri_tile[f / 3]], "edge from " + at(xy(p)),
-        "overlap: " + names[tri_tile[e / 3]] + " has a triangle on the same side of it");
+        names[w.tri_tile[f / 3]], "edge from " + at(xy(p)),
+        "overlap: " + names[w.tri_tile[e / 3]] + " has a triangle on the same side of it");
   }
-  // Twins, and the border: half-edges without one, each of which must be on the hull.
-  std::vector<std::uint32_t> twin(3 * tris.size(), kNoId);
+  SeamedEdges s;
+  s.twin.assign(3 * tris.size(), kNoId);
   std::vector<Border> border;
-  std::vector<std::uint32_t> border_edge;
-  for (std::uint32_t h = 0; h < twin.size(); ++h) {
+  for (std::uint32_t h = 0; h < s.twin.size(); ++h) {
     const std::uint32_t a = tris[h / 3][h % 3], b = tris[h / 3][(h + 1) % 3];
-    twin[h] = half.find(b, a);
-    if (twin[h] != kNoId) {
-      if (tri_tile[h / 3] != tri_tile[twin[h] / 3] && a < b) ++r.seam_edges;
+    s.twin[h] = half.find(b, a);
+    if (s.twin[h] != kNoId) {
+      if (w.tri_tile[h / 3] != w.tri_tile[s.twin[h] / 3] && a < b) ++r.seam_edges;
       continue;
     }
     border.push_back(
-        {points[a], points[b], points[tris[h / 3][(h + 2) % 3]], false, tri_tile[h / 3]});
-    border_edge.push_back(h);
+        {points[a], points[b], points[tris[h / 3][(h + 2) % 3]], false, w.tri_tile[h / 3]});
+    s.border_edge.push_back(h);
   }
   check_hull(border, names);
   r.hull_edges = border.size();
+  return s;
+}
 
-  // The TIN: the triangles, then one ghost per hull edge, chained around the hull.
+// The TIN: the triangles, then one ghost per hull edge, chained around the hull.
+mesh::Triangulation link_tin(const WeldedTiles& w, const SeamedEdges& s) {
+  const std::vector<Point3>& points = w.welder.points();
+  const auto& tris = w.tris;
   mesh::Triangulation tin;
   tin.reserve_vertices(points.size());
   for (const Point3& p : points) tin.add_vertex({p.x, p.y}, p.z);
-  tin.reserve_triangles(tris.size() + border_edge.size());
+  tin.reserve_triangles(tris.size() + s.border_edge.size());
   for (const auto& t : tris) tin.add_triangle(t[0], t[1], t[2]);
-  for (std::uint32_t h = 0; h < twin.size(); ++h)
-    if (twin[h] != kNoId && h < twin[h]) tin.link(h, twin[h]);
+  for (std::uint32_t h = 0; h < s.twin.size(); ++h)
+    if (s.twin[h] != kNoId && h < s.twin[h]) tin.link(h, s.twin[h]);
   std::vector<std::uint32_t> ghost_into(points.size(), kNoId);  // vertex -> ghost edge inf -> v
   std::vector<std::uint32_t> ghost_out(points.size(), kNoId);   // vertex -> ghost edge v -> inf
-  for (const std::uint32_t h : border_edge) {
+  for (const std::uint32_t h : s.border_edge) {
     const std::uint32_t a = tris[h / 3][h % 3], b = tris[h / 3][(h + 1) % 3];
     const TriangleId g = tin.add_triangle(b, a, mesh::kInfinite);  // b -> a, a -> inf, inf -> b
     tin.link(h, 3 * g);
@@ -365,11 +383,19 @@ MergeReport merge_whole(const MergeOptions& options, const LogFn& log) {
   }
   for (std::uint32_t v = 0; v < points.size(); ++v)
     if (ghost_out[v] != kNoId) tin.link(ghost_out[v], ghost_into[v]);
-  for (const auto& c : constrained) {
+  return tin;
+}
+
+// Marks the tiles' constrained edges, then checks the whole: a seam that is not Delaunay or a
+// constraint that does not survive the weld means tiles that do not belong together.
+void constrain_and_validate(mesh::Triangulation& tin, const WeldedTiles& w, const HalfEdges& half,
+                            const std::vector<std::string>& names) {
+  for (const auto& c : w.constrained) {
     std::uint32_t h = half.find(c[0], c[1]);
     if (h == kNoId) h = half.find(c[1], c[0]);
     if (h == kNoId)
-      throw InputError(names[welder.tile_of(c[0])], "constrained edge at " + at(xy(points[c[0]])),
+      throw InputError(names[w.welder.tile_of(c[0])],
+                       "constrained edge at " + at(xy(w.welder.points()[c[0]])),
                        "is no edge of the merged triangles");
     tin.set_constrained(h, true);
   }
@@ -379,23 +405,36 @@ MergeReport merge_whole(const MergeOptions& options, const LogFn& log) {
     throw InputError(
         names.front(), "",
         "the merged TIN is not valid: " + problem + " (tiles of different inputs or runs?)");
+}
 
-  if (options.check_only) return r;
-  io::TinWriteOptions w;
-  w.format = io::format_from_path(options.output);
-  w.overwrite = options.overwrite;
-  if (one_offset) w.offset = offset;
-  if (!crs.empty()) w.crs_wkt = io::crs_from_user(crs);
+void write_merged(const MergeOptions& options, const mesh::Triangulation& tin,
+                  const WeldedTiles& w) {
+  io::TinWriteOptions out_options;
+  out_options.format = io::format_from_path(options.output);
+  out_options.overwrite = options.overwrite;
+  if (w.one_offset) out_options.offset = w.offset;
+  if (!w.crs.empty()) out_options.crs_wkt = io::crs_from_user(w.crs);
   io::OutputSet set(options.overwrite);
   io::OutputFile& out = set.add(options.output, "tin");
-  io::write_tin(out, tin, w);
+  io::write_tin(out, tin, out_options);
   out.close();
-  if (io::wants_prj(*w.format, w.crs_wkt)) {
+  if (io::wants_prj(*out_options.format, out_options.crs_wkt)) {
     io::OutputFile& prj = set.add(io::prj_path(options.output), "prj");
-    io::write_prj(prj, w.crs_wkt);
+    io::write_prj(prj, out_options.crs_wkt);
     prj.close();
   }
   set.commit();
+}
+
+MergeReport merge_whole(const MergeOptions& options, const LogFn& log) {
+  MergeReport r;
+  const WeldedTiles welded = weld_tiles(options.inputs, log, r);
+  const HalfEdges half(welded.tris);
+  const SeamedEdges seamed = pair_half_edges(welded, half, options.inputs, r);
+  mesh::Triangulation tin = link_tin(welded, seamed);
+  constrain_and_validate(tin, welded, half, options.inputs);
+  if (options.check_only) return r;
+  write_merged(options, tin, welded);
   return r;
 }
 
