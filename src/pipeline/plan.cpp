@@ -246,7 +246,9 @@ std::string file_fingerprint(const std::string& file) {
   return fingerprint(size, head, tail);
 }
 
-TilePlan make_plan(const PlanOptions& options, std::vector<Point3>& rim, const LogFn& log) {
+namespace {
+
+void check_plan_options(const PlanOptions& options) {
   if (!(options.tile_size > 0) || !std::isfinite(options.tile_size))
     throw UsageError("--tile-size must be a length > 0");
   if (!(options.buffer >= 0) || !std::isfinite(options.buffer))
@@ -254,13 +256,17 @@ TilePlan make_plan(const PlanOptions& options, std::vector<Point3>& rim, const L
   if (!std::isfinite(options.rim_width)) throw UsageError("--rim must be a length >= 0");
   if (options.inputs.empty() && options.contours.empty() && options.breaklines.empty())
     throw UsageError("no input: give point files, --contours or --breaklines");
+}
+
+// The plan's settings and its inputs as their headers (points) or whole reads (lines) tell them;
+// the line sources' vertices go to LINE_VERTICES, as they count for the data's hull.
+TilePlan summarize_inputs(const PlanOptions& options, std::vector<Point2>& line_vertices) {
   TilePlan plan;
   plan.tile_size = options.tile_size;
   plan.buffer = options.buffer;
   plan.filter = options.filter;
   plan.filter.box.reset();
   plan.lines = options.lines;
-  std::vector<Point2> line_vertices;
   for (const std::string& path : options.inputs)
     plan.inputs.push_back(point_input(path, options.output));
   for (const std::string& spec : options.contours)
@@ -269,83 +275,115 @@ TilePlan make_plan(const PlanOptions& options, std::vector<Point3>& rim, const L
   for (const std::string& spec : options.breaklines)
     plan.inputs.push_back(
         vector_input(spec, "breaklines", options.lines, options.output, line_vertices));
+  return plan;
+}
 
-  BBox all;  // every input's bounds, grown by its tolerance
+// Every input's bounds grown by its tolerance, and the points the headers count.
+struct DataBox {
+  BBox all;
   std::uint64_t points = 0;
-  for (const PlanInput& in : plan.inputs) {
+};
+
+DataBox data_box(const std::vector<PlanInput>& inputs) {
+  DataBox d;
+  for (const PlanInput& in : inputs) {
     if (tiles::empty(in.bounds)) continue;
     const BBox b = inflated(in);
-    all.add(b.min_x, b.min_y);
-    all.add(b.max_x, b.max_y);
-    points += in.kind == "points" ? in.count : 0;
+    d.all.add(b.min_x, b.min_y);
+    d.all.add(b.max_x, b.max_y);
+    d.points += in.kind == "points" ? in.count : 0;
   }
-  if (tiles::empty(all))
-    throw InputError(plan.inputs.front().path, "", "no input holds any data: nothing to tile");
+  if (tiles::empty(d.all))
+    throw InputError(inputs.front().path, "", "no input holds any data: nothing to tile");
+  return d;
+}
 
-  // The rim: the data's hull and the points near it, from the files that can hold them.
-  const double area = (all.max_x - all.min_x) * (all.max_y - all.min_y);
-  const double spacing = std::sqrt(area / static_cast<double>(std::max<std::uint64_t>(
-                                              points ? points : line_vertices.size(), 1)));
-  plan.rim_width = options.rim_width >= 0 ? options.rim_width : 10 * spacing;
+// Up to one point file per thread from ORDER, starting at NEXT, skipping (and counting in
+// SKIPPED) those the hull so far already holds deep inside: they cannot add to the rim.
+std::vector<std::size_t> next_scan_batch(const std::vector<std::size_t>& order, std::size_t& next,
+                                         const TilePlan& plan, const std::vector<Point2>& hull,
+                                         std::size_t threads, std::size_t& skipped) {
+  std::vector<std::size_t> batch;
+  for (; next < order.size() && batch.size() < threads; ++next) {
+    if (detail::deep_inside(inflated(plan.inputs[order[next]]), hull, plan.rim_width))
+      ++skipped;
+    else
+      batch.push_back(order[next]);
+  }
+  return batch;
+}
+
+// The batch's files scanned in parallel; a file's error is kept for its turn, so that the files
+// before it are still taken in order.
+struct BatchScans {
+  std::vector<detail::PointScan> scans;
+  std::vector<std::exception_ptr> errors;
+};
+
+BatchScans scan_batch(const PlanOptions& options, const TilePlan& plan,
+                      const std::vector<std::size_t>& batch, std::size_t threads) {
+  BatchScans b{std::vector<detail::PointScan>(batch.size()),
+               std::vector<std::exception_ptr>(batch.size())};
+  parallel_chunks(
+      threads, batch.size(),
+      [&](std::size_t begin, std::size_t end) {
+        for (std::size_t k = begin; k < end; ++k) try {
+            b.scans[k] = detail::scan_points(options.inputs[batch[k]], plan.filter, plan.rim_width,
+                                             batch.size() > 1 ? 1 : 0);
+          } catch (...) {
+            b.errors[k] = std::current_exception();
+          }
+      },
+      1);
+  return b;
+}
+
+// The rim: the data's hull (into PLAN) and the points near it (into RIM), from the files that can
+// hold them, outermost first.
+void find_rim(const PlanOptions& options, TilePlan& plan, const BBox& all,
+              const std::vector<Point2>& line_vertices, std::vector<Point3>& rim,
+              const LogFn& log) {
   std::vector<std::pair<std::size_t, Point3>> near;  // (input, point)
-  if (plan.rim_width > 0) {
-    std::vector<Point2> hull = tiles::convex_hull(line_vertices);
-    std::size_t scanned = 0, skipped = 0;
-    // In batches of one file per thread: each batch skips what the hull so far already holds.
-    const std::vector<std::size_t> order = outermost_first(plan.inputs, all);
-    const std::size_t threads = thread_count(options.threads);
-    for (std::size_t next = 0; next < order.size();) {
-      std::vector<std::size_t> batch;
-      for (; next < order.size() && batch.size() < threads; ++next) {
-        if (detail::deep_inside(inflated(plan.inputs[order[next]]), hull, plan.rim_width))
-          ++skipped;
-        else
-          batch.push_back(order[next]);
-      }
-      std::vector<detail::PointScan> scans(batch.size());
-      std::vector<std::exception_ptr> errors(batch.size());
-      parallel_chunks(
-          threads, batch.size(),
-          [&](std::size_t begin, std::size_t end) {
-            for (std::size_t k = begin; k < end; ++k) try {
-                scans[k] = detail::scan_points(options.inputs[batch[k]], plan.filter,
-                                               plan.rim_width, batch.size() > 1 ? 1 : 0);
-              } catch (...) {
-                errors[k] = std::current_exception();
-              }
-          },
-          1);
-      for (std::size_t k = 0; k < batch.size(); ++k) {
-        if (errors[k]) std::rethrow_exception(errors[k]);
-        PlanInput& in = plan.inputs[batch[k]];
-        const detail::PointScan& scan = scans[k];
-        ++scanned;
-        in.count = scan.points;  // exact now, and the bounds too
-        in.bounds = scan.bounds;
-        in.tolerance = 0;
-        hull.insert(hull.end(), scan.hull.begin(), scan.hull.end());
-        for (const Point3& p : scan.near_outline) near.emplace_back(batch[k], p);
-        if (log)
-          log(log_debug, in.path + ": " + std::to_string(scan.points) + " points, " +
-                             std::to_string(scan.near_outline.size()) + " near its outline");
-      }
-      hull = tiles::convex_hull(std::move(hull));
+  std::vector<Point2> hull = tiles::convex_hull(line_vertices);
+  std::size_t scanned = 0, skipped = 0;
+  const std::vector<std::size_t> order = outermost_first(plan.inputs, all);
+  const std::size_t threads = thread_count(options.threads);
+  for (std::size_t next = 0; next < order.size();) {
+    const std::vector<std::size_t> batch =
+        next_scan_batch(order, next, plan, hull, threads, skipped);
+    const BatchScans b = scan_batch(options, plan, batch, threads);
+    for (std::size_t k = 0; k < batch.size(); ++k) {
+      if (b.errors[k]) std::rethrow_exception(b.errors[k]);
+      PlanInput& in = plan.inputs[batch[k]];
+      const detail::PointScan& scan = b.scans[k];
+      ++scanned;
+      in.count = scan.points;  // exact now, and the bounds too
+      in.bounds = scan.bounds;
+      in.tolerance = 0;
+      hull.insert(hull.end(), scan.hull.begin(), scan.hull.end());
+      for (const Point3& p : scan.near_outline) near.emplace_back(batch[k], p);
+      if (log)
+        log(log_debug, in.path + ": " + std::to_string(scan.points) + " points, " +
+                           std::to_string(scan.near_outline.size()) + " near its outline");
     }
-    plan.hull = std::move(hull);
-    const tiles::Rim r{plan.hull, plan.rim_width};
-    std::stable_sort(near.begin(), near.end(),
-                     [](const auto& p, const auto& q) { return p.first < q.first; });
-    for (const auto& [i, p] : near)
-      if (r.holds({p.x, p.y})) rim.push_back(p);
-    if (log)
-      log(log_info, "rim: " + std::to_string(rim.size()) + " points within " +
-                        json_number(plan.rim_width) + " of the data's hull (" +
-                        std::to_string(plan.hull.size()) + " vertices); read " +
-                        std::to_string(scanned) + " point files for it, skipped " +
-                        std::to_string(skipped) + " inside");
+    hull = tiles::convex_hull(std::move(hull));
   }
+  plan.hull = std::move(hull);
+  const tiles::Rim r{plan.hull, plan.rim_width};
+  // By input, so that the rim does not depend on which thread finished first.
+  std::stable_sort(near.begin(), near.end(),
+                   [](const auto& p, const auto& q) { return p.first < q.first; });
+  for (const auto& [i, p] : near)
+    if (r.holds({p.x, p.y})) rim.push_back(p);
+  if (log)
+    log(log_info, "rim: " + std::to_string(rim.size()) + " points within " +
+                      json_number(plan.rim_width) + " of the data's hull (" +
+                      std::to_string(plan.hull.size()) + " vertices); read " +
+                      std::to_string(scanned) + " point files for it, skipped " +
+                      std::to_string(skipped) + " inside");
+}
 
-  std::vector<Point2> corners = plan.hull;
+void set_extent(TilePlan& plan, const LogFn& log) {
   for (const PlanInput& in : plan.inputs) {
     if (tiles::empty(in.bounds)) {
       if (log) log(log_warn, in.path + ": holds no data; no tile reads it");
@@ -353,23 +391,40 @@ TilePlan make_plan(const PlanOptions& options, std::vector<Point3>& rim, const L
     }
     plan.extent.add(in.bounds.min_x, in.bounds.min_y);
     plan.extent.add(in.bounds.max_x, in.bounds.max_y);
-    if (!plan.hull.empty()) continue;
-    const BBox b = inflated(in);
-    corners.insert(
-        corners.end(),
-        {{b.min_x, b.min_y}, {b.max_x, b.min_y}, {b.max_x, b.max_y}, {b.min_x, b.max_y}});
   }
-  const tiles::TileGrid grid{options.tile_size};
+}
+
+// No triangle of the whole TIN leaves the data's hull or, without a rim, the inputs' boxes'.
+std::vector<Point2> data_outline(const TilePlan& plan) {
+  std::vector<Point2> corners = plan.hull;
+  if (plan.hull.empty())
+    for (const PlanInput& in : plan.inputs) {
+      if (tiles::empty(in.bounds)) continue;
+      const BBox b = inflated(in);
+      corners.insert(
+          corners.end(),
+          {{b.min_x, b.min_y}, {b.max_x, b.min_y}, {b.max_x, b.max_y}, {b.min_x, b.max_y}});
+    }
+  return tiles::convex_hull(std::move(corners));
+}
+
+// Before any tile is made: a tile size far too small for the data is a usage error, not a
+// plan of millions of tiles.
+void check_tile_count(const tiles::TileGrid& grid, const BBox& all) {
   const double cols_f = std::floor(all.max_x / grid.size) - std::floor(all.min_x / grid.size) + 1;
   const double rows_f = std::floor(all.max_y / grid.size) - std::floor(all.min_y / grid.size) + 1;
   if (!(cols_f * rows_f <= static_cast<double>(kMaxTiles)))
     throw UsageError("--tile-size " + json_number(grid.size) + " makes about " +
                      json_number(std::round(cols_f * rows_f)) + " tiles over the data (at most " +
                      std::to_string(kMaxTiles) + "): choose a larger tile size");
+}
+
+// The tiles of the grid over ALL that meet OUTLINE, north to south, each row west to east, each
+// with the inputs its buffered box reads.
+void lay_tiles(TilePlan& plan, const tiles::TileGrid& grid, const BBox& all,
+               const std::vector<Point2>& outline) {
   const std::int64_t col0 = grid.cell_of(all.min_x), col1 = grid.cell_of(all.max_x);
   const std::int64_t row0 = grid.cell_of(all.min_y), row1 = grid.cell_of(all.max_y);
-  // No triangle of the whole TIN leaves the data's hull (or, without a rim, the inputs' boxes').
-  const std::vector<Point2> outline = tiles::convex_hull(std::move(corners));
   for (std::int64_t row = row1; row >= row0; --row) {
     for (std::int64_t col = col0; col <= col1; ++col) {
       if (!tiles::meets_convex(grid.box(col, row), outline)) continue;
@@ -377,7 +432,7 @@ TilePlan make_plan(const PlanOptions& options, std::vector<Point3>& rim, const L
       tile.index = static_cast<std::uint32_t>(plan.tiles.size());
       tile.col = col;
       tile.row = row;
-      const BBox reads = grid.buffered(col, row, options.buffer);
+      const BBox reads = grid.buffered(col, row, plan.buffer);
       for (std::uint32_t i = 0; i < plan.inputs.size(); ++i) {
         const BBox b = inflated(plan.inputs[i]);
         if (!tiles::empty(b) && tiles::intersects(b, reads)) tile.inputs.push_back(i);
@@ -385,6 +440,26 @@ TilePlan make_plan(const PlanOptions& options, std::vector<Point3>& rim, const L
       plan.tiles.push_back(std::move(tile));
     }
   }
+}
+
+}  // namespace
+
+TilePlan make_plan(const PlanOptions& options, std::vector<Point3>& rim, const LogFn& log) {
+  check_plan_options(options);
+  std::vector<Point2> line_vertices;
+  TilePlan plan = summarize_inputs(options, line_vertices);
+  const DataBox data = data_box(plan.inputs);
+  // The rim's default width: ten times the points' (or else the line vertices') mean spacing.
+  const double area = (data.all.max_x - data.all.min_x) * (data.all.max_y - data.all.min_y);
+  const double spacing =
+      std::sqrt(area / static_cast<double>(std::max<std::uint64_t>(
+                           data.points ? data.points : line_vertices.size(), 1)));
+  plan.rim_width = options.rim_width >= 0 ? options.rim_width : 10 * spacing;
+  if (plan.rim_width > 0) find_rim(options, plan, data.all, line_vertices, rim, log);
+  set_extent(plan, log);
+  const tiles::TileGrid grid{options.tile_size};
+  check_tile_count(grid, data.all);
+  lay_tiles(plan, grid, data.all, data_outline(plan));
   return plan;
 }
 
