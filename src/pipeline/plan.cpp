@@ -539,18 +539,22 @@ void write_plan(TilePlan& plan, const std::vector<Point3>& rim, const std::strin
   set.commit();
 }
 
-TilePlan read_plan(const std::string& path) {
+namespace {
+
+using Kind = JsonValue::Kind;
+
+JsonValue parse_plan_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, "", fs::exists(path) ? "cannot open the plan" : "no such file");
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  JsonValue doc;
   try {
-    doc = JsonValue::parse(text);
+    return JsonValue::parse(text);
   } catch (const detail::JsonError& e) {
     throw InputError(path, "byte " + std::to_string(e.offset), "not JSON: " + e.what);
   }
-  const PlanReader r(path);
-  using Kind = JsonValue::Kind;
+}
+
+void check_plan_version(const JsonValue& doc, const PlanReader& r, const std::string& path) {
   if (!doc.is(Kind::object) || !doc.find("tincdt_plan"))
     r.fail("", "no \"tincdt_plan\" member (make one with 'tincdt plan')");
   const std::uint64_t version = r.count(doc, "tincdt_plan", "");
@@ -558,7 +562,10 @@ TilePlan read_plan(const std::string& path) {
     throw InputError(path, "",
                      "plan version " + std::to_string(version) + " (this tincdt reads version " +
                          std::to_string(kPlanVersion) + "): make the plan again");
-  TilePlan plan;
+}
+
+// The settings every tile job shares: the grid, the point filter, how lines are read, the extent.
+void read_settings(const JsonValue& doc, const PlanReader& r, TilePlan& plan) {
   plan.tile_size = r.number(doc, "tile_size", "");
   plan.buffer = r.number(doc, "buffer", "");
   if (!(plan.tile_size > 0)) r.fail("", "'tile_size' must be > 0");
@@ -579,27 +586,35 @@ TilePlan read_plan(const std::string& path) {
   plan.lines.z_field = r.member(lines, "z_field", Kind::string, "lines").string();
   plan.lines.z_from_m = r.member(lines, "z_from_m", Kind::boolean, "lines").boolean();
   plan.extent = r.box(doc, "extent", "");
-  const auto read_input = [&r](const JsonValue& v, const std::string& where) {
-    if (!v.is(Kind::object)) r.fail(where, "not an object");
-    PlanInput input;
-    input.path = r.member(v, "path", Kind::string, where).string();
-    input.kind = r.member(v, "kind", Kind::string, where).string();
-    input.format = r.member(v, "format", Kind::string, where).string();
-    input.bytes = r.count(v, "bytes", where);
-    input.fingerprint = r.member(v, "fingerprint", Kind::string, where).string();
-    input.count = r.count(v, "count", where);
-    input.bounds = r.box(v, "bounds", where);
-    input.tolerance = r.number(v, "tolerance", where);
-    if (!(input.tolerance >= 0)) r.fail(where, "'tolerance' must be >= 0");
-    return input;
-  };
+}
+
+PlanInput read_input(const JsonValue& v, const PlanReader& r, const std::string& where) {
+  if (!v.is(Kind::object)) r.fail(where, "not an object");
+  PlanInput input;
+  input.path = r.member(v, "path", Kind::string, where).string();
+  input.kind = r.member(v, "kind", Kind::string, where).string();
+  input.format = r.member(v, "format", Kind::string, where).string();
+  input.bytes = r.count(v, "bytes", where);
+  input.fingerprint = r.member(v, "fingerprint", Kind::string, where).string();
+  input.count = r.count(v, "count", where);
+  input.bounds = r.box(v, "bounds", where);
+  input.tolerance = r.number(v, "tolerance", where);
+  if (!(input.tolerance >= 0)) r.fail(where, "'tolerance' must be >= 0");
+  return input;
+}
+
+void read_inputs(const JsonValue& doc, const PlanReader& r, TilePlan& plan) {
   for (const JsonValue& v : r.member(doc, "inputs", Kind::array, "").items()) {
-    PlanInput input = read_input(v, "input " + std::to_string(plan.inputs.size()));
+    PlanInput input = read_input(v, r, "input " + std::to_string(plan.inputs.size()));
     if (input.kind != "points" && input.kind != "contours" && input.kind != "breaklines")
       r.fail("input " + std::to_string(plan.inputs.size()),
              "kind '" + input.kind + "' (points, contours or breaklines)");
     plan.inputs.push_back(std::move(input));
   }
+}
+
+// The hull must be convex as stored and a rim needs one: tile jobs clip to it.
+void read_hull_and_rim(const JsonValue& doc, const PlanReader& r, TilePlan& plan) {
   for (const JsonValue& v : r.member(doc, "hull", Kind::array, "").items()) {
     if (!v.is(Kind::array) || v.items().size() != 2 || !v.items()[0].is(Kind::number) ||
         !v.items()[1].is(Kind::number))
@@ -610,11 +625,15 @@ TilePlan read_plan(const std::string& path) {
     r.fail("hull", "not a convex polygon");
   const JsonValue* rim = doc.find("rim");
   if (rim && rim->is(Kind::object)) {
-    plan.rim = read_input(*rim, "rim");
+    plan.rim = read_input(*rim, r, "rim");
     plan.rim_width = r.number(*rim, "width", "rim");
     if (!(plan.rim_width > 0) || plan.hull.size() < 3)
       r.fail("rim", "a rim needs a width > 0 and a hull");
   }
+}
+
+// Each tile's box must be what its col, row say, and its inputs indices into the plan's inputs.
+void read_tiles(const JsonValue& doc, const PlanReader& r, TilePlan& plan) {
   const tiles::TileGrid grid{plan.tile_size};
   for (const JsonValue& v : r.member(doc, "tiles", Kind::array, "").items()) {
     const std::string where = "tile " + std::to_string(plan.tiles.size());
@@ -640,6 +659,19 @@ TilePlan read_plan(const std::string& path) {
   }
   if (r.count(doc, "tile_count", "") != plan.tiles.size())
     r.fail("", "'tile_count' differs from the number of tiles listed");
+}
+
+}  // namespace
+
+TilePlan read_plan(const std::string& path) {
+  const JsonValue doc = parse_plan_file(path);
+  const PlanReader r(path);
+  check_plan_version(doc, r, path);
+  TilePlan plan;
+  read_settings(doc, r, plan);
+  read_inputs(doc, r, plan);
+  read_hull_and_rim(doc, r, plan);
+  read_tiles(doc, r, plan);
   return plan;
 }
 
