@@ -70,132 +70,162 @@ void plan(const BuildOptions& o, FilePlan& files) {
     files.outputs.push_back({o.tile_outline, "the tile's outline (--outline)"});
 }
 
-void run(Job& job) {
-  const TileSetup& tile = *job.tile;
-  mesh::Triangulation& tin = job.tin();
-  // The owner point of a triangle is its centroid computed in doubles: within a few ulps of the
-  // true centroid, so the checked region is the tile grown by a bound on that.
+// The triangles are checked in the tile's box grown by a bound on the rounding of owner points:
+// a triangle's owner point is its centroid computed in doubles, within a few ulps of the true one.
+BBox checked_region(const TileSetup& tile) {
   const double magnitude = std::max({std::fabs(tile.box.min_x), std::fabs(tile.box.max_x),
                                      std::fabs(tile.box.min_y), std::fabs(tile.box.max_y)});
   const double span = tile.buffered.max_x - tile.buffered.min_x;
-  const BBox near = tiles::grown(tile.box, 16 * 0x1p-52 * (magnitude + span));
-  const tiles::Polygon near_polygon = tiles::box_polygon(near);
-  const double margin = tile.margin;
-  const auto is_final = [&](TriangleId t, const tiles::Disk& d) {
-    if (tiles::inside(d, tile.buffered)) return true;
-    const auto c = tin.triangle(t);
-    const Point2 p[3] = {tin.point(c[0]), tin.point(c[1]), tin.point(c[2])};
-    bool constrained[3];
-    bool any = false;
-    for (int i = 0; i < 3; ++i) any |= constrained[i] = tin.is_constrained(3 * t + i);
-    for (const tiles::Polygon& piece : tile.missing) {
-      if (!tiles::may_meet(d, piece, margin)) continue;
-      if (!any || tiles::may_meet(p[0], p[1], p[2], piece, margin)) return false;
-      for (int i = 0; i < 3; ++i) {
-        if (constrained[i]) continue;
-        // Beyond edge p[i] -> p[i + 1]: on its right, the left of p[i + 1] -> p[i].
-        const tiles::Polygon beyond = tiles::clip_left(piece, p[(i + 1) % 3], p[i], margin);
-        if (tiles::may_meet(d, beyond, margin)) return false;
-      }
-    }
-    return true;
-  };
+  return tiles::grown(tile.box, 16 * 0x1p-52 * (magnitude + span));
+}
 
+// Whether triangle T, whose circumdisk lies within D, is final (see the top of the file).
+bool is_final(const mesh::Triangulation& tin, const TileSetup& tile, TriangleId t,
+              const tiles::Disk& d) {
+  if (tiles::inside(d, tile.buffered)) return true;
+  const double margin = tile.margin;
+  const auto c = tin.triangle(t);
+  const Point2 p[3] = {tin.point(c[0]), tin.point(c[1]), tin.point(c[2])};
+  bool constrained[3];
+  bool any = false;
+  for (int i = 0; i < 3; ++i) any |= constrained[i] = tin.is_constrained(3 * t + i);
+  for (const tiles::Polygon& piece : tile.missing) {
+    if (!tiles::may_meet(d, piece, margin)) continue;
+    if (!any || tiles::may_meet(p[0], p[1], p[2], piece, margin)) return false;
+    for (int i = 0; i < 3; ++i) {
+      if (constrained[i]) continue;
+      // Beyond edge p[i] -> p[i + 1]: on its right, the left of p[i + 1] -> p[i].
+      const tiles::Polygon beyond = tiles::clip_left(piece, p[(i + 1) % 3], p[i], margin);
+      if (tiles::may_meet(d, beyond, margin)) return false;
+    }
+  }
+  return true;
+}
+
+// What the checks found, for the summary or for the error that names a large enough buffer.
+struct FinalityTally {
   std::uint64_t owned = 0, checked = 0, failed = 0;
   std::uint64_t beyond = 0;  // final with a circumcircle beyond the buffered box
   double reach = 0;          // how far the other circumcircles reach beyond the tile
   double failed_reach = 0;   // how far those of the failures do
   bool unbounded = false;    // a failure no estimate covers (hull edge, flat triangle)
   Point2 at{0, 0};           // a failure, for the message
+};
+
+// Ghost (u, v, inf): the outer side of hull edge v -> u is the open half-plane left of u -> v.
+// Where it reaches the tile, no data may lie in it outside the buffered box.
+void check_hull_edge(const mesh::Triangulation& tin, const TileSetup& tile, const BBox& near,
+                     const std::array<VertexId, 3>& c, FinalityTally& tally) {
+  const int i = c[0] == mesh::kInfinite ? 1 : (c[1] == mesh::kInfinite ? 2 : 0);
+  const Point2 u = tin.point(c[i]), v = tin.point(c[(i + 1) % 3]);
+  if (!tiles::reaches_left_of(u, v, near)) return;
+  ++tally.checked;
+  const bool final = std::none_of(
+      tile.missing.begin(), tile.missing.end(),
+      [&](const tiles::Polygon& piece) { return tiles::may_meet_left(u, v, piece, tile.margin); });
+  ++tally.beyond;
+  if (!final) {
+    ++tally.failed;
+    tally.unbounded = true;
+    tally.at = {(u.x + v.x) / 2, (u.y + v.y) / 2};
+  }
+}
+
+// A real triangle: removed when it does not meet NEAR; else checked final, and kept when the
+// tile owns it (the others go to job.tile_final_unowned, for the DEM).
+void check_triangle(Job& job, const BBox& near, const tiles::Polygon& near_polygon, TriangleId t,
+                    FinalityTally& tally) {
+  const TileSetup& tile = *job.tile;
+  mesh::Triangulation& tin = job.tin();
+  const auto c = tin.triangle(t);
+  const Point2 a = tin.point(c[0]), b = tin.point(c[1]), p = tin.point(c[2]);
+  BBox box;
+  box.add(a.x, a.y);
+  box.add(b.x, b.y);
+  box.add(p.x, p.y);
+  // The triangle itself, not only its bounding box: where the tile reads the rim, the gap
+  // between the buffered box and the rim is spanned by large triangles that cannot be final,
+  // and their boxes may reach the tile although they do not (a lattice's rim column on the
+  // tile's edge did).
+  if (!tiles::intersects(box, near) || !tiles::may_meet(a, b, p, near_polygon, tile.margin)) {
+    tin.set_removed(t, true);
+    return;
+  }
+  ++tally.checked;
+  const tiles::Disk d = tiles::circumdisk_bound(a, b, p);
+  const double r = tiles::reach_beyond(d, tile.box);
+  if (r <= tile.buffer)
+    tally.reach = std::max(tally.reach, r);
+  else
+    ++tally.beyond;
+  if (!is_final(tin, tile, t, d)) {
+    ++tally.failed;
+    if (!std::isfinite(r)) {
+      tally.unbounded = true;
+    } else if (r >= tally.failed_reach) {
+      tally.failed_reach = r;
+      tally.at = {(a.x + b.x + p.x) / 3, (a.y + b.y + p.y) / 3};
+    }
+  }
+  if (tile.grid.holds(tile.col, tile.row, tiles::owner_point(a, b, p))) {
+    ++tally.owned;
+  } else {
+    tin.set_removed(t, true);
+    job.tile_final_unowned.push_back(t);
+  }
+}
+
+[[noreturn]] void throw_buffer_too_small(const TileSetup& tile, const std::string& name,
+                                         const FinalityTally& tally) {
+  char where[80];
+  std::snprintf(where, sizeof where, "(%.3f, %.3f)", tally.at.x, tally.at.y);
+  std::string detail = "buffer " + number(tile.buffer) +
+                       " is too small: " + std::to_string(tally.failed) + " triangle" +
+                       (tally.failed == 1 ? "" : "s") +
+                       " near the tile could still change (one near " + where + ")";
+  // Past a hull edge of the points read, a larger buffer usually finds more points; the
+  // estimate from the circles is then a lower bound.
+  if (tally.failed_reach > 0) {
+    detail += "; a buffer of " + number(suggested_buffer(tally.failed_reach)) +
+              (tally.unbounded ? " or more" : "") +
+              " is needed (make the plan again with --buffer, or run this tile with --buffer: "
+              "tiles already built stay valid)";
+  } else {
+    detail +=
+        "; the data's outline near the tile is not settled within the buffer: try a "
+        "buffer of a tile size or more";
+  }
+  throw InputError(tile.plan_path, name, detail);
+}
+
+void run(Job& job) {
+  const TileSetup& tile = *job.tile;
+  mesh::Triangulation& tin = job.tin();
+  const BBox near = checked_region(tile);
+  const tiles::Polygon near_polygon = tiles::box_polygon(near);
+  FinalityTally tally;
   const std::size_t slots = tin.triangle_slots();
   for (std::size_t s = 0; s < slots; ++s) {
     const auto t = static_cast<TriangleId>(s);
-    const auto c = tin.triangle(t);
-    if (tin.is_ghost(t)) {
-      // Ghost (u, v, inf): the outer side of hull edge v -> u is the open half-plane left of
-      // u -> v. Where it reaches the tile, no data may lie in it outside the buffered box.
-      const int i = c[0] == mesh::kInfinite ? 1 : (c[1] == mesh::kInfinite ? 2 : 0);
-      const Point2 u = tin.point(c[i]), v = tin.point(c[(i + 1) % 3]);
-      if (!tiles::reaches_left_of(u, v, near)) continue;
-      ++checked;
-      const bool final = std::none_of(
-          tile.missing.begin(), tile.missing.end(),
-          [&](const tiles::Polygon& piece) { return tiles::may_meet_left(u, v, piece, margin); });
-      ++beyond;
-      if (!final) {
-        ++failed;
-        unbounded = true;
-        at = {(u.x + v.x) / 2, (u.y + v.y) / 2};
-      }
-      continue;
-    }
-    const Point2 a = tin.point(c[0]), b = tin.point(c[1]), p = tin.point(c[2]);
-    BBox box;
-    box.add(a.x, a.y);
-    box.add(b.x, b.y);
-    box.add(p.x, p.y);
-    // The triangle itself, not only its bounding box: where the tile reads the rim, the gap
-    // between the buffered box and the rim is spanned by large triangles that cannot be final,
-    // and their boxes may reach the tile although they do not (a lattice's rim column on the
-    // tile's edge did).
-    if (!tiles::intersects(box, near) || !tiles::may_meet(a, b, p, near_polygon, margin)) {
-      tin.set_removed(t, true);
-      continue;
-    }
-    ++checked;
-    const tiles::Disk d = tiles::circumdisk_bound(a, b, p);
-    const double r = tiles::reach_beyond(d, tile.box);
-    if (r <= tile.buffer)
-      reach = std::max(reach, r);
+    if (tin.is_ghost(t))
+      check_hull_edge(tin, tile, near, tin.triangle(t), tally);
     else
-      ++beyond;
-    if (!is_final(t, d)) {
-      ++failed;
-      if (!std::isfinite(r)) {
-        unbounded = true;
-      } else if (r >= failed_reach) {
-        failed_reach = r;
-        at = {(a.x + b.x + p.x) / 3, (a.y + b.y + p.y) / 3};
-      }
-    }
-    if (tile.grid.holds(tile.col, tile.row, tiles::owner_point(a, b, p))) {
-      ++owned;
-    } else {
-      tin.set_removed(t, true);
-      job.tile_final_unowned.push_back(t);
-    }
+      check_triangle(job, near, near_polygon, t, tally);
   }
 
   const std::string name = "tile " + std::to_string(tile.index);
-  if (failed > 0) {
-    char where[80];
-    std::snprintf(where, sizeof where, "(%.3f, %.3f)", at.x, at.y);
-    std::string detail =
-        "buffer " + number(tile.buffer) + " is too small: " + std::to_string(failed) + " triangle" +
-        (failed == 1 ? "" : "s") + " near the tile could still change (one near " + where + ")";
-    // Past a hull edge of the points read, a larger buffer usually finds more points; the
-    // estimate from the circles is then a lower bound.
-    if (failed_reach > 0) {
-      detail += "; a buffer of " + number(suggested_buffer(failed_reach)) +
-                (unbounded ? " or more" : "") +
-                " is needed (make the plan again with --buffer, or run this tile with --buffer: "
-                "tiles already built stay valid)";
-    } else {
-      detail +=
-          "; the data's outline near the tile is not settled within the buffer: try a "
-          "buffer of a tile size or more";
-    }
-    throw InputError(tile.plan_path, name, detail);
-  }
+  if (tally.failed > 0) throw_buffer_too_small(tile, name, tally);
   if (!job.options.tile_outline.empty()) {
     io::OutputFile& out = job.add_output(job.options.tile_outline, "outline");
     detail::write_outline(out, outline_of(tin), "");
     job.finish_output(out);
   }
-  job.info(name + ": " + std::to_string(owned) + " triangles owned, " + std::to_string(checked) +
-           " checked final: " + std::to_string(checked - beyond) +
-           " with a circumcircle inside the buffered box (reaching " + number(reach) +
-           " beyond the tile; buffer " + number(tile.buffer) + "), " + std::to_string(beyond) +
+  job.info(name + ": " + std::to_string(tally.owned) + " triangles owned, " +
+           std::to_string(tally.checked) +
+           " checked final: " + std::to_string(tally.checked - tally.beyond) +
+           " with a circumcircle inside the buffered box (reaching " + number(tally.reach) +
+           " beyond the tile; buffer " + number(tile.buffer) + "), " +
+           std::to_string(tally.beyond) +
            " by the rim, their constrained edges or areas without data");
 }
 
