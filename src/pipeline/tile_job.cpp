@@ -162,6 +162,112 @@ double cells_across(double size, double resolution) {
   return whole >= 1 && std::fabs(n - whole) <= 1e-9 * whole ? whole : 0;
 }
 
+const PlanTile& tile_of_plan(const TilePlan& plan, const BuildOptions& options) {
+  const std::string& plan_path = options.plan;
+  if (plan.tiles.empty()) throw InputError(plan_path, "", "the plan has no tiles");
+  if (static_cast<std::uint64_t>(options.tile) >= plan.tiles.size())
+    throw InputError(plan_path, "",
+                     "no tile " + std::to_string(options.tile) + ": the plan has tiles 0 to " +
+                         std::to_string(plan.tiles.size() - 1));
+  return plan.tiles[static_cast<std::size_t>(options.tile)];
+}
+
+// The tile's place: its cell of the grid, the box it reads, and every input's bounds.
+void place_tile(TileSetup& setup, const TilePlan& plan, const PlanTile& tile,
+                const BuildOptions& options) {
+  setup.plan_path = options.plan;
+  setup.index = tile.index;
+  setup.col = tile.col;
+  setup.row = tile.row;
+  setup.grid = tiles::TileGrid{plan.tile_size};
+  if (!options.dem.path.empty() && cells_across(plan.tile_size, options.dem.resolution) == 0)
+    throw UsageError("--resolution " + number(options.dem.resolution) +
+                     " does not divide the plan's tile size " + number(plan.tile_size) +
+                     ": a tile's DEM covers exactly its tile, in whole cells (give a resolution "
+                     "that divides the tile size)");
+  setup.buffer = options.tile_buffer >= 0 ? options.tile_buffer : plan.buffer;
+  setup.box = setup.grid.box(tile.col, tile.row);
+  setup.buffered = setup.grid.buffered(tile.col, tile.row, setup.buffer);
+  for (const PlanInput& in : plan.inputs)
+    setup.data.push_back(tiles::empty(in.bounds) ? in.bounds
+                                                 : tiles::grown(in.bounds, in.tolerance));
+}
+
+// The inputs in reach: the plan's list, or with another buffer, those whose bounds meet it.
+std::vector<std::uint32_t> inputs_in_reach(const TilePlan& plan, const PlanTile& tile,
+                                           const TileSetup& setup, const BuildOptions& options,
+                                           const std::string& where) {
+  std::vector<std::uint32_t> reads = tile.inputs;
+  if (options.tile_buffer >= 0) {
+    reads.clear();
+    for (std::uint32_t i = 0; i < plan.inputs.size(); ++i)
+      if (!tiles::empty(setup.data[i]) && tiles::intersects(setup.data[i], setup.buffered))
+        reads.push_back(i);
+  }
+  if (reads.empty())
+    throw InputError(options.plan, where,
+                     "no input within its buffer (" + number(setup.buffer) +
+                         "), yet the data's outline covers the tile: a larger buffer is needed "
+                         "(--buffer on the tile job, or a new plan)");
+  return reads;
+}
+
+// The build's inputs and how they are read, from the plan: each checked unchanged since the plan
+// was made, its bounds kept to check what the job reads against (TileSetup::point_bounds, ...).
+void read_plan_inputs(BuildOptions& o, TileSetup& setup, const TilePlan& plan,
+                      const std::vector<std::uint32_t>& reads, const std::string& where) {
+  const std::string& plan_path = setup.plan_path;
+  o.inputs.clear();
+  o.contours.clear();
+  o.breaklines.clear();
+  for (const std::uint32_t i : reads) {
+    const PlanInput& in = plan.inputs[i];
+    const std::string path = resolve_input(plan.inputs[i], plan_path);
+    check_unchanged(in, path, plan_path, where);
+    if (in.kind == "points") {
+      o.inputs.push_back(path);
+      setup.point_bounds.push_back(setup.data[i]);
+    }
+  }
+  for (const char* kind : {"contours", "breaklines"})
+    for (const std::uint32_t i : reads)
+      if (plan.inputs[i].kind == kind) {
+        (std::string(kind) == "contours" ? o.contours : o.breaklines)
+            .push_back(resolve_input(plan.inputs[i], plan_path));
+        setup.line_bounds.push_back(setup.data[i]);
+      }
+  o.lines = plan.lines;
+  o.filter = plan.filter;
+  o.filter.box = setup.buffered;
+}
+
+// A bound on the rounding of the tests in doubles, from the largest coordinate they see.
+double rounding_margin(const BBox& buffered, const std::vector<Point2>& hull) {
+  double magnitude = 1;
+  for (const double v : {buffered.min_x, buffered.max_x, buffered.min_y, buffered.max_y})
+    magnitude = std::max(magnitude, std::fabs(v));
+  for (const Point2& p : hull) magnitude = std::max({magnitude, std::fabs(p.x), std::fabs(p.y)});
+  return 256 * 0x1p-52 * magnitude;
+}
+
+// Whether the tile reads the rim: its buffered box reaches within the rim's width of the hull
+// (a corner of it is not surely inside the hull shrunk by that width).
+bool reaches_rim(const TileSetup& setup, double rim_width) {
+  if (!(rim_width > 0)) return false;
+  const tiles::Polygon inner = setup.rim.inner();
+  const BBox& b = setup.buffered;
+  bool reads_rim = false;
+  for (const Point2 c : {Point2{b.min_x, b.min_y}, Point2{b.max_x, b.min_y},
+                         Point2{b.max_x, b.max_y}, Point2{b.min_x, b.max_y}}) {
+    const tiles::Polygon point{c};
+    bool in = inner.size() >= 3;
+    for (std::size_t i = 0; i < inner.size() && in; ++i)
+      in = !tiles::may_meet_left(inner[(i + 1) % inner.size()], inner[i], point, setup.margin);
+    reads_rim = reads_rim || !in;
+  }
+  return reads_rim;
+}
+
 }  // namespace
 
 products::Grid tile_grid(const BBox& box, double resolution) {
@@ -221,93 +327,19 @@ BuildOptions tile_options(const BuildOptions& options, TileSetup& setup) {
   check_tile_options(options);
   const std::string& plan_path = options.plan;
   const TilePlan plan = read_plan(plan_path);
-  if (plan.tiles.empty()) throw InputError(plan_path, "", "the plan has no tiles");
-  if (static_cast<std::uint64_t>(options.tile) >= plan.tiles.size())
-    throw InputError(plan_path, "",
-                     "no tile " + std::to_string(options.tile) + ": the plan has tiles 0 to " +
-                         std::to_string(plan.tiles.size() - 1));
-  const PlanTile& tile = plan.tiles[static_cast<std::size_t>(options.tile)];
-  setup.plan_path = plan_path;
-  setup.index = tile.index;
-  setup.col = tile.col;
-  setup.row = tile.row;
-  setup.grid = tiles::TileGrid{plan.tile_size};
-  if (!options.dem.path.empty() && cells_across(plan.tile_size, options.dem.resolution) == 0)
-    throw UsageError("--resolution " + number(options.dem.resolution) +
-                     " does not divide the plan's tile size " + number(plan.tile_size) +
-                     ": a tile's DEM covers exactly its tile, in whole cells (give a resolution "
-                     "that divides the tile size)");
-  setup.buffer = options.tile_buffer >= 0 ? options.tile_buffer : plan.buffer;
-  setup.box = setup.grid.box(tile.col, tile.row);
-  setup.buffered = setup.grid.buffered(tile.col, tile.row, setup.buffer);
-  for (const PlanInput& in : plan.inputs)
-    setup.data.push_back(tiles::empty(in.bounds) ? in.bounds
-                                                 : tiles::grown(in.bounds, in.tolerance));
-
-  // The inputs in reach: the plan's list, or with another buffer, those whose bounds meet it.
-  std::vector<std::uint32_t> reads = tile.inputs;
-  if (options.tile_buffer >= 0) {
-    reads.clear();
-    for (std::uint32_t i = 0; i < plan.inputs.size(); ++i)
-      if (!tiles::empty(setup.data[i]) && tiles::intersects(setup.data[i], setup.buffered))
-        reads.push_back(i);
-  }
+  const PlanTile& tile = tile_of_plan(plan, options);
+  place_tile(setup, plan, tile, options);
   const std::string where = "tile " + std::to_string(tile.index);
-  if (reads.empty())
-    throw InputError(plan_path, where,
-                     "no input within its buffer (" + number(setup.buffer) +
-                         "), yet the data's outline covers the tile: a larger buffer is needed "
-                         "(--buffer on the tile job, or a new plan)");
-
+  const std::vector<std::uint32_t> reads = inputs_in_reach(plan, tile, setup, options, where);
   BuildOptions o = options;
-  o.inputs.clear();
-  o.contours.clear();
-  o.breaklines.clear();
-  for (const std::uint32_t i : reads) {
-    const PlanInput& in = plan.inputs[i];
-    const std::string path = resolve_input(plan.inputs[i], plan_path);
-    check_unchanged(in, path, plan_path, where);
-    if (in.kind == "points") {
-      o.inputs.push_back(path);
-      setup.point_bounds.push_back(setup.data[i]);
-    }
-  }
-  for (const char* kind : {"contours", "breaklines"})
-    for (const std::uint32_t i : reads)
-      if (plan.inputs[i].kind == kind) {
-        (std::string(kind) == "contours" ? o.contours : o.breaklines)
-            .push_back(resolve_input(plan.inputs[i], plan_path));
-        setup.line_bounds.push_back(setup.data[i]);
-      }
-  o.lines = plan.lines;
-  o.filter = plan.filter;
-  o.filter.box = setup.buffered;
+  read_plan_inputs(o, setup, plan, reads, where);
 
-  // The rim, for a tile whose buffered box reaches within the rim's width of the hull.
-  double magnitude = 1;
-  for (const double v :
-       {setup.buffered.min_x, setup.buffered.max_x, setup.buffered.min_y, setup.buffered.max_y})
-    magnitude = std::max(magnitude, std::fabs(v));
-  for (const Point2& p : plan.hull)
-    magnitude = std::max({magnitude, std::fabs(p.x), std::fabs(p.y)});
-  setup.margin = 256 * 0x1p-52 * magnitude;
+  setup.margin = rounding_margin(setup.buffered, plan.hull);
   setup.rim = tiles::Rim{plan.hull, plan.rim_width};
-  bool reads_rim = false;
-  if (plan.rim_width > 0) {
-    const tiles::Polygon inner = setup.rim.inner();
-    const BBox& b = setup.buffered;
-    for (const Point2 c : {Point2{b.min_x, b.min_y}, Point2{b.max_x, b.min_y},
-                           Point2{b.max_x, b.max_y}, Point2{b.min_x, b.max_y}}) {
-      const tiles::Polygon point{c};
-      bool in = inner.size() >= 3;
-      for (std::size_t i = 0; i < inner.size() && in; ++i)
-        in = !tiles::may_meet_left(inner[(i + 1) % inner.size()], inner[i], point, setup.margin);
-      reads_rim = reads_rim || !in;
-    }
-    if (reads_rim) {
-      setup.rim_path = resolve_input(plan.rim, plan_path);
-      check_unchanged(plan.rim, setup.rim_path, plan_path, where);
-    }
+  const bool reads_rim = reaches_rim(setup, plan.rim_width);
+  if (reads_rim) {
+    setup.rim_path = resolve_input(plan.rim, plan_path);
+    check_unchanged(plan.rim, setup.rim_path, plan_path, where);
   }
   find_missing(setup, reads_rim);
   if (o.write.offset_auto) {  // one offset for every tile: the plan's extent, rounded down to 1000
