@@ -17,6 +17,7 @@
 #include "core/types.hpp"
 #include "io/crs.hpp"
 #include "io/vector/line_reader.hpp"
+#include "support/shared_data.hpp"
 #include "support/vector_files.hpp"
 
 namespace tincdt::io {
@@ -27,14 +28,8 @@ using ::testing::AllOf;
 using ::testing::HasSubstr;
 
 const fs::path kData = TINCDT_SHARED_DATA;
-const fs::path kTmp = fs::path(TINCDT_TEST_TMP) / "line_reader";
 
-#define REQUIRE_SHARED_DATA()                                                              \
-  do {                                                                                     \
-    if (!fs::is_directory(kData / "contours")) {                                           \
-      GTEST_SKIP() << "shared test data not found at " << kData << " (see PROVENANCE.md)"; \
-    }                                                                                      \
-  } while (false)
+const fs::path kTmp = fs::path(TINCDT_TEST_TMP) / "line_reader";
 
 std::string data(const char* relative) {
   return (kData / relative).string();
@@ -121,7 +116,7 @@ void expect_well_formed(const LineData& d) {
 // ---- real data ----
 
 TEST(LineReaderReal, Vinschgau2dNeedsAZField) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("contours");
   const std::string msg = read_error(data("contours/elev_vinschgau_contours_100m.shp"));
   EXPECT_THAT(msg, AllOf(HasSubstr("elev_vinschgau_contours_100m.shp: "),
                          HasSubstr("layer elev_vinschgau_contours_100m, feature 0"),
@@ -130,7 +125,7 @@ TEST(LineReaderReal, Vinschgau2dNeedsAZField) {
 }
 
 TEST(LineReaderReal, Vinschgau2dWithZField) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("contours");
   LineData d;
   const std::string path = data("contours/elev_vinschgau_contours_100m.shp");
   const LineReadStats s = read(path, d, "ELEV");
@@ -169,7 +164,7 @@ TEST(LineReaderReal, Vinschgau2dWithZField) {
 }
 
 TEST(LineReaderReal, Vinschgau3dMatches2dWithZField) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("contours");
   LineData flat;
   LineData solid;
   read(data("contours/elev_vinschgau_contours_100m.shp"), flat, "ELEV");
@@ -191,7 +186,7 @@ TEST(LineReaderReal, Vinschgau3dMatches2dWithZField) {
 }
 
 TEST(LineReaderReal, GeoPackageReadsLikeTheShapefile) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("contours");
   LineData shp;
   LineData gpkg;
   read(data("contours/elev_vinschgau_contours_100m.shp"), shp, "ELEV");
@@ -207,7 +202,7 @@ TEST(LineReaderReal, GeoPackageReadsLikeTheShapefile) {
 }
 
 TEST(LineReaderReal, TopographyClosedRingsStayClosed) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("contours");
   LineData d;
   const LineReadStats s = read(data("pair_topography/Topography_contours_1m_3d.shp"), d);
   expect_well_formed(d);
@@ -241,7 +236,7 @@ TEST(LineReaderReal, TopographyClosedRingsStayClosed) {
 }
 
 TEST(LineReaderReal, CrsOfLuxembourgAndOfAFileWithoutPrj) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("contours");
   LineData d;
   const LineReadStats lux = read(data("contours/elev_lux_contours_25m.shp"), d, "ELEV");
   EXPECT_EQ(crs_label(lux.crs_wkt), "EPSG:4326");
@@ -258,7 +253,7 @@ TEST(LineReaderReal, CrsOfLuxembourgAndOfAFileWithoutPrj) {
 }
 
 TEST(LineReaderReal, MissingZFieldListsTheFields) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("contours");
   const std::string msg =
       read_error(data("contours/elev_vinschgau_contours_100m.shp"), z_field("HEIGHT"));
   EXPECT_THAT(msg, AllOf(HasSubstr("layer elev_vinschgau_contours_100m"), HasSubstr("HEIGHT"),
