@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/json_text.hpp"
 #include "core/types.hpp"
 #include "io/mesh/tin_writer.hpp"
 #include "io/output_file.hpp"
@@ -216,8 +217,6 @@ std::string crs_code(const std::string& wkt);
 // Any CRS text OSR reads (WKT, "EPSG:n", ...) as an OSR object in traditional GIS axis order
 // (x = easting / longitude); throws OutputError naming PATH and WHAT when OSR cannot read it.
 OGRSpatialReference parse_crs(const std::string& path, const std::string& wkt, const char* what);
-// S as a JSON string literal, quotes included.
-std::string json_string(std::string_view s);
 // "[x,y,z]" in shortest round-trip form.
 void put_position(BlockWriter& w, const Point3& p);
 // The opening of a GeoJSON FeatureCollection, up to and including "\"features\": [\n": the
