@@ -246,20 +246,12 @@ class GeoJsonPositions {
   std::vector<double> x_, y_, z_;
 };
 
-// The format writers. Each writes the whole file through `out` (not committed) and returns
-// the vertex and triangle counts; write_tin() owns the OutputFile(s) and commits them.
-TinWriteStats write_obj(OutputFile& out, const mesh::Triangulation& tin,
-                        const TinWriteOptions& options);
-TinWriteStats write_ply(OutputFile& out, const mesh::Triangulation& tin,
-                        const TinWriteOptions& options);
-TinWriteStats write_geojson(OutputFile& out, const mesh::Triangulation& tin,
-                            const TinWriteOptions& options);
-TinWriteStats write_landxml(OutputFile& out, const mesh::Triangulation& tin,
-                            const TinWriteOptions& options);
-TinWriteStats write_stl(OutputFile& out, const mesh::Triangulation& tin,
-                        const TinWriteOptions& options);
+// A format writer: writes the whole file through `out` (not committed) and returns the vertex
+// and triangle counts; write_tin() owns the OutputFile(s) and commits them.
+using FormatWriter = TinWriteStats(OutputFile& out, const mesh::Triangulation& tin,
+                                   const TinWriteOptions& options);
+FormatWriter write_obj, write_ply, write_geojson, write_landxml, write_stl;
 // GDAL creates the GeoPackage itself, at out.take_path().
-TinWriteStats write_gpkg(OutputFile& out, const mesh::Triangulation& tin,
-                         const TinWriteOptions& options);
+FormatWriter write_gpkg;
 
 }  // namespace tincdt::io::detail
