@@ -60,19 +60,8 @@ void parse_offset(const std::string& text, BuildOptions::Write& write) {
 // "2,8" into CLASSES (each occurrence of the option is one token, so that a following INPUT is
 // not taken for a class).
 void parse_classes(const std::string& value, std::vector<std::uint8_t>& classes) {
-  std::size_t start = 0;
-  while (true) {
-    const std::size_t comma = value.find(',', start);
-    const std::string item =
-        value.substr(start, comma == std::string::npos ? comma : comma - start);
-    unsigned code = 0;
-    const auto [end, ec] = std::from_chars(item.data(), item.data() + item.size(), code);
-    if (item.empty() || ec != std::errc() || end != item.data() + item.size() || code > 255)
-      throw CLI::ValidationError("'" + item + "' is not a LAS classification code (0-255)");
-    classes.push_back(static_cast<std::uint8_t>(code));
-    if (comma == std::string::npos) break;
-    start = comma + 1;
-  }
+  if (const auto bad = append_class_codes(value, classes))
+    throw CLI::ValidationError("'" + *bad + "' is not a LAS classification code (0-255)");
 }
 
 class UsageFormatter : public CLI::Formatter {
@@ -135,6 +124,12 @@ class Group {
 
   CLI::Option* option(const char* flags, std::string& target, const char* help, const char* type) {
     return app_.add_option(flags, target, help)->type_name(type)->group(name_);
+  }
+  // A value that CHECK accepts, stored by CLI11 in TARGET.
+  template <class T>
+  CLI::Option* checked(const char* flags, T& target, const char* help, const char* type,
+                       const CLI::Validator& check) {
+    return app_.add_option(flags, target, help)->check(check)->type_name(type)->group(name_);
   }
   CLI::Option* flag(const char* flags, bool& target, const char* help) {
     return app_.add_flag(flags, target, help)->group(name_);
@@ -370,10 +365,8 @@ void product_options(CLI::App& app, BuildOptions& o) {
            "Rasterize the TIN to a Cloud-Optimized GeoTIFF: each cell centre gets\n"
            "its triangle's linear interpolation, nodata outside (needs --resolution)",
            "FILE.tif");
-  app.add_option("--resolution", o.dem.resolution, "DEM cell size, in the CRS's units")
-      ->check(number_check(true))
-      ->type_name("R")
-      ->group(group);
+  g.checked("--resolution", o.dem.resolution, "DEM cell size, in the CRS's units", "R",
+            number_check(true));
   app.add_option_function<std::vector<double>>(
          "--dem-extent",
          [&o](const std::vector<double>& v) {
@@ -415,30 +408,21 @@ void product_options(CLI::App& app, BuildOptions& o) {
            "Trace contour lines on the TIN into any OGR vector format, by\n"
            "extension (.gpkg, .shp, .geojson, ...), with an elev field (needs --interval)",
            "FILE");
-  app.add_option("--interval", o.contour_lines.interval, "Contour interval")
-      ->check(number_check(true))
-      ->type_name("I")
-      ->group(group);
-  app.add_option("--base", o.contour_lines.base, "Contour levels are BASE + k * interval")
-      ->check(number_check(false))
-      ->type_name("B")
-      ->default_str("0")
-      ->group(group);
+  g.checked("--interval", o.contour_lines.interval, "Contour interval", "I", number_check(true));
+  g.checked("--base", o.contour_lines.base, "Contour levels are BASE + k * interval", "B",
+            number_check(false))
+      ->default_str("0");
 }
 
 void tile_options(CLI::App& app, BuildOptions& o) {
   Group g(app, "Tiled jobs (one tile of a plan made by 'tincdt plan')");
   g.option("--plan", o.plan, "The plan; the inputs and how to read them come from it", "PLAN.json");
-  app.add_option("--tile", o.tile, "The tile to build: its index in the plan (0, 1, ...)")
-      ->type_name("N")
-      ->check(CLI::NonNegativeNumber)
-      ->group("Tiled jobs (one tile of a plan made by 'tincdt plan')");
-  app.add_option("--buffer", o.tile_buffer,
-                 "Read this far around the tile instead of the plan's buffer\n"
-                 "(the tiles already built stay valid)")
-      ->type_name("LENGTH")
-      ->check(CLI::NonNegativeNumber)
-      ->group("Tiled jobs (one tile of a plan made by 'tincdt plan')");
+  g.checked("--tile", o.tile, "The tile to build: its index in the plan (0, 1, ...)", "N",
+            CLI::NonNegativeNumber);
+  g.checked("--buffer", o.tile_buffer,
+            "Read this far around the tile instead of the plan's buffer\n"
+            "(the tiles already built stay valid)",
+            "LENGTH", CLI::NonNegativeNumber);
   g.option("--outline", o.tile_outline,
            "Also write the tile's outline, for 'tincdt merge --check'\n"
            "when the tiles are too many to keep or to merge",
@@ -470,6 +454,22 @@ void run_options(CLI::App& app, BuildOptions& o, Verbosity& v) {
 }
 
 }  // namespace
+
+std::optional<std::string> append_class_codes(const std::string& text,
+                                              std::vector<std::uint8_t>& classes) {
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = text.find(',', start);
+    std::string item = text.substr(start, comma == std::string::npos ? comma : comma - start);
+    unsigned code = 0;
+    const auto [end, ec] = std::from_chars(item.data(), item.data() + item.size(), code);
+    if (item.empty() || ec != std::errc() || end != item.data() + item.size() || code > 255)
+      return item;
+    classes.push_back(static_cast<std::uint8_t>(code));
+    if (comma == std::string::npos) return std::nullopt;
+    start = comma + 1;
+  }
+}
 
 void define_options(CLI::App& app, BuildOptions& options, Verbosity& verbosity) {
   app.formatter(std::make_shared<UsageFormatter>());

@@ -4,6 +4,11 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
 #include "pipeline/build.hpp"
 
 namespace tincdt::cli {
@@ -18,5 +23,10 @@ struct Verbosity {
 // parsed. Values that a single option can check are checked here (CLI11 reports them as usage
 // errors); rules between options are pipeline::check_options()'s.
 void define_options(CLI::App& app, pipeline::BuildOptions& options, Verbosity& verbosity);
+
+// Appends the LAS classification codes of TEXT ("2,8") to CLASSES, for the build's and the tile
+// commands' class filters; returns the first item that is not a code (0-255), if any.
+std::optional<std::string> append_class_codes(const std::string& text,
+                                              std::vector<std::uint8_t>& classes);
 
 }  // namespace tincdt::cli

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "cli_options.hpp"
 #include "core/error.hpp"
 #include "pipeline/merge.hpp"
 #include "pipeline/plan.hpp"
@@ -51,20 +52,9 @@ std::vector<std::uint8_t> parse_classes(const std::vector<std::string>& values,
                                         const char* option) {
   std::vector<std::uint8_t> classes;
   for (const std::string& value : values) {
-    std::size_t start = 0;
-    while (true) {
-      const std::size_t comma = value.find(',', start);
-      const std::string item =
-          value.substr(start, comma == std::string::npos ? comma : comma - start);
-      unsigned code = 0;
-      const auto [end, ec] = std::from_chars(item.data(), item.data() + item.size(), code);
-      if (item.empty() || ec != std::errc() || end != item.data() + item.size() || code > 255)
-        throw UsageError(std::string(option) + ": '" + item +
-                         "' is not a LAS classification code (0-255)");
-      classes.push_back(static_cast<std::uint8_t>(code));
-      if (comma == std::string::npos) break;
-      start = comma + 1;
-    }
+    if (const auto bad = append_class_codes(value, classes))
+      throw UsageError(std::string(option) + ": '" + *bad +
+                       "' is not a LAS classification code (0-255)");
   }
   return classes;
 }

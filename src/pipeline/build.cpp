@@ -12,24 +12,6 @@
 
 namespace tincdt::pipeline {
 
-std::string_view format_name(io::TinFormat format) {
-  switch (format) {
-    case io::TinFormat::obj:
-      return "obj";
-    case io::TinFormat::ply:
-      return "ply";
-    case io::TinFormat::geojson:
-      return "geojson";
-    case io::TinFormat::landxml:
-      return "landxml";
-    case io::TinFormat::gpkg:
-      return "gpkg";
-    case io::TinFormat::stl:
-      return "stl";
-  }
-  return "?";
-}
-
 bool remove_temporaries_for_exit() noexcept {
   return io::remove_temporaries_for_exit();
 }

@@ -39,7 +39,4 @@ std::uint64_t peak_rss_bytes();
 // The project version, "X.Y.Z" (from the CMake project).
 std::string_view version();
 
-// "obj", "ply" or "geojson".
-std::string_view format_name(io::TinFormat format);
-
 }  // namespace tincdt::pipeline

@@ -29,7 +29,7 @@ Job::Job(const BuildOptions& job_options, const CheckedOptions& checked, const P
       user_progress_(progress && *progress ? progress : nullptr),
       log_(std::move(log)) {
   report.output = options.output;
-  report.output_format = std::string(format_name(checked.format));
+  report.output_format = std::string(io::format_name(checked.format));
   write.format = checked.format;
   write.ply_ascii = options.write.ply_ascii;
   write.overwrite = options.write.overwrite;

@@ -77,7 +77,7 @@ io::TinFormat check_outputs(const BuildOptions& o) {
   if (!std::isfinite(d.x) || !std::isfinite(d.y) || !std::isfinite(d.z))
     throw UsageError("--offset: every coordinate must be a finite number");
   if (!io::format_takes_offset(format) && (o.write.offset_auto || d.x != 0 || d.y != 0 || d.z != 0))
-    throw UsageError("--offset: " + std::string(format_name(format)) +
+    throw UsageError("--offset: " + std::string(io::format_name(format)) +
                      " output keeps real coordinates (LandXML and GeoPackage have no offset)");
   if (!o.constraints_out.empty()) {
     const std::string ext = lower_extension(o.constraints_out);
@@ -139,10 +139,10 @@ CheckedOptions check_options(const BuildOptions& options) {
   checked.target_crs_wkt = srs_option(options.write.target_srs, "--t-srs");
   if (options.write.ply_ascii && checked.format != io::TinFormat::ply)
     checked.warnings.push_back("--ply-ascii is ignored: the output is " +
-                               std::string(format_name(checked.format)) + ", not PLY");
+                               std::string(io::format_name(checked.format)) + ", not PLY");
   if (options.write.gpkg_tin && checked.format != io::TinFormat::gpkg)
     checked.warnings.push_back("--gpkg-tin is ignored: the output is " +
-                               std::string(format_name(checked.format)) + ", not GeoPackage");
+                               std::string(io::format_name(checked.format)) + ", not GeoPackage");
   const Point3& offset = options.write.offset;
   if (!checked.target_crs_wkt.empty() &&
       (options.write.offset_auto || offset.x != 0 || offset.y != 0 || offset.z != 0))

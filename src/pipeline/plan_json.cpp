@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <string>
 
+#include "core/json_text.hpp"
+
 namespace tincdt::pipeline::detail {
 
 class JsonParser {
@@ -227,35 +229,7 @@ const JsonValue* JsonValue::find(std::string_view key) const {
 }
 
 std::string json_string(std::string_view text) {
-  std::string out = "\"";
-  for (const char c : text) {
-    switch (c) {
-      case '"':
-        out += "\\\"";
-        break;
-      case '\\':
-        out += "\\\\";
-        break;
-      case '\n':
-        out += "\\n";
-        break;
-      case '\r':
-        out += "\\r";
-        break;
-      case '\t':
-        out += "\\t";
-        break;
-      default:
-        if (static_cast<unsigned char>(c) < 0x20) {
-          char buf[8];
-          std::snprintf(buf, sizeof buf, "\\u%04x", static_cast<unsigned>(c));
-          out += buf;
-        } else {
-          out += c;
-        }
-    }
-  }
-  return out + "\"";
+  return tincdt::json_string(text);
 }
 
 std::string json_number(double v) {

@@ -23,25 +23,17 @@
 #include "io/points/laz/chunk_table.hpp"
 #include "io/points/laz/laszip_vlr.hpp"
 #include "io/points/laz/laz_reader.hpp"
+#include "support/byte_fields.hpp"
 
 namespace {
+
+using tincdt::test::get;
+using tincdt::test::put;
 
 std::string slurp(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw tincdt::InputError(path, "", "cannot open");
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-template <typename T>
-T get(const std::string& b, std::size_t at) {
-  T v;
-  std::memcpy(&v, b.data() + at, sizeof v);
-  return v;
-}
-
-template <typename T>
-void put(std::string& b, std::size_t at, T v) {
-  std::memcpy(b.data() + at, &v, sizeof v);
 }
 
 struct Tiling {

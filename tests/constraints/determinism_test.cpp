@@ -9,9 +9,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
-#include <cstring>
 #include <filesystem>
-#include <limits>
 #include <random>
 #include <string>
 #include <tuple>
@@ -21,6 +19,7 @@
 #include "delaunay/delaunay.hpp"
 #include "io/points/point_reader.hpp"
 #include "io/vector/line_reader.hpp"
+#include "support/determinism.hpp"
 #include "support/perturbed_delaunay.hpp"
 
 namespace tincdt::constraints {
@@ -32,21 +31,15 @@ using test::Int128;
 using test::IntegerFrame;
 using test::IntPoint;
 
-constexpr std::size_t kNever = std::numeric_limits<std::size_t>::max();
-
 struct Input {
   std::vector<Point3> points;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> segments;  // point indices
 };
 
-struct Way {
-  const char* name;
-  std::size_t parallel_min_points;
-  unsigned threads;
-};
-constexpr Way kSequential{"sequential", kNever, 0};
-constexpr Way kHalvesOneThread{"halves, 1 thread", 0, 1};
-constexpr Way kHalvesTwoThreads{"halves, 2 threads", 0, 2};
+using Way = test::DelaunayWay;
+using test::kHalvesOneThread;
+using test::kHalvesTwoThreads;
+using test::kSequential;
 constexpr Way kDefaultOneThread{"default, 1 thread",
                                 delaunay::DelaunayOptions{}.parallel_min_points, 1};
 constexpr Way kDefaultTwoThreads{"default, 2 threads",
@@ -83,16 +76,8 @@ Built build(const Input& in, const Way& way, const std::vector<std::uint32_t>& o
   return b;
 }
 
-template <class T>
-bool same_bytes(const std::vector<T>& a, const std::vector<T>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
-}
-
 ::testing::AssertionResult same_bits(const Triangulation& a, const Triangulation& b) {
-  if (!same_bytes(a.points(), b.points()))
-    return ::testing::AssertionFailure() << "vertices differ";
-  if (!same_bytes(a.heights(), b.heights())) return ::testing::AssertionFailure() << "z differs";
-  if (a.corners() != b.corners()) return ::testing::AssertionFailure() << "triangles differ";
+  if (auto same = test::same_vertices_and_corners(a, b); !same) return same;
   for (EdgeId e = 0; e < a.corners().size(); ++e)
     if (a.is_constrained(e) != b.is_constrained(e))
       return ::testing::AssertionFailure() << "constraint flags differ at " << e;

@@ -10,9 +10,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <filesystem>
-#include <limits>
 #include <random>
 #include <string>
 #include <vector>
@@ -21,6 +19,7 @@
 #include "delaunay/delaunay.hpp"
 #include "io/mesh/tin_writer.hpp"
 #include "io/points/point_reader.hpp"
+#include "support/determinism.hpp"
 #include "support/files.hpp"
 #include "support/perturbed_delaunay.hpp"
 
@@ -32,18 +31,12 @@ using mesh::Triangulation;
 using test::IntegerFrame;
 using test::IntPoint;
 
-constexpr std::size_t kNever = std::numeric_limits<std::size_t>::max();
-
 // ---- ways of running the Delaunay stage ---------------------------------------------------------
 
-struct Way {
-  const char* name;
-  std::size_t parallel_min_points;
-  unsigned threads;
-};
-constexpr Way kSequential{"sequential", kNever, 0};
-constexpr Way kHalvesOneThread{"halves, 1 thread", 0, 1};
-constexpr Way kHalvesTwoThreads{"halves, 2 threads", 0, 2};
+using Way = test::DelaunayWay;
+using test::kHalvesOneThread;
+using test::kHalvesTwoThreads;
+using test::kSequential;
 
 DelaunayResult triangulate_as(std::vector<Point3> points, const Way& way,
                               DuplicatePolicy policy = DuplicatePolicy::mean) {
@@ -54,18 +47,10 @@ DelaunayResult triangulate_as(std::vector<Point3> points, const Way& way,
   return triangulate(std::move(points), options);
 }
 
-template <class T>
-bool same_bytes(const std::vector<T>& a, const std::vector<T>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
-}
-
 // Everything a writer reads, bit for bit: vertex coordinates and heights, triangle corners (so
 // also their order and rotation), twins.
 ::testing::AssertionResult same_bits(const Triangulation& a, const Triangulation& b) {
-  if (!same_bytes(a.points(), b.points()))
-    return ::testing::AssertionFailure() << "vertices differ";
-  if (!same_bytes(a.heights(), b.heights())) return ::testing::AssertionFailure() << "z differs";
-  if (a.corners() != b.corners()) return ::testing::AssertionFailure() << "triangles differ";
+  if (auto same = test::same_vertices_and_corners(a, b); !same) return same;
   for (EdgeId e = 0; e < a.corners().size(); ++e)
     if (a.twin(e) != b.twin(e)) return ::testing::AssertionFailure() << "twins differ at " << e;
   return ::testing::AssertionSuccess();

@@ -23,6 +23,7 @@
 #include "io/mesh/constraint_writer.hpp"
 #include "io/mesh/tin_writer.hpp"
 #include "mesh/triangulation.hpp"
+#include "support/errors.hpp"
 #include "support/files.hpp"
 #include "support/meshes.hpp"
 #include "support/vector_files.hpp"
@@ -178,10 +179,7 @@ TEST(ConstraintWriter, GdalReadsEveryEdgeWithExactCoordinatesAndItsSource) {
   ASSERT_NE(g.ds, nullptr);
   ASSERT_EQ(GDALDatasetGetLayerCount(g.ds), 1);
   EXPECT_EQ(OGR_L_GetFeatureCount(g.layer(), TRUE), 3);
-  OGRSpatialReferenceH srs = OGR_L_GetSpatialRef(g.layer());
-  ASSERT_NE(srs, nullptr);
-  EXPECT_STREQ(OSRGetAuthorityName(srs, nullptr), "EPSG");
-  EXPECT_STREQ(OSRGetAuthorityCode(srs, nullptr), "2949");
+  EXPECT_EQ(test::layer_crs_code(g.layer()), "EPSG:2949");
 
   const std::vector<Line> lines = read_lines_back(g);
   const auto edges = square_edges();
@@ -303,11 +301,10 @@ TEST(ConstraintWriter, OnlyTheEdgesVerticesAreReprojected) {
   EXPECT_EQ(OGR_L_GetFeatureCount(g.layer(), TRUE), 3);
   // An edge that does use it fails and names the vertex.
   o.overwrite = true;
-  try {
-    write_constraint_lines(dir + "/c.geojson", tin, {{0, 4, 0}}, square_features(), o);
-    FAIL() << "no exception";
-  } catch (const OutputError& e) {
-    EXPECT_EQ(e.where(), "vertex 4") << e.what();
+  if (const auto e = test::thrown<OutputError>([&] {
+        write_constraint_lines(dir + "/c.geojson", tin, {{0, 4, 0}}, square_features(), o);
+      })) {
+    EXPECT_EQ(e->where(), "vertex 4") << e->what();
   }
   EXPECT_EQ(names_in(dir), (std::set<std::string>{"c.geojson"}));
 }
@@ -382,20 +379,18 @@ TEST(ConstraintWriter, ManyEdgesAreFastAndReadBack) {
 TEST(ConstraintWriter, BadEdgesAreRefusedBeforeAnythingIsCreated) {
   const std::string dir = scratch();
   const Triangulation tin = unit_square();
-  try {
-    write_constraint_lines(dir + "/c.geojson", tin, {{0, 2, 0}, {1, kInfinite, 0}},
-                           square_features(), {});
-    FAIL() << "no exception";
-  } catch (const OutputError& e) {
-    EXPECT_EQ(e.where(), "constraint edge 1");
-    EXPECT_NE(e.detail().find("not a vertex of the TIN"), std::string::npos) << e.what();
+  if (const auto e = test::thrown<OutputError>([&] {
+        write_constraint_lines(dir + "/c.geojson", tin, {{0, 2, 0}, {1, kInfinite, 0}},
+                               square_features(), {});
+      })) {
+    EXPECT_EQ(e->where(), "constraint edge 1");
+    EXPECT_NE(e->detail().find("not a vertex of the TIN"), std::string::npos) << e->what();
   }
-  try {
-    write_constraint_lines(dir + "/c.geojson", tin, {{0, 2, 2}}, square_features(), {});
-    FAIL() << "no exception";
-  } catch (const OutputError& e) {
-    EXPECT_EQ(e.where(), "constraint edge 0");
-    EXPECT_NE(e.detail().find("feature index 2"), std::string::npos) << e.what();
+  if (const auto e = test::thrown<OutputError>([&] {
+        write_constraint_lines(dir + "/c.geojson", tin, {{0, 2, 2}}, square_features(), {});
+      })) {
+    EXPECT_EQ(e->where(), "constraint edge 0");
+    EXPECT_NE(e->detail().find("feature index 2"), std::string::npos) << e->what();
   }
   TinWriteOptions o;
   o.crs_wkt = crs_from_user("EPSG:32633");
@@ -410,15 +405,9 @@ TEST(ConstraintWriter, BadEdgesAreRefusedBeforeAnythingIsCreated) {
 TEST(ConstraintWriter, ExistingOutputNeedsOverwriteAndIsOtherwiseUntouched) {
   const std::string dir = scratch();
   const std::string path = dir + "/c.geojson";
-  spit(path, "precious");
-  try {
+  test::expect_no_overwrite(path, [&] {
     write_constraint_lines(path, unit_square(), square_edges(), square_features(), {});
-    FAIL() << "no exception";
-  } catch (const OutputError& e) {
-    EXPECT_EQ(e.file(), path);
-    EXPECT_NE(e.detail().find("already exists"), std::string::npos) << e.what();
-  }
-  EXPECT_EQ(slurp(path), "precious");
+  });
   EXPECT_EQ(names_in(dir), (std::set<std::string>{"c.geojson"}));
 
   TinWriteOptions o;
@@ -447,11 +436,10 @@ TEST(ConstraintWriter, NonFiniteVertexFailsAndLeavesNothing) {
   const std::string dir = scratch();
   Triangulation tin = unit_square();
   tin.set_z(3, std::numeric_limits<double>::infinity());
-  try {
-    write_constraint_lines(dir + "/c.geojson", tin, square_edges(), square_features(), {});
-    FAIL() << "no exception";
-  } catch (const OutputError& e) {
-    EXPECT_EQ(e.where(), "vertex 3") << e.what();
+  if (const auto e = test::thrown<OutputError>([&] {
+        write_constraint_lines(dir + "/c.geojson", tin, square_edges(), square_features(), {});
+      })) {
+    EXPECT_EQ(e->where(), "vertex 3") << e->what();
   }
   EXPECT_TRUE(names_in(dir).empty());
 }

@@ -26,6 +26,7 @@
 #include "io/crs.hpp"
 #include "io/reports/diagnostics_writer.hpp"
 #include "io/vector/line_reader.hpp"
+#include "support/errors.hpp"
 #include "support/files.hpp"
 #include "support/vector_files.hpp"
 
@@ -148,10 +149,7 @@ TEST(DiagnosticsWriter, EveryLayerWithItsFeaturesAttributesAndCrs) {
     OGRLayerH layer = g.layer(name.c_str());
     ASSERT_NE(layer, nullptr);
     EXPECT_EQ(OGR_L_GetGeomType(layer), wkbPoint25D);
-    OGRSpatialReferenceH srs = OGR_L_GetSpatialRef(layer);
-    ASSERT_NE(srs, nullptr);
-    EXPECT_STREQ(OSRGetAuthorityName(srs, nullptr), "EPSG");
-    EXPECT_STREQ(OSRGetAuthorityCode(srs, nullptr), "2949");
+    EXPECT_EQ(test::layer_crs_code(layer), "EPSG:2949");
   }
 
   const auto crossings = rows_of(g.layer("crossings"));
@@ -272,15 +270,7 @@ TEST(DiagnosticsWriter, NewFileHasTheUsualPermissions) {
 TEST(DiagnosticsWriter, ExistingFileNeedsOverwriteAndIsOtherwiseUntouched) {
   const std::string dir = scratch();
   const std::string path = dir + "/diag.gpkg";
-  spit(path, "precious");
-  try {
-    write_diagnostics(path, sample(), "", false);
-    FAIL() << "no exception";
-  } catch (const OutputError& e) {
-    EXPECT_EQ(e.file(), path);
-    EXPECT_NE(e.detail().find("already exists"), std::string::npos) << e.what();
-  }
-  EXPECT_EQ(slurp(path), "precious");
+  test::expect_no_overwrite(path, [&] { write_diagnostics(path, sample(), "", false); });
   EXPECT_EQ(names_in(dir), (std::set<std::string>{"diag.gpkg"}));
 
   write_diagnostics(path, sample(), "", true);
@@ -294,11 +284,9 @@ TEST(DiagnosticsWriter, UnwritableFolderIsAnOutputErrorAndLeavesNothing) {
   // Tests may run as root, for whom a read-only folder is writable; a regular file is not.
   const std::string dir = scratch();
   spit(dir + "/plain", "x");
-  try {
-    write_diagnostics(dir + "/plain/diag.gpkg", sample(), "", false);
-    FAIL() << "no exception";
-  } catch (const OutputError& e) {
-    EXPECT_NE(e.detail().find("Not a directory"), std::string::npos) << e.what();
+  if (const auto e = test::thrown<OutputError>(
+          [&] { write_diagnostics(dir + "/plain/diag.gpkg", sample(), "", false); })) {
+    EXPECT_NE(e->detail().find("Not a directory"), std::string::npos) << e->what();
   }
   EXPECT_THROW(write_diagnostics(dir + "/missing/diag.gpkg", sample(), "", false), OutputError);
   EXPECT_EQ(names_in(dir), (std::set<std::string>{"plain"}));
@@ -308,11 +296,9 @@ TEST(DiagnosticsWriter, NonFiniteLocationIsRefusedBeforeAnythingIsCreated) {
   const std::string dir = scratch();
   Diagnostics d = sample();
   d.skipped_segments[2].at.y = std::numeric_limits<double>::quiet_NaN();
-  try {
-    write_diagnostics(dir + "/diag.gpkg", d, "", false);
-    FAIL() << "no exception";
-  } catch (const OutputError& e) {
-    EXPECT_EQ(e.where(), "layer skipped_segments, entry 2") << e.what();
+  if (const auto e =
+          test::thrown<OutputError>([&] { write_diagnostics(dir + "/diag.gpkg", d, "", false); })) {
+    EXPECT_EQ(e->where(), "layer skipped_segments, entry 2") << e->what();
   }
   // A dropped feature without a location may hold anything there.
   d = sample();
@@ -323,11 +309,9 @@ TEST(DiagnosticsWriter, NonFiniteLocationIsRefusedBeforeAnythingIsCreated) {
 
 TEST(DiagnosticsWriter, UnreadableCrsFailsAfterTheTemporaryAndLeavesNothing) {
   const std::string dir = scratch();
-  try {
-    write_diagnostics(dir + "/diag.gpkg", sample(), "GEOGCS[nonsense", false);
-    FAIL() << "no exception";
-  } catch (const OutputError& e) {
-    EXPECT_NE(e.detail().find("cannot read the CRS"), std::string::npos) << e.what();
+  if (const auto e = test::thrown<OutputError>(
+          [&] { write_diagnostics(dir + "/diag.gpkg", sample(), "GEOGCS[nonsense", false); })) {
+    EXPECT_NE(e->detail().find("cannot read the CRS"), std::string::npos) << e->what();
   }
   EXPECT_TRUE(names_in(dir).empty());
 }

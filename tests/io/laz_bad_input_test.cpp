@@ -22,6 +22,7 @@
 #include "io/points/laz/laz_reader.hpp"
 #include "io/points/point_reader.hpp"
 #include "support/files.hpp"
+#include "support/shared_data.hpp"
 
 namespace tincdt::io {
 namespace {
@@ -39,13 +40,6 @@ using ::testing::HasSubstr;
 using ::testing::Not;
 
 const fs::path kData = TINCDT_SHARED_DATA;
-
-#define REQUIRE_SHARED_DATA()                                                              \
-  do {                                                                                     \
-    if (!fs::is_directory(kData / "laz")) {                                                \
-      GTEST_SKIP() << "shared test data not found at " << kData << " (see PROVENANCE.md)"; \
-    }                                                                                      \
-  } while (false)
 
 std::string original(const std::string& name) {
   return test::slurp(kData / "laz" / (name + ".laz"));
@@ -94,7 +88,7 @@ std::vector<Point3> good_points(const std::string& name) {
 // Truncation and chunks that end early
 
 TEST(LazBadInput, TruncatedFileNamesTheChunkThatEndsEarly) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("laz");
   const std::string b = original("autzen_trim");
   const std::vector<laz::ChunkEntry> chunks = chunks_of(b);
   ASSERT_EQ(chunks.size(), 3u);
@@ -111,7 +105,7 @@ TEST(LazBadInput, TruncatedFileNamesTheChunkThatEndsEarly) {
 }
 
 TEST(LazBadInput, ChunkWhoseDataEndsEarly) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("laz");
   // autzen_trim's last chunk loses 1000 bytes; the table says so, consistently.
   const std::string b = original("autzen_trim");
   const std::vector<laz::ChunkEntry> chunks = chunks_of(b);
@@ -143,7 +137,7 @@ TEST(LazBadInput, ChunkWhoseDataEndsEarly) {
 // Chunk tables
 
 TEST(LazBadInput, UnreadableChunkTableFallsBackToReadingInOrder) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("laz");
   for (const char* name : {"autzen_trim", "simple.copc", "append-bug"}) {
     const std::string b = original(name);
     const std::vector<Point3> expected = good_points(name);
@@ -176,7 +170,7 @@ TEST(LazBadInput, UnreadableChunkTableFallsBackToReadingInOrder) {
 }
 
 TEST(LazBadInput, TableOffsetStoredAtTheEndOfTheFile) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("laz");
   // A streaming writer stores -1 up front and the offset in the file's last 8 bytes.
   std::string b = original("autzen_trim");
   const auto table = get<std::int64_t>(b, offset_to_points(b));
@@ -189,7 +183,7 @@ TEST(LazBadInput, TableOffsetStoredAtTheEndOfTheFile) {
 }
 
 TEST(LazBadInput, VariableChunksOfFormats0To3ReadWithTheirTableOnly) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("laz");
   // autzen_trim re-declared with variable-size chunks: the table carries the point counts.
   std::string b = original("autzen_trim");
   const std::vector<laz::ChunkEntry> chunks = chunks_of(b);
@@ -217,7 +211,7 @@ TEST(LazBadInput, VariableChunksOfFormats0To3ReadWithTheirTableOnly) {
 // The LASzip VLR and the header
 
 TEST(LazBadInput, UnknownCompressorCoderOrItemVersion) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("laz");
   const std::string b = original("autzen_trim");
   const std::size_t vlr = laszip_payload(b);
   std::string d = b;
@@ -238,7 +232,7 @@ TEST(LazBadInput, UnknownCompressorCoderOrItemVersion) {
 }
 
 TEST(LazBadInput, LaszipVlrThatLies) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("laz");
   const std::string b = original("autzen_trim");
   const std::size_t vlr = laszip_payload(b);
   std::string d = b;
@@ -265,7 +259,7 @@ TEST(LazBadInput, LaszipVlrThatLies) {
 }
 
 TEST(LazBadInput, HeaderAnnouncingMorePointsThanTheChunksHold) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("laz");
   std::string b = original("autzen_trim");
   put<std::uint32_t>(b, 107, 220000);
   EXPECT_THAT(read_error(scratch("count_fixed.laz", b)),
@@ -282,7 +276,7 @@ TEST(LazBadInput, HeaderAnnouncingMorePointsThanTheChunksHold) {
 }
 
 TEST(LazBadInput, Point14ChunkHeadersThatLie) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("laz");
   // Without a table the chunks are found from their headers, which must add up.
   std::string b = original("simple.copc");
   put<std::int64_t>(b, offset_to_points(b), 1);  // table offset inside the header
@@ -300,7 +294,7 @@ TEST(LazBadInput, Point14ChunkHeadersThatLie) {
 }
 
 TEST(LazBadInput, RenamedOrUnflaggedLazStillReads) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("laz");
   const std::vector<Point3> expected = good_points("simple");
   EXPECT_EQ(read_ok(scratch("named.las", original("simple"))), expected);
   // The LASzip VLR gives the records away even without the point format's compressed flag.
@@ -317,7 +311,7 @@ TEST(LazBadInput, RenamedOrUnflaggedLazStillReads) {
 // Crashers found by tests/fuzz/laz_fuzz.cpp, rebuilt from the shared files
 
 TEST(LazFuzzRegression, EmptyGeoTiffKeyDirectory) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("laz");
   // A 34735 record (GeoTIFF keys) of length 0 made the shared VLR parsing memcpy from a null
   // vector (UBSan: null pointer passed to memcpy). autzen_trim.laz's first VLR is that record.
   std::string b = original("autzen_trim");
@@ -337,7 +331,7 @@ TEST(LazFuzzRegression, EmptyGeoTiffKeyDirectory) {
 // Random damage: an error or (rarely) garbage points, never a crash or another exception.
 
 TEST(LazBadInput, RandomlyDamagedChunksNeverCrash) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("laz");
   std::mt19937 rng(12345);
   for (const char* name :
        {"simple", "autzen_trim", "las14_pdrf6", "append-bug", "simple.copc", "1_4_w_evlr"}) {

@@ -14,22 +14,14 @@
 #include "io/points/laz/chunk_table.hpp"
 #include "io/points/laz/laszip_vlr.hpp"
 #include "io/points/laz/laz_reader.hpp"
+#include "support/byte_fields.hpp"
 
 namespace tincdt::test::laz_edits {
 
 namespace laz = io::laz;
 
-template <typename T>
-inline T get(const std::string& b, std::size_t at) {
-  T v;
-  std::memcpy(&v, b.data() + at, sizeof v);
-  return v;
-}
-
-template <typename T>
-inline void put(std::string& b, std::size_t at, T v) {
-  std::memcpy(b.data() + at, &v, sizeof v);
-}
+using test::get;
+using test::put;
 
 inline std::size_t offset_to_points(const std::string& b) {
   return get<std::uint32_t>(b, 96);

@@ -21,6 +21,7 @@
 #include "io/points/laz/laz_reader.hpp"
 #include "io/points/point_reader.hpp"
 #include "support/files.hpp"
+#include "support/shared_data.hpp"
 
 namespace tincdt::io {
 namespace {
@@ -30,13 +31,6 @@ using ::testing::HasSubstr;
 using ::testing::StartsWith;
 
 const fs::path kData = TINCDT_SHARED_DATA;
-
-#define REQUIRE_SHARED_DATA()                                                              \
-  do {                                                                                     \
-    if (!fs::is_directory(kData / "laz")) {                                                \
-      GTEST_SKIP() << "shared test data not found at " << kData << " (see PROVENANCE.md)"; \
-    }                                                                                      \
-  } while (false)
 
 std::string laz_path(const std::string& name) {
   return (kData / "laz" / (name + ".laz")).string();
@@ -111,7 +105,7 @@ const LazFact kFacts[] = {
 class LazFile : public ::testing::TestWithParam<LazFact> {};
 
 TEST_P(LazFile, ReadsAndMatchesLazPerf) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("laz");
   const LazFact& f = GetParam();
   const std::string path = laz_path(f.name);
   PointReadStats stats;
@@ -145,7 +139,7 @@ INSTANTIATE_TEST_SUITE_P(SharedData, LazFile, ::testing::ValuesIn(kFacts),
                          });
 
 TEST(LazFiles, EveryFileInTheFolderIsCovered) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("laz");
   std::set<std::string> listed;
   for (const LazFact& f : kFacts) listed.insert(std::string(f.name) + ".laz");
   EXPECT_EQ(test::names_in(kData / "laz"), listed);
@@ -157,7 +151,7 @@ TEST(LazFiles, EveryFileInTheFolderIsCovered) {
 class LazTwin : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(LazTwin, EveryRecordEqualsTheLasTwinsByteForByte) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("laz");
   std::size_t record_length = 0;
   const std::string expected = las_records(las_path(GetParam()), &record_length);
   const LoadedLaz l = load_laz(laz_path(GetParam()));
@@ -175,7 +169,7 @@ TEST_P(LazTwin, EveryRecordEqualsTheLasTwinsByteForByte) {
 }
 
 TEST_P(LazTwin, FiltersKeepTheSamePointsAsFromLas) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("laz");
   std::vector<PointFilter> filters(6);
   filters[1].keep_classes = {2};
   filters[2].drop_classes = {2};
@@ -203,7 +197,7 @@ INSTANTIATE_TEST_SUITE_P(SharedData, LazTwin,
 // Threads and COPC
 
 TEST(LazReader, TheThreadCountChangesNothing) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("laz");
   for (const char* name : {"autzen_trim", "simple.copc", "append-bug"}) {
     PointFilter last;
     last.last_return_only = true;
@@ -217,7 +211,7 @@ TEST(LazReader, TheThreadCountChangesNothing) {
 }
 
 TEST(LazReader, CopcGivesTheSameTinAsItsLasTwin) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("laz");
   // simple.copc.laz holds simple.las's points in octree order, with other offsets: the same
   // points to the centimetre, so the same TIN, triangle for triangle.
   const auto key = [](const Point2& p) {
@@ -240,7 +234,7 @@ TEST(LazReader, CopcGivesTheSameTinAsItsLasTwin) {
 }
 
 TEST(LazReader, CoordinatesOnlyDecodingSkipsLayersYetAgreesWithWholeRecords) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("laz");
   // Formats 6-10 without a class filter decode only the XY and Z layers.
   for (const char* name : {"append-bug", "las14_pdrf6", "simple.copc"}) {
     const LoadedLaz l = load_laz(laz_path(name));
@@ -257,7 +251,7 @@ TEST(LazReader, CoordinatesOnlyDecodingSkipsLayersYetAgreesWithWholeRecords) {
 }
 
 TEST(LazReader, WaveformFormatsReadWithTheirPacketsSkipped) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("laz");
   // No shared file has waveform packets: formats 9 and 10 made from 6 and 8 (laz_file_edits.hpp).
   const fs::path dir = test::fresh_dir(fs::path(TINCDT_TEST_TMP) / "laz_waveforms");
   for (const auto& [name, format] : {std::pair{"las14_pdrf6", 9}, std::pair{"append-bug", 10}}) {

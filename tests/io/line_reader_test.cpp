@@ -17,6 +17,7 @@
 #include "core/types.hpp"
 #include "io/crs.hpp"
 #include "io/vector/line_reader.hpp"
+#include "support/shared_data.hpp"
 #include "support/vector_files.hpp"
 
 namespace tincdt::io {
@@ -27,17 +28,24 @@ using ::testing::AllOf;
 using ::testing::HasSubstr;
 
 const fs::path kData = TINCDT_SHARED_DATA;
-const fs::path kTmp = fs::path(TINCDT_TEST_TMP) / "line_reader";
 
-#define REQUIRE_SHARED_DATA()                                                              \
-  do {                                                                                     \
-    if (!fs::is_directory(kData / "contours")) {                                           \
-      GTEST_SKIP() << "shared test data not found at " << kData << " (see PROVENANCE.md)"; \
-    }                                                                                      \
-  } while (false)
+const fs::path kTmp = fs::path(TINCDT_TEST_TMP) / "line_reader";
 
 std::string data(const char* relative) {
   return (kData / relative).string();
+}
+
+// DROP is feature FID's, dropped for REASON, at AT (none: the drop has no place).
+void expect_drop(const LineDrop& drop, std::int64_t fid,
+                 const ::testing::Matcher<const std::string&>& reason,
+                 std::optional<Point3> at = std::nullopt) {
+  SCOPED_TRACE("feature " + std::to_string(fid));
+  EXPECT_EQ(drop.fid, fid);
+  EXPECT_THAT(drop.reason, reason);
+  ASSERT_EQ(drop.has_at, at.has_value());
+  if (at) {
+    EXPECT_EQ(drop.at, *at);
+  }
 }
 
 // ---- synthetic sources, written with OGR ----
@@ -121,7 +129,7 @@ void expect_well_formed(const LineData& d) {
 // ---- real data ----
 
 TEST(LineReaderReal, Vinschgau2dNeedsAZField) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("contours");
   const std::string msg = read_error(data("contours/elev_vinschgau_contours_100m.shp"));
   EXPECT_THAT(msg, AllOf(HasSubstr("elev_vinschgau_contours_100m.shp: "),
                          HasSubstr("layer elev_vinschgau_contours_100m, feature 0"),
@@ -130,7 +138,7 @@ TEST(LineReaderReal, Vinschgau2dNeedsAZField) {
 }
 
 TEST(LineReaderReal, Vinschgau2dWithZField) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("contours");
   LineData d;
   const std::string path = data("contours/elev_vinschgau_contours_100m.shp");
   const LineReadStats s = read(path, d, "ELEV");
@@ -169,7 +177,7 @@ TEST(LineReaderReal, Vinschgau2dWithZField) {
 }
 
 TEST(LineReaderReal, Vinschgau3dMatches2dWithZField) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("contours");
   LineData flat;
   LineData solid;
   read(data("contours/elev_vinschgau_contours_100m.shp"), flat, "ELEV");
@@ -191,7 +199,7 @@ TEST(LineReaderReal, Vinschgau3dMatches2dWithZField) {
 }
 
 TEST(LineReaderReal, GeoPackageReadsLikeTheShapefile) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("contours");
   LineData shp;
   LineData gpkg;
   read(data("contours/elev_vinschgau_contours_100m.shp"), shp, "ELEV");
@@ -207,7 +215,7 @@ TEST(LineReaderReal, GeoPackageReadsLikeTheShapefile) {
 }
 
 TEST(LineReaderReal, TopographyClosedRingsStayClosed) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("contours");
   LineData d;
   const LineReadStats s = read(data("pair_topography/Topography_contours_1m_3d.shp"), d);
   expect_well_formed(d);
@@ -241,7 +249,7 @@ TEST(LineReaderReal, TopographyClosedRingsStayClosed) {
 }
 
 TEST(LineReaderReal, CrsOfLuxembourgAndOfAFileWithoutPrj) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("contours");
   LineData d;
   const LineReadStats lux = read(data("contours/elev_lux_contours_25m.shp"), d, "ELEV");
   EXPECT_EQ(crs_label(lux.crs_wkt), "EPSG:4326");
@@ -258,7 +266,7 @@ TEST(LineReaderReal, CrsOfLuxembourgAndOfAFileWithoutPrj) {
 }
 
 TEST(LineReaderReal, MissingZFieldListsTheFields) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("contours");
   const std::string msg =
       read_error(data("contours/elev_vinschgau_contours_100m.shp"), z_field("HEIGHT"));
   EXPECT_THAT(msg, AllOf(HasSubstr("layer elev_vinschgau_contours_100m"), HasSubstr("HEIGHT"),
@@ -324,11 +332,8 @@ TEST(LineReader, ZeroLengthPartsAddNothing) {
   EXPECT_EQ(d.skipped[1].at, (Point3{7, 7, 2}));
   EXPECT_EQ(d.skipped[1].fid, 2);
   ASSERT_EQ(d.dropped.size(), s.empty_features);
-  EXPECT_EQ(d.dropped[0].fid, 2);
   EXPECT_EQ(d.dropped[0].file, 0u);
-  EXPECT_THAT(d.dropped[0].reason, HasSubstr("degenerate"));
-  ASSERT_TRUE(d.dropped[0].has_at);
-  EXPECT_EQ(d.dropped[0].at, (Point3{7, 7, 1}));
+  expect_drop(d.dropped[0], 2, HasSubstr("degenerate"), Point3{7, 7, 1});
 }
 
 TEST(LineReader, MultiLineStringsAndPolygonRings) {
@@ -508,17 +513,9 @@ TEST(LineReader, PointsAreSkippedAndCounted) {
   EXPECT_EQ(d.vertices.size(), 2u);
   // Why each of the three was dropped, and where.
   ASSERT_EQ(d.dropped.size(), 3u);
-  EXPECT_EQ(d.dropped[0].fid, 1);
-  EXPECT_THAT(d.dropped[0].reason, AllOf(HasSubstr("Point"), HasSubstr("only lines")));
-  ASSERT_TRUE(d.dropped[0].has_at);
-  EXPECT_EQ(d.dropped[0].at, (Point3{0, 0, 1}));
-  EXPECT_EQ(d.dropped[1].fid, 2);
-  EXPECT_THAT(d.dropped[1].reason, HasSubstr("Multi Point"));
-  ASSERT_TRUE(d.dropped[1].has_at);
-  EXPECT_EQ(d.dropped[1].at, (Point3{0, 0, 1}));
-  EXPECT_EQ(d.dropped[2].fid, 3);
-  EXPECT_EQ(d.dropped[2].reason, "no geometry");
-  EXPECT_FALSE(d.dropped[2].has_at);
+  expect_drop(d.dropped[0], 1, AllOf(HasSubstr("Point"), HasSubstr("only lines")), Point3{0, 0, 1});
+  expect_drop(d.dropped[1], 2, HasSubstr("Multi Point"), Point3{0, 0, 1});
+  expect_drop(d.dropped[2], 3, "no geometry");
   EXPECT_TRUE(d.skipped.empty());
 }
 
@@ -540,21 +537,11 @@ TEST(LineReader, EveryDroppedFeatureHasItsReason) {
   EXPECT_EQ(s.features, 5u);
   EXPECT_EQ(s.empty_features, 4u);
   ASSERT_EQ(d.dropped.size(), 4u);
-  EXPECT_EQ(d.dropped[0].fid, 1);
-  EXPECT_EQ(d.dropped[0].reason, "empty geometry");
-  EXPECT_FALSE(d.dropped[0].has_at);
-  EXPECT_EQ(d.dropped[1].fid, 2);
-  EXPECT_THAT(d.dropped[1].reason, HasSubstr("degenerate"));
-  EXPECT_EQ(d.dropped[1].at, (Point3{3, 3, 9}));
+  expect_drop(d.dropped[0], 1, "empty geometry");
+  expect_drop(d.dropped[1], 2, HasSubstr("degenerate"), Point3{3, 3, 9});
   // Both problems named; the location is the first one met (the line comes before the point).
-  EXPECT_EQ(d.dropped[2].fid, 3);
-  EXPECT_THAT(d.dropped[2].reason, AllOf(HasSubstr("degenerate"), HasSubstr("Point")));
-  ASSERT_TRUE(d.dropped[2].has_at);
-  EXPECT_EQ(d.dropped[2].at, (Point3{8, 8, 1}));
-  EXPECT_EQ(d.dropped[3].fid, 4);
-  EXPECT_THAT(d.dropped[3].reason, HasSubstr("TIN"));
-  ASSERT_TRUE(d.dropped[3].has_at);
-  EXPECT_EQ(d.dropped[3].at, (Point3{0, 0, 1}));
+  expect_drop(d.dropped[2], 3, AllOf(HasSubstr("degenerate"), HasSubstr("Point")), Point3{8, 8, 1});
+  expect_drop(d.dropped[3], 4, HasSubstr("TIN"), Point3{0, 0, 1});
   // The collapsed vertices of features 2 (three) and 3 (one) are recorded too, and counted.
   EXPECT_EQ(d.skipped.size(), s.repeated_vertices);
   ASSERT_EQ(d.skipped.size(), 4u);

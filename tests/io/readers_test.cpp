@@ -24,29 +24,23 @@
 #include "core/types.hpp"
 #include "io/crs.hpp"
 #include "io/points/point_reader.hpp"
+#include "support/byte_fields.hpp"
+#include "support/files.hpp"
+#include "support/shared_data.hpp"
 
 namespace tincdt::io {
 namespace {
 
 namespace fs = std::filesystem;
+using test::get;
+using test::put;
 using ::testing::HasSubstr;
 using ::testing::Not;
 
 const fs::path kData = TINCDT_SHARED_DATA;
+
 // Own subfolder: the writers test shares TINCDT_TEST_TMP.
 const fs::path kTmp = fs::path(TINCDT_TEST_TMP) / "readers";
-
-#define REQUIRE_SHARED_DATA()                                                              \
-  do {                                                                                     \
-    if (!fs::is_directory(kData / "las")) {                                                \
-      GTEST_SKIP() << "shared test data not found at " << kData << " (see PROVENANCE.md)"; \
-    }                                                                                      \
-  } while (false)
-
-std::string bytes_of(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
 
 // Writes CONTENT to a fresh file in the scratch folder and returns its path.
 std::string scratch_file(const std::string& name, const std::string& content) {
@@ -55,18 +49,6 @@ std::string scratch_file(const std::string& name, const std::string& content) {
   std::ofstream out(p, std::ios::binary | std::ios::trunc);
   out.write(content.data(), static_cast<std::streamsize>(content.size()));
   return p.string();
-}
-
-template <typename T>
-T get(const std::string& bytes, std::size_t offset) {
-  T v;
-  std::memcpy(&v, bytes.data() + offset, sizeof v);
-  return v;
-}
-
-template <typename T>
-void put(std::string& bytes, std::size_t offset, T v) {
-  std::memcpy(bytes.data() + offset, &v, sizeof v);
 }
 
 // The few public-header fields the tests need, read here independently of the reader.
@@ -257,10 +239,10 @@ void PrintTo(const LasFact& fact, std::ostream* os) {
 class LasFile : public ::testing::TestWithParam<LasFact> {};
 
 TEST_P(LasFile, CountFormatBoundsAndCrsMatchTheHeaderAndProvenance) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("las");
   const LasFact& fact = GetParam();
   const std::string path = las(fact.file);
-  const RawHeader h = raw_header(bytes_of(path));
+  const RawHeader h = raw_header(test::slurp(path));
   ASSERT_EQ(h.count, fact.count) << "PROVENANCE.md and the file disagree";
 
   PointReadStats stats;
@@ -295,7 +277,7 @@ TEST_P(LasFile, CountFormatBoundsAndCrsMatchTheHeaderAndProvenance) {
 }
 
 TEST_P(LasFile, ClassFiltersGiveTheProvenanceCounts) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("las");
   const LasFact& fact = GetParam();
   std::uint64_t sum = 0;
   for (const auto& [cls, count] : fact.classes) {
@@ -324,7 +306,7 @@ std::string test_name(const ::testing::TestParamInfo<LasFact>& info) {
 INSTANTIATE_TEST_SUITE_P(SharedData, LasFile, ::testing::ValuesIn(las_facts()), test_name);
 
 TEST(LasReader, EveryLasFileInSharedDataIsCovered) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("las");
   for (const auto& entry : fs::directory_iterator(kData / "las")) {
     if (entry.path().extension() != ".las") continue;
     const std::string name = entry.path().filename().string();
@@ -335,7 +317,7 @@ TEST(LasReader, EveryLasFileInSharedDataIsCovered) {
 }
 
 TEST(LasReader, MixedClassListKeepsTheUnionAndDropWins) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("las");
   PointFilter f;
   f.keep_classes = {3, 4, 5};
   EXPECT_EQ(read_all(las("file_with_both_wkt_and_geotiff_vlrs.las"), f).size(), 158u + 724 + 10956);
@@ -349,7 +331,7 @@ TEST(LasReader, MixedClassListKeepsTheUnionAndDropWins) {
 // First / last return filters, against counts decoded here from the raw records.
 void check_return_filters(const char* file) {
   SCOPED_TRACE(file);
-  const std::string b = bytes_of(las(file));
+  const std::string b = test::slurp(las(file));
   const RawHeader h = raw_header(b);
   const bool extended = h.format >= 6;
   std::uint64_t first = 0;
@@ -381,17 +363,17 @@ void check_return_filters(const char* file) {
 }
 
 TEST(LasReader, ReturnFiltersLegacyFormat) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("las");
   check_return_filters("Topography.las");  // PDRF 1, up to 6 returns
 }
 
 TEST(LasReader, ReturnFiltersExtendedFormat) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("las");
   check_return_filters("autzen_trim_7.las");  // PDRF 7: 4-bit return fields
 }
 
 TEST(LasReader, SamePointsInEveryFormatAndVersion) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("las");
   const std::vector<Point3> pdrf3 = read_all(las("autzen_trim.las"));
   EXPECT_EQ(read_all(las("autzen_trim_7.las")), pdrf3);
   EXPECT_EQ(read_all(las("autzen_trim_8_derived.las")), pdrf3);
@@ -400,14 +382,14 @@ TEST(LasReader, SamePointsInEveryFormatAndVersion) {
 }
 
 TEST(LasReader, KnownPointsAreExact) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("las");
   const std::vector<Point3> one = read_all(las("1.0_0.las"));
   ASSERT_EQ(one.size(), 1u);
   EXPECT_NEAR(one[0].x, 470692.44, 0.005);
   EXPECT_NEAR(one[0].y, 4602888.90, 0.005);
   EXPECT_NEAR(one[0].z, 16.00, 0.005);
   // X = record * scale + offset, in double, for the first record of a large-offset file.
-  const std::string b = bytes_of(las("Topography.las"));
+  const std::string b = test::slurp(las("Topography.las"));
   const RawHeader h = raw_header(b);
   const double expected_x =
       get<std::int32_t>(b, h.offset_to_points) * h.scale[0] + get<double>(b, 155);
@@ -415,7 +397,7 @@ TEST(LasReader, KnownPointsAreExact) {
 }
 
 TEST(LasReader, AppendsToTheCallersVector) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("las");
   std::vector<Point3> pts = {{1, 2, 3}};
   read_las(las("simple.las"), {}, pts);
   ASSERT_EQ(pts.size(), 1066u);
@@ -423,7 +405,7 @@ TEST(LasReader, AppendsToTheCallersVector) {
 }
 
 TEST(LasReader, CrsFromBothRecordsPrefersTheWkt) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("las");
   PointReadStats stats;
   read_all(las("file_with_both_wkt_and_geotiff_vlrs.las"), {}, &stats);
   EXPECT_THAT(stats.crs_wkt, HasSubstr("NAD83_2011_Nebraska_ft"));
@@ -432,7 +414,7 @@ TEST(LasReader, CrsFromBothRecordsPrefersTheWkt) {
 }
 
 TEST(LasReader, GeoTiffUnitOverrideIsHonouredAndReported) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("las");
   PointReadStats stats;
   read_all(las("mvk-thin.las"), {}, &stats);
   ASSERT_FALSE(stats.crs_wkt.empty());
@@ -445,7 +427,7 @@ TEST(LasReader, GeoTiffUnitOverrideIsHonouredAndReported) {
 }
 
 TEST(LasReader, UnusableCrsRecordsGiveNoCrsAndAWarning) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("las");
   PointReadStats stats;
   read_all(las("simple1_3.las"), {}, &stats);
   EXPECT_TRUE(stats.crs_wkt.empty());
@@ -462,7 +444,7 @@ TEST(LasReader, UnusableCrsRecordsGiveNoCrsAndAWarning) {
 }
 
 TEST(LasReader, CrsMatchesTheContoursOfTheSameArea) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("las");
   PointReadStats stats;
   read_all(las("Topography.las"), {}, &stats);
   const std::string prj =
@@ -474,8 +456,8 @@ TEST(LasReader, CrsMatchesTheContoursOfTheSameArea) {
 // Damaged LAS (LAZ: laz_*_test.cpp)
 
 TEST(LasReader, TruncatedInsideThePoints) {
-  REQUIRE_SHARED_DATA();
-  std::string b = bytes_of(las("autzen_trim.las"));
+  TINCDT_REQUIRE_SHARED_DATA("las");
+  std::string b = test::slurp(las("autzen_trim.las"));
   const RawHeader h = raw_header(b);
   b.resize(h.offset_to_points + 55000 * h.record_length + 17);
   const std::string path = scratch_file("cut_in_points.las", b);
@@ -487,8 +469,8 @@ TEST(LasReader, TruncatedInsideThePoints) {
 }
 
 TEST(LasReader, TruncatedAtARecordBoundary) {
-  REQUIRE_SHARED_DATA();
-  std::string b = bytes_of(las("simple.las"));
+  TINCDT_REQUIRE_SHARED_DATA("las");
+  std::string b = test::slurp(las("simple.las"));
   const RawHeader h = raw_header(b);
   b.resize(h.offset_to_points + 1000 * h.record_length);
   const std::string what = read_points_error(scratch_file("cut_at_record.las", b));
@@ -496,8 +478,8 @@ TEST(LasReader, TruncatedAtARecordBoundary) {
 }
 
 TEST(LasReader, TruncatedInsideTheHeader) {
-  REQUIRE_SHARED_DATA();
-  const std::string b = bytes_of(las("autzen_trim.las"));
+  TINCDT_REQUIRE_SHARED_DATA("las");
+  const std::string b = test::slurp(las("autzen_trim.las"));
   std::string what = read_points_error(scratch_file("cut_in_header.las", b.substr(0, 100)));
   EXPECT_THAT(what, HasSubstr("cut_in_header.las"));
   EXPECT_THAT(what, HasSubstr("truncated"));
@@ -509,8 +491,8 @@ TEST(LasReader, TruncatedInsideTheHeader) {
 }
 
 TEST(LasReader, TruncatedExtendedVlr) {
-  REQUIRE_SHARED_DATA();
-  std::string b = bytes_of(las("1_4_w_evlr.las"));
+  TINCDT_REQUIRE_SHARED_DATA("las");
+  std::string b = test::slurp(las("1_4_w_evlr.las"));
   const auto evlr_start = get<std::uint64_t>(b, 235);
   ASSERT_GT(evlr_start, 0u);
   b.resize(evlr_start + 70);
@@ -520,29 +502,29 @@ TEST(LasReader, TruncatedExtendedVlr) {
 }
 
 TEST(LasReader, PointCountLargerThanTheFile) {
-  REQUIRE_SHARED_DATA();
-  std::string b = bytes_of(las("simple.las"));
+  TINCDT_REQUIRE_SHARED_DATA("las");
+  std::string b = test::slurp(las("simple.las"));
   put<std::uint32_t>(b, 107, 1075);
   EXPECT_THAT(read_points_error(scratch_file("count_up.las", b)),
               HasSubstr("file holds 1065 records but the header announces 1075"));
   // LAS 1.4: the 64-bit count is the one that counts.
-  std::string b14 = bytes_of(las("test1_4.las"));
+  std::string b14 = test::slurp(las("test1_4.las"));
   put<std::uint64_t>(b14, 247, 5000);
   EXPECT_THAT(read_points_error(scratch_file("count64_up.las", b14)),
               HasSubstr("file holds 1000 records but the header announces 5000"));
 }
 
 TEST(LasReader, LegacyCountIsUsedWhenThe64BitCountIsZero) {
-  REQUIRE_SHARED_DATA();
-  std::string b = bytes_of(las("test1_4.las"));
+  TINCDT_REQUIRE_SHARED_DATA("las");
+  std::string b = test::slurp(las("test1_4.las"));
   put<std::uint64_t>(b, 247, 0);
   put<std::uint32_t>(b, 107, 600);
   EXPECT_EQ(read_all(scratch_file("legacy_count.las", b)).size(), 600u);
 }
 
 TEST(LasReader, BadHeadersAreRefused) {
-  REQUIRE_SHARED_DATA();
-  const std::string good = bytes_of(las("simple.las"));
+  TINCDT_REQUIRE_SHARED_DATA("las");
+  const std::string good = test::slurp(las("simple.las"));
   std::string b = good;
   std::memcpy(b.data(), "LASX", 4);
   EXPECT_THAT(read_points_error(scratch_file("bad_signature.las", b)), HasSubstr("not a LAS file"));
@@ -571,9 +553,9 @@ TEST(LasReader, BadHeadersAreRefused) {
 }
 
 TEST(LasReader, LongerRecordsThanTheFormatNeedsAreFine) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("las");
   // PDRF 8 records of autzen_trim_8_derived.las read as PDRF 7 with 2 extra bytes each.
-  std::string b = bytes_of(las("autzen_trim_8_derived.las"));
+  std::string b = test::slurp(las("autzen_trim_8_derived.las"));
   b[104] = 7;
   EXPECT_EQ(read_all(scratch_file("pdrf7_extra_bytes.las", b)), read_all(las("autzen_trim_7.las")));
 }
@@ -623,7 +605,7 @@ TEST(PointReader, TextThatIsNotLasGoesToTheXyzReader) {
 // XYZ: real files
 
 TEST(XyzReader, SpaceSeparatedRealFile) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("las");
   const std::vector<Point3> pts = read_all((kData / "xyz/Topography_ground.xyz").string());
   ASSERT_EQ(pts.size(), 8159u);
   EXPECT_EQ(pts[0], (Point3{273357.17825, 5274357.66925, 806.02475}));
@@ -662,7 +644,7 @@ void expect_same_points(std::vector<Point3> a, std::vector<Point3> b, double tol
 }
 
 TEST(XyzReader, GroundTextMatchesTheLasGround) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("las");
   PointFilter ground;
   ground.keep_classes = {2};
   expect_same_points(read_all((kData / "xyz/Topography_ground.xyz").string()),
@@ -672,7 +654,7 @@ TEST(XyzReader, GroundTextMatchesTheLasGround) {
 }
 
 TEST(XyzReader, QuotedCsvHeaderWithManyColumns) {
-  REQUIRE_SHARED_DATA();
+  TINCDT_REQUIRE_SHARED_DATA("las");
   PointReadStats stats;
   const std::vector<Point3> pts =
       read_all((kData / "xyz/autzen-bmx-largersample.csv").string(), {}, &stats);

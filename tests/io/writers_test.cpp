@@ -29,6 +29,7 @@
 #include "io/mesh/tin_writer.hpp"
 #include "io/output_file.hpp"
 #include "mesh/triangulation.hpp"
+#include "support/errors.hpp"
 #include "support/files.hpp"
 #include "support/mesh_files.hpp"
 #include "support/meshes.hpp"
@@ -286,15 +287,12 @@ TEST(FormatFromPath, KnowsTheExtensionsWhateverTheirCase) {
 }
 
 TEST(FormatFromPath, UnknownExtensionNamesThePathAndTheKnownOnes) {
-  try {
-    format_from_path("out/tin.dxf");
-    FAIL() << "no exception";
-  } catch (const OutputError& e) {
-    EXPECT_EQ(e.file(), "out/tin.dxf");
-    EXPECT_NE(e.detail().find(".dxf"), std::string::npos) << e.what();
-    EXPECT_NE(e.detail().find(".obj"), std::string::npos) << e.what();
-    EXPECT_NE(e.detail().find(".ply"), std::string::npos) << e.what();
-    EXPECT_NE(e.detail().find(".geojson"), std::string::npos) << e.what();
+  if (const auto e = test::thrown<OutputError>([&] { format_from_path("out/tin.dxf"); })) {
+    EXPECT_EQ(e->file(), "out/tin.dxf");
+    EXPECT_NE(e->detail().find(".dxf"), std::string::npos) << e->what();
+    EXPECT_NE(e->detail().find(".obj"), std::string::npos) << e->what();
+    EXPECT_NE(e->detail().find(".ply"), std::string::npos) << e->what();
+    EXPECT_NE(e->detail().find(".geojson"), std::string::npos) << e->what();
   }
   EXPECT_THROW(format_from_path("out.d/tin"), OutputError);
 }
@@ -580,11 +578,9 @@ TEST(PrjFile, UnreadableCrsFailsBeforeWritingAnything) {
   const std::string dir = scratch();
   TinWriteOptions o;
   o.crs_wkt = "PROJCS[this is not a CRS";
-  try {
-    write_tin(dir + "/a.ply", unit_square(), o);
-    FAIL() << "no exception";
-  } catch (const OutputError& e) {
-    EXPECT_EQ(e.file(), dir + "/a.prj") << e.what();
+  if (const auto e =
+          test::thrown<OutputError>([&] { write_tin(dir + "/a.ply", unit_square(), o); })) {
+    EXPECT_EQ(e->file(), dir + "/a.prj") << e->what();
   }
   EXPECT_TRUE(names_in(dir).empty());
 }
@@ -614,10 +610,7 @@ TEST(GeoJsonWriter, GdalReadsFeaturesCrsAndExactCoordinates) {
   ASSERT_NE(v.ds, nullptr);
   ASSERT_EQ(GDALDatasetGetLayerCount(v.ds), 1);
   EXPECT_EQ(OGR_L_GetFeatureCount(v.layer(), TRUE), 2);
-  OGRSpatialReferenceH srs = OGR_L_GetSpatialRef(v.layer());
-  ASSERT_NE(srs, nullptr);
-  EXPECT_STREQ(OSRGetAuthorityName(srs, nullptr), "EPSG");
-  EXPECT_STREQ(OSRGetAuthorityCode(srs, nullptr), "2949");
+  EXPECT_EQ(test::layer_crs_code(v.layer()), "EPSG:2949");
 
   const auto triangles = read_geojson_triangles(v);
   const auto faces = faces_of(tin);
@@ -723,11 +716,9 @@ TEST(GeoJsonWriter, ReprojectingFromAnUnknownCrsFailsAndLeavesNothing) {
   const std::string dir = scratch();
   TinWriteOptions o;
   o.target_crs_wkt = wkt_of("EPSG:4326");
-  try {
-    write_tin(dir + "/tin.geojson", unit_square(), o);
-    FAIL() << "no exception";
-  } catch (const OutputError& e) {
-    EXPECT_NE(e.detail().find("unknown"), std::string::npos) << e.what();
+  if (const auto e =
+          test::thrown<OutputError>([&] { write_tin(dir + "/tin.geojson", unit_square(), o); })) {
+    EXPECT_NE(e->detail().find("unknown"), std::string::npos) << e->what();
   }
   EXPECT_TRUE(names_in(dir).empty());
 }
@@ -779,16 +770,7 @@ TEST(SafeOutput, ExistingOutputWithoutOverwriteIsLeftUntouched) {
   const std::string dir = scratch();
   for (const char* name : {"/tin.obj", "/tin.ply", "/tin.geojson"}) {
     SCOPED_TRACE(name);
-    spit(dir + name, "precious");
-    try {
-      write_tin(dir + name, unit_square(), {});
-      FAIL() << "no exception";
-    } catch (const OutputError& e) {
-      EXPECT_EQ(e.file(), dir + name);
-      EXPECT_NE(e.detail().find("already exists"), std::string::npos) << e.what();
-      EXPECT_NE(e.detail().find("--overwrite"), std::string::npos) << e.what();
-    }
-    EXPECT_EQ(slurp(dir + name), "precious");
+    test::expect_no_overwrite(dir + name, [&] { write_tin(dir + name, unit_square(), {}); });
   }
   EXPECT_EQ(names_in(dir), (std::set<std::string>{"tin.obj", "tin.ply", "tin.geojson"}));
 }
@@ -805,12 +787,10 @@ TEST(SafeOutput, OverwriteReplacesTheFile) {
 
 TEST(SafeOutput, MissingFolderIsAnOutputError) {
   const std::string dir = scratch();
-  try {
-    write_tin(dir + "/no/such/folder/tin.obj", unit_square(), {});
-    FAIL() << "no exception";
-  } catch (const OutputError& e) {
-    EXPECT_EQ(e.file(), dir + "/no/such/folder/tin.obj");
-    EXPECT_NE(e.detail().find("No such file or directory"), std::string::npos) << e.what();
+  if (const auto e = test::thrown<OutputError>(
+          [&] { write_tin(dir + "/no/such/folder/tin.obj", unit_square(), {}); })) {
+    EXPECT_EQ(e->file(), dir + "/no/such/folder/tin.obj");
+    EXPECT_NE(e->detail().find("No such file or directory"), std::string::npos) << e->what();
   }
   EXPECT_TRUE(names_in(dir).empty());
 }
@@ -819,11 +799,9 @@ TEST(SafeOutput, ParentThatIsAFileIsAnOutputError) {
   // Tests may run as root, for whom a read-only folder is writable; a regular file is not.
   const std::string dir = scratch();
   spit(dir + "/plain", "x");
-  try {
-    write_tin(dir + "/plain/tin.ply", unit_square(), {});
-    FAIL() << "no exception";
-  } catch (const OutputError& e) {
-    EXPECT_NE(e.detail().find("Not a directory"), std::string::npos) << e.what();
+  if (const auto e = test::thrown<OutputError>(
+          [&] { write_tin(dir + "/plain/tin.ply", unit_square(), {}); })) {
+    EXPECT_NE(e->detail().find("Not a directory"), std::string::npos) << e->what();
   }
   EXPECT_EQ(names_in(dir), (std::set<std::string>{"plain"}));
 }

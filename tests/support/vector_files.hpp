@@ -35,6 +35,15 @@ struct VectorFile {
   GDALDatasetH ds = nullptr;
 };
 
+// "AUTHORITY:CODE" of the CRS of LAYER ("EPSG:2949"), "" when the layer has none.
+inline std::string layer_crs_code(OGRLayerH layer) {
+  OGRSpatialReferenceH srs = OGR_L_GetSpatialRef(layer);
+  if (srs == nullptr) return "";
+  const char* authority = OSRGetAuthorityName(srs, nullptr);
+  const char* code = OSRGetAuthorityCode(srs, nullptr);
+  return std::string(authority != nullptr ? authority : "?") + ":" + (code != nullptr ? code : "?");
+}
+
 struct VectorFeature {
   std::string wkt;             // empty = no geometry
   std::optional<double> elev;  // ELEV; nullopt = NULL

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/json_text.hpp"
 #include "core/memory.hpp"
 #include "io/mesh/writer_detail.hpp"
 #include "io/output_file.hpp"
@@ -88,7 +89,7 @@ void write_lines(OutputFile& out, const mesh::Triangulation& tin,
     const ConstraintEdge& e = edges[i];
     const ConstraintFeatureInfo& f = features[e.feature];
     if (file_of_json == nullptr || *file_of_json != f.file) {
-      file_json = detail::json_string(f.file);
+      file_json = json_string(f.file);
       file_of_json = &f.file;
     }
     const Point3 a = position(e.a);

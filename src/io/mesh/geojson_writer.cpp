@@ -48,24 +48,6 @@ OGRSpatialReference parse_crs(const std::string& path, const std::string& wkt, c
   return srs;
 }
 
-std::string json_string(std::string_view s) {
-  std::string j = "\"";
-  for (const char c : s) {
-    if (c == '"' || c == '\\') {
-      j += '\\';
-      j += c;
-    } else if (static_cast<unsigned char>(c) < 0x20) {
-      static constexpr char kHex[] = "0123456789abcdef";
-      j += "\\u00";
-      j += kHex[(c >> 4) & 0xf];
-      j += kHex[c & 0xf];
-    } else {
-      j += c;
-    }
-  }
-  return j + "\"";
-}
-
 void put_position(BlockWriter& w, const Point3& p) {
   w.put('[');
   w.put_xyz(p, ',');

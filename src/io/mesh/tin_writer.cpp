@@ -4,6 +4,8 @@
 #include <charconv>
 #include <filesystem>
 #include <optional>
+#include <string>
+#include <string_view>
 
 #include "core/error.hpp"
 #include "io/crs.hpp"
@@ -84,6 +86,27 @@ TinFormat format_from_path(const std::string& path) {
 
 namespace {
 
+// Every format: its name in reports and messages, and its writer.
+struct FormatEntry {
+  TinFormat format;
+  std::string_view name;
+  detail::FormatWriter* write;
+};
+constexpr FormatEntry kFormats[] = {
+    {TinFormat::obj, "obj", detail::write_obj},
+    {TinFormat::ply, "ply", detail::write_ply},
+    {TinFormat::geojson, "geojson", detail::write_geojson},
+    {TinFormat::landxml, "landxml", detail::write_landxml},
+    {TinFormat::gpkg, "gpkg", detail::write_gpkg},
+    {TinFormat::stl, "stl", detail::write_stl},
+};
+
+const FormatEntry& entry_of(TinFormat format) {
+  for (const FormatEntry& e : kFormats)
+    if (e.format == format) return e;
+  throw InternalError("no writer for TinFormat " + std::to_string(static_cast<int>(format)));
+}
+
 void check_reprojection(const std::string& path, TinFormat format, const TinWriteOptions& options) {
   if (!format_takes_offset(format) && !detail::is_zero(options.offset))
     throw OutputError(path, "",
@@ -98,32 +121,15 @@ void check_reprojection(const std::string& path, TinFormat format, const TinWrit
 
 }  // namespace
 
+std::string_view format_name(TinFormat format) {
+  return entry_of(format).name;
+}
+
 TinWriteStats write_tin(OutputFile& out, const mesh::Triangulation& tin,
                         const TinWriteOptions& options) {
   const TinFormat format = options.format ? *options.format : format_from_path(out.path());
   check_reprojection(out.path(), format, options);
-  TinWriteStats stats;
-  switch (format) {
-    case TinFormat::obj:
-      stats = detail::write_obj(out, tin, options);
-      break;
-    case TinFormat::ply:
-      stats = detail::write_ply(out, tin, options);
-      break;
-    case TinFormat::geojson:
-      stats = detail::write_geojson(out, tin, options);
-      break;
-    case TinFormat::landxml:
-      stats = detail::write_landxml(out, tin, options);
-      break;
-    case TinFormat::gpkg:
-      stats = detail::write_gpkg(out, tin, options);
-      break;
-    case TinFormat::stl:
-      stats = detail::write_stl(out, tin, options);
-      break;
-  }
-  return stats;
+  return entry_of(format).write(out, tin, options);
 }
 
 TinWriteStats write_tin(const std::string& path, const mesh::Triangulation& tin,

@@ -5,6 +5,7 @@
 
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "core/types.hpp"
 #include "io/output_file.hpp"
@@ -34,6 +35,8 @@ struct TinWriteStats {
 
 // Format from the path's extension; throws OutputError for an unknown one.
 TinFormat format_from_path(const std::string& path);
+// "obj", "ply", "geojson", "landxml", "gpkg" or "stl": the name in reports and messages.
+std::string_view format_name(TinFormat format);
 
 // False for the formats that keep georeferenced coordinates and have no place for an offset
 // (LandXML, GeoPackage): write_tin() refuses a non-zero offset for them.

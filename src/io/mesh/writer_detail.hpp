@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/json_text.hpp"
 #include "core/types.hpp"
 #include "io/mesh/tin_writer.hpp"
 #include "io/output_file.hpp"
@@ -216,8 +217,6 @@ std::string crs_code(const std::string& wkt);
 // Any CRS text OSR reads (WKT, "EPSG:n", ...) as an OSR object in traditional GIS axis order
 // (x = easting / longitude); throws OutputError naming PATH and WHAT when OSR cannot read it.
 OGRSpatialReference parse_crs(const std::string& path, const std::string& wkt, const char* what);
-// S as a JSON string literal, quotes included.
-std::string json_string(std::string_view s);
 // "[x,y,z]" in shortest round-trip form.
 void put_position(BlockWriter& w, const Point3& p);
 // The opening of a GeoJSON FeatureCollection, up to and including "\"features\": [\n": the
@@ -247,20 +246,12 @@ class GeoJsonPositions {
   std::vector<double> x_, y_, z_;
 };
 
-// The format writers. Each writes the whole file through `out` (not committed) and returns
-// the vertex and triangle counts; write_tin() owns the OutputFile(s) and commits them.
-TinWriteStats write_obj(OutputFile& out, const mesh::Triangulation& tin,
-                        const TinWriteOptions& options);
-TinWriteStats write_ply(OutputFile& out, const mesh::Triangulation& tin,
-                        const TinWriteOptions& options);
-TinWriteStats write_geojson(OutputFile& out, const mesh::Triangulation& tin,
-                            const TinWriteOptions& options);
-TinWriteStats write_landxml(OutputFile& out, const mesh::Triangulation& tin,
-                            const TinWriteOptions& options);
-TinWriteStats write_stl(OutputFile& out, const mesh::Triangulation& tin,
-                        const TinWriteOptions& options);
+// A format writer: writes the whole file through `out` (not committed) and returns the vertex
+// and triangle counts; write_tin() owns the OutputFile(s) and commits them.
+using FormatWriter = TinWriteStats(OutputFile& out, const mesh::Triangulation& tin,
+                                   const TinWriteOptions& options);
+FormatWriter write_obj, write_ply, write_geojson, write_landxml, write_stl;
 // GDAL creates the GeoPackage itself, at out.take_path().
-TinWriteStats write_gpkg(OutputFile& out, const mesh::Triangulation& tin,
-                         const TinWriteOptions& options);
+FormatWriter write_gpkg;
 
 }  // namespace tincdt::io::detail

@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -20,22 +19,12 @@
 #include "io/crs_detail.hpp"
 #include "io/mapped_file.hpp"
 #include "io/points/laz/laz_reader.hpp"
+#include "io/points/load_le.hpp"
 #include "io/points/point_reader.hpp"
 #include "io/points/point_selection.hpp"
 
 namespace tincdt::io {
 namespace {
-
-static_assert(std::endian::native == std::endian::little,
-              "the LAS reader loads little-endian fields with memcpy");
-
-// Unaligned little-endian load.
-template <typename T>
-T load(const std::uint8_t* p) {
-  T v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
 
 // ---- Public header block ----
 
@@ -83,15 +72,15 @@ LasHeader parse_header(const std::string& path, const std::uint8_t* d, std::size
                      "unsupported LAS version " + std::to_string(h.version_major) + "." +
                          std::to_string(h.version_minor) + " (LAS 1.0 to 1.4 are supported)");
   }
-  h.header_size = load<std::uint16_t>(d + 94);
-  h.offset_to_points = load<std::uint32_t>(d + 96);
-  h.vlr_count = load<std::uint32_t>(d + 100);
+  h.header_size = load_le<std::uint16_t>(d + 94);
+  h.offset_to_points = load_le<std::uint32_t>(d + 96);
+  h.vlr_count = load_le<std::uint32_t>(d + 100);
   const std::uint8_t format_byte = d[104];
-  h.record_length = load<std::uint16_t>(d + 105);
-  h.point_count = load<std::uint32_t>(d + 107);
+  h.record_length = load_le<std::uint16_t>(d + 105);
+  h.point_count = load_le<std::uint32_t>(d + 107);
   for (int i = 0; i < 3; ++i) {
-    h.scale[i] = load<double>(d + 131 + 8 * i);
-    h.offset[i] = load<double>(d + 155 + 8 * i);
+    h.scale[i] = load_le<double>(d + 131 + 8 * i);
+    h.offset[i] = load_le<double>(d + 155 + 8 * i);
   }
   if (h.header_size < kMinHeaderSize) {
     throw InputError(path, "header",
@@ -106,9 +95,9 @@ LasHeader parse_header(const std::string& path, const std::uint8_t* d, std::size
   // LAS 1.4 fields, read only when the header is long enough to hold them (some writers of 1.3
   // and 1.4 files leave the header at the 1.2 size).
   if (h.version_minor >= 4 && h.header_size >= kHeaderSize14) {
-    h.evlr_start = load<std::uint64_t>(d + 235);
-    h.evlr_count = load<std::uint32_t>(d + 243);
-    const auto count64 = load<std::uint64_t>(d + 247);
+    h.evlr_start = load_le<std::uint64_t>(d + 235);
+    h.evlr_count = load_le<std::uint32_t>(d + 243);
+    const auto count64 = load_le<std::uint64_t>(d + 247);
     // The 64-bit count is the authority in 1.4; the legacy one is 0 when it does not fit or
     // the format is 6-10, and some writers fill only the legacy one.
     if (count64 != 0) h.point_count = count64;
@@ -225,7 +214,7 @@ void read_vlrs(const std::string& path, const LasHeader& h, const std::uint8_t* 
   std::size_t pos = h.header_size;
   for (std::uint32_t i = 0; i < h.vlr_count; ++i) {
     const std::size_t length =
-        pos + kVlrHeaderSize <= h.offset_to_points ? load<std::uint16_t>(d + pos + 20) : 0;
+        pos + kVlrHeaderSize <= h.offset_to_points ? load_le<std::uint16_t>(d + pos + 20) : 0;
     if (pos + kVlrHeaderSize + length > h.offset_to_points) {
       warnings.push_back(path + ": the header announces " + std::to_string(h.vlr_count) +
                          " variable length records but only " + std::to_string(i) +
@@ -233,7 +222,7 @@ void read_vlrs(const std::string& path, const LasHeader& h, const std::uint8_t* 
                          "; the rest are ignored");
       break;
     }
-    take_record(user_id(d + pos), load<std::uint16_t>(d + pos + 18), d + pos + kVlrHeaderSize,
+    take_record(user_id(d + pos), load_le<std::uint16_t>(d + pos + 18), d + pos + kVlrHeaderSize,
                 length, crs);
     pos += kVlrHeaderSize + length;
   }
@@ -251,13 +240,13 @@ void read_evlrs(const std::string& path, const LasHeader& h, const std::uint8_t*
                        "truncated: the file ends at byte " + std::to_string(size) +
                            " before this record's header");
     }
-    const auto length = load<std::uint64_t>(d + pos + 20);
+    const auto length = load_le<std::uint64_t>(d + pos + 20);
     if (length > size - pos - kEvlrHeaderSize) {
       throw InputError(path, where,
                        "truncated: the record announces " + std::to_string(length) +
                            " bytes but the file ends at byte " + std::to_string(size));
     }
-    take_record(user_id(d + pos), load<std::uint16_t>(d + pos + 18), d + pos + kEvlrHeaderSize,
+    take_record(user_id(d + pos), load_le<std::uint16_t>(d + pos + 18), d + pos + kEvlrHeaderSize,
                 static_cast<std::size_t>(length), crs);
     pos += kEvlrHeaderSize + length;
   }
@@ -294,8 +283,8 @@ std::size_t decode(const std::uint8_t* p, std::size_t count, std::size_t record_
       }
       if (!sel.keeps(cls, ret, nret)) continue;
     }
-    out.push_back(
-        t.apply(load<std::int32_t>(p), load<std::int32_t>(p + 4), load<std::int32_t>(p + 8)));
+    out.push_back(t.apply(load_le<std::int32_t>(p), load_le<std::int32_t>(p + 4),
+                          load_le<std::int32_t>(p + 8)));
   }
   return out.size() - before;
 }
@@ -315,7 +304,7 @@ void check_range(const std::string& path, const std::uint8_t* p, std::size_t cou
   const double scale[3] = {t.sx, t.sy, t.sz}, offset[3] = {t.ox, t.oy, t.oz};
   for (std::size_t i = 0; i < count; ++i, p += record_length) {
     for (int k = 0; k < 3; ++k) {
-      const double v = load<std::int32_t>(p + 4 * k) * scale[k] + offset[k];
+      const double v = load_le<std::int32_t>(p + 4 * k) * scale[k] + offset[k];
       if (coordinate_in_range(v)) continue;
       char text[64];
       std::snprintf(text, sizeof text, "%g", v);

@@ -14,6 +14,7 @@
 
 #include "core/error.hpp"
 #include "io/mapped_file.hpp"
+#include "io/points/load_le.hpp"
 #include "io/points/point_reader.hpp"
 
 namespace tincdt::io {
@@ -21,13 +22,6 @@ namespace {
 
 constexpr std::size_t kMinHeaderSize = 227;  // LAS 1.0-1.2
 constexpr std::size_t kHeaderSize14 = 375;   // 1.4: the 64-bit point count at byte 247
-
-template <typename T>
-T load(const unsigned char* p) {
-  T v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
 
 PointFileSummary summarize_las(const std::string& path, const unsigned char* h, std::size_t n) {
   if (n < kMinHeaderSize)
@@ -39,16 +33,16 @@ PointFileSummary summarize_las(const std::string& path, const unsigned char* h, 
     throw InputError(path, "header",
                      "unsupported LAS version " + std::to_string(major) + "." +
                          std::to_string(minor) + " (LAS 1.0 to 1.4 are supported)");
-  const auto header_size = load<std::uint16_t>(h + 94);
+  const auto header_size = load_le<std::uint16_t>(h + 94);
   const bool compressed = (h[104] & 0xC0) != 0;
-  std::uint64_t count = load<std::uint32_t>(h + 107);
+  std::uint64_t count = load_le<std::uint32_t>(h + 107);
   if (minor >= 4 && header_size >= kHeaderSize14 && n >= kHeaderSize14) {
-    const auto count64 = load<std::uint64_t>(h + 247);
+    const auto count64 = load_le<std::uint64_t>(h + 247);
     if (count64 != 0) count = count64;  // the authority in 1.4; some writers fill only the legacy
   }
-  const double scale_x = load<double>(h + 131), scale_y = load<double>(h + 139);
-  const double max_x = load<double>(h + 179), min_x = load<double>(h + 187);
-  const double max_y = load<double>(h + 195), min_y = load<double>(h + 203);
+  const double scale_x = load_le<double>(h + 131), scale_y = load_le<double>(h + 139);
+  const double max_x = load_le<double>(h + 179), min_x = load_le<double>(h + 187);
+  const double max_y = load_le<double>(h + 195), min_y = load_le<double>(h + 203);
   PointFileSummary s;
   s.format = std::string(compressed ? "laz " : "las ") + std::to_string(major) + "." +
              std::to_string(minor);

@@ -163,6 +163,21 @@ Problem parse_line(const char* p, const char* eol, const Layout& layout, Point3&
   return Problem::kNone;
 }
 
+// The end of the line that starts at P: its '\n', or E when it has none.
+const char* line_end(const char* p, const char* e) {
+  const auto* nl = static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(e - p)));
+  return nl != nullptr ? nl : e;
+}
+
+// Where the line after the one that ends at EOL starts (E when there is none).
+const char* next_line(const char* eol, const char* e) {
+  return eol != e ? eol + 1 : e;
+}
+
+bool too_long(const char* line, const char* eol) {
+  return static_cast<std::size_t>(eol - line) > kMaxLineBytes;
+}
+
 // Parses the whole lines in [b, e) (e is just past a '\n' or the end of the input), appending
 // the points to OUT. Stops at the first bad line.
 void parse_piece(const char* b, const char* e, const Layout& layout, std::vector<Point3>& out,
@@ -170,10 +185,8 @@ void parse_piece(const char* b, const char* e, const Layout& layout, std::vector
   try {
     const char* p = b;
     while (p < e) {
-      const auto* nl =
-          static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(e - p)));
-      const char* eol = nl != nullptr ? nl : e;
-      if (static_cast<std::size_t>(eol - p) > kMaxLineBytes) {
+      const char* eol = line_end(p, e);
+      if (too_long(p, eol)) {
         result.failure = {Problem::kTooLong, result.lines, p, eol, p, eol, 0};
         return;
       }
@@ -191,7 +204,7 @@ void parse_piece(const char* b, const char* e, const Layout& layout, std::vector
         out.push_back(point);
       }
       ++result.lines;
-      p = nl != nullptr ? nl + 1 : e;
+      p = next_line(eol, e);
     }
   } catch (...) {
     result.exception = std::current_exception();
@@ -308,19 +321,17 @@ Start find_start(const char* b, const char* e, bool at_eof) {
   if (e - b >= 3 && std::memcmp(b, "\xEF\xBB\xBF", 3) == 0) b += 3;
   const char* p = b;
   while (p < e) {
-    const auto* nl =
-        static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(e - p)));
-    const char* eol = nl != nullptr ? nl : e;
-    if (static_cast<std::size_t>(eol - p) > kMaxLineBytes) {
+    const char* eol = line_end(p, e);
+    if (too_long(p, eol)) {
       s.problem = Problem::kTooLong;
       s.problem_line = p;
       return s;
     }
-    if (nl == nullptr && !at_eof) {  // the line may go on in the next block
+    if (eol == e && !at_eof) {  // the line may go on in the next block
       s.data = p;
       return s;
     }
-    const char* next = nl != nullptr ? nl + 1 : e;
+    const char* next = next_line(eol, e);
     if (has_bare_cr(p, eol)) {
       s.problem = Problem::kBareCr;
       s.problem_line = p;
@@ -407,9 +418,7 @@ std::size_t parse_window(const std::string& name, const char* b, const char* e,
   cut[0] = b;
   for (std::size_t i = 1; i < pieces; ++i) {
     const char* guess = std::max(cut[i - 1], b + bytes / pieces * i);
-    const auto* nl =
-        static_cast<const char*>(std::memchr(guess, '\n', static_cast<std::size_t>(e - guess)));
-    cut[i] = nl != nullptr ? nl + 1 : e;
+    cut[i] = next_line(line_end(guess, e), e);
   }
   if (scratch.size() < pieces) scratch.resize(pieces);
   std::vector<PieceResult> results(pieces);
@@ -477,9 +486,7 @@ PointReadStats read_mapped(const std::string& path, std::vector<Point3>& out,
   while (p < e) {
     const char* w = p + std::min(window, static_cast<std::size_t>(e - p));
     if (w < e) {  // end the window after a newline
-      const auto* nl =
-          static_cast<const char*>(std::memchr(w, '\n', static_cast<std::size_t>(e - w)));
-      w = nl != nullptr ? nl + 1 : e;
+      w = next_line(line_end(w, e), e);
     }
     stats.points_kept += parse_window(path, p, w, start.layout, threads, lines, out, scratch);
     file.release(static_cast<std::size_t>(p - b), static_cast<std::size_t>(w - b));

@@ -1,21 +1,14 @@
 #include "io/points/laz/chunk_table.hpp"
 
 #include <algorithm>
-#include <cstring>
 
 #include "core/error.hpp"
 #include "io/points/laz/arithmetic_decoder.hpp"
 #include "io/points/laz/integer_decompressor.hpp"
+#include "io/points/load_le.hpp"
 
 namespace tincdt::io::laz {
 namespace {
-
-template <typename T>
-T load(const std::uint8_t* p) {
-  T v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
 
 std::string byte_at(std::uint64_t offset) {
   return "byte " + std::to_string(offset);
@@ -40,10 +33,10 @@ TableResult read_table(const PointData& data, const PointLayout& layout,
   TableResult result;
   const std::uint8_t* file = data.file;
   const std::uint64_t size = data.file_size;
-  auto offset = load<std::int64_t>(file + data.offset_to_points);
+  auto offset = load_le<std::int64_t>(file + data.offset_to_points);
   if (offset == -1) {
     // Written by a streaming compressor: the offset follows the table, at the end of the file.
-    offset = load<std::int64_t>(file + size - 8);
+    offset = load_le<std::int64_t>(file + size - 8);
   }
   if (offset == static_cast<std::int64_t>(data.offset_to_points)) {
     result.problem = "the chunk table was never written (the compressor was interrupted?)";
@@ -57,12 +50,12 @@ TableResult read_table(const PointData& data, const PointLayout& layout,
   }
   const auto table = static_cast<std::uint64_t>(offset);
   result.table_offset = table;
-  const auto version = load<std::uint32_t>(file + table);
+  const auto version = load_le<std::uint32_t>(file + table);
   if (version != 0) {
     result.problem = "unknown chunk table version " + std::to_string(version);
     return result;
   }
-  const std::uint64_t count = load<std::uint32_t>(file + table + 4);
+  const std::uint64_t count = load_le<std::uint32_t>(file + table + 4);
   const std::uint64_t room = (table - chunks_begin) / min_chunk_bytes(layout);
   if (count > room) {
     result.problem = "it lists " + std::to_string(count) + " chunks, but the " +
@@ -148,10 +141,10 @@ std::vector<ChunkEntry> walk_chunks(const std::string& path, const PointData& da
     const std::uint8_t* p = data.file + at + layout.record_length;
     ChunkEntry chunk;
     chunk.offset = at;
-    chunk.points = load<std::uint32_t>(p);
+    chunk.points = load_le<std::uint32_t>(p);
     chunk.first_point = points;
     std::uint64_t bytes = header;
-    for (unsigned i = 0; i < layers; ++i) bytes += load<std::uint32_t>(p + 4 + 4 * i);
+    for (unsigned i = 0; i < layers; ++i) bytes += load_le<std::uint32_t>(p + 4 + 4 * i);
     if (chunk.points == 0 || bytes > end - at) {
       throw InputError(path, where,
                        chunk.points == 0 ? "the chunk says it holds no points"

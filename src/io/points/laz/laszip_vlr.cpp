@@ -1,19 +1,12 @@
 #include "io/points/laz/laszip_vlr.hpp"
 
 #include <array>
-#include <cstring>
 
 #include "core/error.hpp"
+#include "io/points/load_le.hpp"
 
 namespace tincdt::io::laz {
 namespace {
-
-template <typename T>
-T load(const std::uint8_t* p) {
-  T v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
 
 constexpr std::size_t kFixedPart = 34;  // up to and including the item count
 constexpr std::size_t kItemSize = 6;
@@ -118,10 +111,10 @@ LaszipVlr parse_laszip_vlr(const std::string& path, const std::uint8_t* payload,
                          std::to_string(kFixedPart) + " needed");
   }
   LaszipVlr vlr;
-  vlr.compressor = load<std::uint16_t>(payload);
-  vlr.coder = load<std::uint16_t>(payload + 2);
-  vlr.chunk_size = load<std::uint32_t>(payload + 12);
-  const std::size_t count = load<std::uint16_t>(payload + 32);
+  vlr.compressor = load_le<std::uint16_t>(payload);
+  vlr.coder = load_le<std::uint16_t>(payload + 2);
+  vlr.chunk_size = load_le<std::uint32_t>(payload + 12);
+  const std::size_t count = load_le<std::uint16_t>(payload + 32);
   if (size < kFixedPart + count * kItemSize) {
     throw InputError(path, where,
                      "lists " + std::to_string(count) + " items but has room for only " +
@@ -130,7 +123,8 @@ LaszipVlr parse_laszip_vlr(const std::string& path, const std::uint8_t* payload,
   vlr.items.resize(count);
   for (std::size_t i = 0; i < count; ++i) {
     const std::uint8_t* p = payload + kFixedPart + i * kItemSize;
-    vlr.items[i] = {load<std::uint16_t>(p), load<std::uint16_t>(p + 2), load<std::uint16_t>(p + 4)};
+    vlr.items[i] = {load_le<std::uint16_t>(p), load_le<std::uint16_t>(p + 2),
+                    load_le<std::uint16_t>(p + 4)};
   }
   return vlr;
 }

@@ -2,15 +2,10 @@
 
 #include <string>
 
+#include "io/points/load_le.hpp"
+
 namespace tincdt::io::laz {
 namespace {
-
-template <typename T>
-T load(const std::uint8_t* p) {
-  T v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
 
 template <typename T>
 void store(std::uint8_t* p, T v) {
@@ -33,10 +28,10 @@ enum Layer : unsigned {
 
 Point14 unpack(const std::uint8_t* raw) {
   Point14 p;
-  p.x = load<std::int32_t>(raw);
-  p.y = load<std::int32_t>(raw + 4);
-  p.z = load<std::int32_t>(raw + 8);
-  p.intensity = load<std::uint16_t>(raw + 12);
+  p.x = load_le<std::int32_t>(raw);
+  p.y = load_le<std::int32_t>(raw + 4);
+  p.z = load_le<std::int32_t>(raw + 8);
+  p.intensity = load_le<std::uint16_t>(raw + 12);
   p.return_number = raw[14] & 0x0Fu;
   p.number_of_returns = raw[14] >> 4;
   const unsigned bits = raw[15];
@@ -44,9 +39,9 @@ Point14 unpack(const std::uint8_t* raw) {
   p.channel = (bits >> 4) & 3u;
   p.classification = raw[16];
   p.user_data = raw[17];
-  p.scan_angle = load<std::int16_t>(raw + 18);
-  p.point_source = load<std::uint16_t>(raw + 20);
-  p.gps_time = load<std::uint64_t>(raw + 22);
+  p.scan_angle = load_le<std::int16_t>(raw + 18);
+  p.point_source = load_le<std::uint16_t>(raw + 20);
+  p.gps_time = load_le<std::uint64_t>(raw + 22);
   return p;
 }
 
@@ -190,7 +185,7 @@ std::size_t Point14Decoder::begin_chunk(const ChunkInput& in) {
       kFixedLayers + (layout_.rgb ? 1 : 0) + (layout_.nir ? 1 : 0) + (layout_.waveform ? 1 : 0);
   std::size_t offset = header;
   for (unsigned i = 0; i < layers_; ++i) {
-    const std::size_t bytes = load<std::uint32_t>(in.data + record + 4 + 4 * i);
+    const std::size_t bytes = load_le<std::uint32_t>(in.data + record + 4 + 4 * i);
     if (bytes > in.size - offset) {
       throw in.error(0,
                      "its layers take more than the chunk's " + std::to_string(in.size) + " bytes");
