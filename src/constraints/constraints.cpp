@@ -20,11 +20,7 @@ CrossingError::CrossingError(std::uint32_t a, std::uint32_t b, Point2 p)
 
 namespace {
 
-using mesh::kInfinite;
-using mesh::next_edge;
-using mesh::prev_edge;
-using mesh::triangle_of;
-using mesh::Triangulation;
+using namespace mesh;  // the half-edge vocabulary: next_edge, triangle_of, kInfinite, ...
 using predicates::orient2d;
 
 struct VertexPair {

@@ -27,11 +27,7 @@
 
 namespace tincdt::delaunay {
 namespace {
-using mesh::kInfinite;
-using mesh::next_edge;
-using mesh::prev_edge;
-using mesh::triangle_of;
-using mesh::Triangulation;
+using namespace mesh;  // the half-edge vocabulary: next_edge, triangle_of, kInfinite, ...
 
 bool lex_less(Point2 a, Point2 b) {
   return a.x < b.x || (a.x == b.x && a.y < b.y);

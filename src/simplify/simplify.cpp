@@ -1,4 +1,5 @@
 #include "simplify/simplify.hpp"
+#include "core/xorshift.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -18,11 +19,7 @@
 namespace tincdt::simplify {
 namespace {
 
-using mesh::kInfinite;
-using mesh::next_edge;
-using mesh::prev_edge;
-using mesh::triangle_of;
-using mesh::Triangulation;
+using namespace mesh;  // the half-edge vocabulary: next_edge, triangle_of, kInfinite, ...
 using predicates::orient2d;
 
 // ids_[i] before the ranges are made: point i is a vertex (kept). Never a triangle slot.
@@ -596,10 +593,7 @@ class Simplifier {
   TriangleId locate(Point2 p, TriangleId t, std::uint64_t& random) const {
     EdgeId from = kNoId;
     for (;;) {
-      random ^= random << 13;
-      random ^= random >> 7;
-      random ^= random << 17;
-      const auto first = static_cast<EdgeId>(random % 3);
+      const auto first = static_cast<EdgeId>(random_edge(random));
       EdgeId crossed = kNoId, zero = kNoId;
       int zeros = 0;
       for (EdgeId i = 0; i < 3; ++i) {
