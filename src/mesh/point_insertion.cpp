@@ -1,4 +1,5 @@
 #include "mesh/point_insertion.hpp"
+#include "core/xorshift.hpp"
 
 #include <cassert>
 
@@ -42,10 +43,7 @@ Location PointInserter::locate(Point2 p, TriangleId hint) {
     EdgeId crossed = kNoId;
     int first = 0;
     if (stochastic) {
-      random_ ^= random_ << 13;
-      random_ ^= random_ >> 7;
-      random_ ^= random_ << 17;
-      first = static_cast<int>(random_ % 3);
+      first = static_cast<int>(random_edge(random_));
     }
     for (int i = 0; i < 3; ++i) {
       const int k = first + i < 3 ? first + i : first + i - 3;

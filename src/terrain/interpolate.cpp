@@ -1,4 +1,5 @@
 #include "terrain/interpolate.hpp"
+#include "core/xorshift.hpp"
 
 #include <cmath>
 #include <limits>
@@ -45,10 +46,7 @@ double SurfaceSampler::z_at(Point2 p) {
   // one, and on real data after about as many steps as the fixed order.
   EdgeId from = kNoId;
   for (;;) {
-    random_ ^= random_ << 13;
-    random_ ^= random_ >> 7;
-    random_ ^= random_ << 17;
-    const auto first = static_cast<EdgeId>(random_ % 3);
+    const auto first = static_cast<EdgeId>(random_edge(random_));
     EdgeId crossed = kNoId;
     for (EdgeId i = 0; i < 3 && crossed == kNoId; ++i) {
       const EdgeId e = 3 * t + (first + i) % 3;
