@@ -16,21 +16,10 @@
 namespace tincdt::pipeline::detail {
 
 const char* kind_name(SourceKind kind) {
-  switch (kind) {
-    case SourceKind::contour:
-      return "contours";
-    case SourceKind::hard_line:
-      return "hard_lines";
-    case SourceKind::soft_line:
-      return "soft_lines";
-    case SourceKind::clip:
-      return "clip";
-    case SourceKind::erase:
-      return "erase";
-    case SourceKind::replace:
-      return "replace";
-  }
-  return "?";
+  // In the order of SourceKind's values.
+  static constexpr const char* kNames[] = {"contours", "hard_lines", "soft_lines",
+                                           "clip",     "erase",      "replace"};
+  return kNames[static_cast<int>(kind)];
 }
 
 std::uint32_t SourceTable::add_file(std::string name) {
