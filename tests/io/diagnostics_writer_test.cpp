@@ -257,12 +257,10 @@ TEST(DiagnosticsWriter, HundredThousandFeaturesInOneTransaction) {
 
 TEST(DiagnosticsWriter, NewFileHasTheUsualPermissions) {
   const std::string dir = scratch();
-  const mode_t old = ::umask(022);
-  write_diagnostics(dir + "/diag.gpkg", sample(), "", false);
-  ::umask(old);
-  struct stat st {};
-  ASSERT_EQ(::stat((dir + "/diag.gpkg").c_str(), &st), 0);
-  EXPECT_EQ(st.st_mode & 0777, 0644u);
+  EXPECT_EQ(
+      test::mode_when_created(dir + "/diag.gpkg",
+                              [&] { write_diagnostics(dir + "/diag.gpkg", sample(), "", false); }),
+      0644u);
 }
 
 // ---- refusals and safe output ------------------------------------------------------------------
@@ -326,14 +324,9 @@ TEST(DiagnosticsWriter, WriteFailureInsideGdalLeavesNoFileNoTemporaryNoJournal) 
                                   std::string(40, 'r'),
                                   {1.0 * i, 2, 3},
                                   true});
-  const auto old_handler = std::signal(SIGXFSZ, SIG_IGN);
-  rlimit old_limit{};
-  ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &old_limit), 0);
-  rlimit small = old_limit;
-  small.rlim_cur = 1 << 20;
-  ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &small), 0);
   bool threw = false;
   try {
+    const test::FileSizeLimit limit(1 << 20);
     write_diagnostics(dir + "/diag.gpkg", d, "", false);
   } catch (const OutputError& e) {
     threw = true;
@@ -343,8 +336,6 @@ TEST(DiagnosticsWriter, WriteFailureInsideGdalLeavesNoFileNoTemporaryNoJournal) 
                                   HasSubstr("cannot complete")))
         << e.what();
   }
-  ::setrlimit(RLIMIT_FSIZE, &old_limit);
-  std::signal(SIGXFSZ, old_handler);
   EXPECT_TRUE(threw);
   EXPECT_TRUE(names_in(dir).empty());
 }

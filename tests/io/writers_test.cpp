@@ -854,15 +854,12 @@ TEST(OutputFileTest, TemporaryIsHiddenBesideTheTargetUntilCommit) {
 
 TEST(OutputFileTest, NewFileHasTheUsualPermissions) {
   const std::string dir = scratch();
-  const mode_t old = ::umask(022);
-  {
-    OutputFile out(dir + "/a.txt", false);
-    out.commit();
-  }
-  ::umask(old);
-  struct stat st {};
-  ASSERT_EQ(::stat((dir + "/a.txt").c_str(), &st), 0);
-  EXPECT_EQ(st.st_mode & 0777, 0644u);
+  EXPECT_EQ(test::mode_when_created(dir + "/a.txt",
+                                    [&] {
+                                      OutputFile out(dir + "/a.txt", false);
+                                      out.commit();
+                                    }),
+            0644u);
 }
 
 TEST(OutputFileTest, TargetCreatedMeanwhileIsNotReplacedWithoutOverwrite) {
@@ -877,14 +874,9 @@ TEST(OutputFileTest, TargetCreatedMeanwhileIsNotReplacedWithoutOverwrite) {
 TEST(OutputFileTest, AWriteFailureThrowsAndLeavesNothing) {
   // A file-size limit makes write(2) fail with EFBIG, like a full disk fails with ENOSPC.
   const std::string dir = scratch();
-  const auto old_handler = std::signal(SIGXFSZ, SIG_IGN);
-  rlimit old_limit{};
-  ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &old_limit), 0);
-  rlimit small = old_limit;
-  small.rlim_cur = 1 << 20;
-  ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &small), 0);
   bool threw = false;
   try {
+    const test::FileSizeLimit limit(1 << 20);
     OutputFile out(dir + "/big.bin", false);
     const std::vector<char> block(std::size_t{3} << 20, 'x');
     out.write(block.data(), block.size());
@@ -893,8 +885,6 @@ TEST(OutputFileTest, AWriteFailureThrowsAndLeavesNothing) {
     threw = true;
     EXPECT_NE(std::string(e.what()).find("too large"), std::string::npos) << e.what();
   }
-  ::setrlimit(RLIMIT_FSIZE, &old_limit);
-  std::signal(SIGXFSZ, old_handler);
   EXPECT_TRUE(threw);
   EXPECT_TRUE(names_in(dir).empty());
 }

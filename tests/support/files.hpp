@@ -1,11 +1,17 @@
-// File helpers shared by the tests: whole files in and out, folder listings, scratch folders.
+// File helpers shared by the tests: whole files in and out, folder listings, scratch folders,
+// the mode a new file gets, a file-size limit (a full disk, simulated).
 // Header-only; every test target has tests/ on its include path and defines TINCDT_TEST_TMP.
 #pragma once
 
 #include <gtest/gtest.h>
 
+#include <sys/resource.h>
+#include <sys/stat.h>
+
+#include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <set>
 #include <sstream>
 #include <string>
@@ -50,5 +56,38 @@ inline std::string scratch_dir(const std::string& folder) {
                    (std::string(info->test_suite_name()) + "." + info->name()))
       .string();
 }
+
+// The permission bits of PATH once CREATE made it under umask 022: a new output must get the
+// usual 0644, not the 0600 of a temporary file.
+inline unsigned mode_when_created(const std::string& path, const std::function<void()>& create) {
+  const mode_t old = ::umask(022);
+  create();
+  ::umask(old);
+  struct stat st {};
+  EXPECT_EQ(::stat(path.c_str(), &st), 0) << path;
+  return st.st_mode & 0777;
+}
+
+// While it lives, files this process writes may not grow beyond BYTES: write(2) then fails with
+// EFBIG, as a full disk fails with ENOSPC (SIGXFSZ is ignored meanwhile).
+class FileSizeLimit {
+ public:
+  explicit FileSizeLimit(rlim_t bytes) : old_handler_(std::signal(SIGXFSZ, SIG_IGN)) {
+    EXPECT_EQ(::getrlimit(RLIMIT_FSIZE, &old_limit_), 0);
+    rlimit small = old_limit_;
+    small.rlim_cur = bytes;
+    EXPECT_EQ(::setrlimit(RLIMIT_FSIZE, &small), 0);
+  }
+  ~FileSizeLimit() {
+    ::setrlimit(RLIMIT_FSIZE, &old_limit_);
+    std::signal(SIGXFSZ, old_handler_);
+  }
+  FileSizeLimit(const FileSizeLimit&) = delete;
+  FileSizeLimit& operator=(const FileSizeLimit&) = delete;
+
+ private:
+  void (*old_handler_)(int);
+  rlimit old_limit_{};
+};
 
 }  // namespace tincdt::test
