@@ -195,6 +195,25 @@ TEST(ArithmeticDecoder, GarbageNeverLeavesTheModelsBounds) {
   }
 }
 
+// laz_fuzz found a damaged point14 chunk whose value grew past the interval length mid-stream:
+// the symbol lookup then indexed past the model's table (AddressSanitizer). Streams of mostly
+// 0xFF bytes keep the value near the top; every lookup must stay inside the model.
+TEST(ArithmeticDecoder, AValueAboveTheLengthStaysInsideTheTable) {
+  std::mt19937 rng(7);
+  for (int trial = 0; trial < 500; ++trial) {
+    std::vector<std::uint8_t> bytes(256);
+    for (auto& b : bytes) b = rng() % 8 == 0 ? static_cast<std::uint8_t>(rng()) : 0xFF;
+    bytes[3] = 0xFE;  // a start an encoder could write
+    std::vector<SymbolModel> models;
+    for (std::uint32_t n : {17u, 256u, 2048u}) models.emplace_back(n);
+    ArithmeticDecoder dec(bytes.data(), bytes.size());
+    for (int i = 0; i < 2000 && !dec.failed(); ++i) {
+      SymbolModel& m = models[static_cast<std::size_t>(i) % models.size()];
+      ASSERT_LT(dec.decode_symbol(m), m.symbols());
+    }
+  }
+}
+
 TEST(Median5, IsTheMiddleOfAWindowThatAlternatesEnds) {
   // The sorted window after each value, as the format defines it.
   Median5 m;

@@ -8,6 +8,7 @@
 // was given; consumed() is therefore where the next stream starts when no chunk table says so.
 #pragma once
 
+#include <algorithm>
 #include <cassert>
 #include <cstddef>
 #include <cstdint>
@@ -67,7 +68,10 @@ class ArithmeticDecoder {
     length_ >>= SymbolModel::kDistributionBits;  // one unit of the 15-bit distribution
     if (model.has_table()) {
       // The value's top bits pick a short run of candidates in the table; bisect that run.
-      const std::uint32_t scaled = value_ / length_;
+      // Only a damaged stream has value >= length; capped, it decodes garbage instead of
+      // reading past the table.
+      const std::uint32_t scaled =
+          std::min(value_ / length_, (1u << SymbolModel::kDistributionBits) - 1);
       const std::uint32_t t = scaled >> model.table_shift();
       symbol = model.table(t);
       std::uint32_t end = model.table(t + 1) + 1;
