@@ -182,34 +182,29 @@ def section_rmse():
           "lines\n")
     print("| pair | cells | RMSE without | max without | RMSE with contours | max with |")
     print("|---|---|---|---|---|---|")
-    for name, (dtm, contours) in PAIRS.items():
-        points, srs, extent, cell = CASES[name]
+    # name: the points as tincdt arguments, the DEM grid, the reference DTM and its nodata, the
+    # contours. The derived pairs' DTMs are the linear grid of the same ground points, and their
+    # contours are traced on that grid: without contours tincdt is all but the reference itself.
+    # The lidR pair's DTM was made independently (by lidR's authors); its contours come from it.
+    pairs = {name: ([CASES[name][0], "--a-srs", CASES[name][1]], CASES[name][2], CASES[name][3],
+                    dtm, NODATA, contours) for name, (dtm, contours) in PAIRS.items()}
+    pairs["Topography_lidR2016 (independent DTM)"] = (
+        [f"{SHARED}/data/laz/Topography_lidR2016.laz", "--keep-class", "2"],
+        (684800.5, 5018000.5, 685150.5, 5018300.5), 1.0,
+        f"{SHARED}/data/dem/Topography_lidR2016_dtm.tif", -32768.0,
+        f"{SHARED}/data/contours/Topography_lidR2016_contours_2m_3d.shp")
+    for k, (name, (points, extent, cell, dtm, dtm_nodata, contours)) in enumerate(pairs.items()):
         rows = []
         for extra in ([], ["--hard-lines", contours]):
-            dem = f"{OUT}/{name}_rmse_{len(extra)}.tif"
-            cmd = tincdt_dem_cmd(points, srs, extent, cell, dem, extra)
+            dem = f"{OUT}/pair{k}_rmse_{len(extra)}.tif"
+            cmd = [TINCDT] + points + ["-o", f"{OUT}/tin.ply", "--overwrite", "-q", "--dem", dem,
+                                       "--resolution", repr(cell), "--dem-extent"] + \
+                [repr(v) for v in extent] + ["--dem-type", "Float64"] + extra
             subprocess.run(cmd, check=True)
-            rows.append(compare(dem, dtm))
+            rows.append(compare(dem, dtm, b_nodata=dtm_nodata))
         a, b = rows
         print(f"| {name} | {a['both']:,} | {a['rmse']:.4f} | {a['max']:.3f} | {b['rmse']:.4f} "
               f"| {b['max']:.3f} |")
-    # The derived pairs' DTMs are the linear grid of the same ground points, and their contours
-    # are traced on that grid: without contours tincdt is all but the reference itself. The lidR
-    # pair's DTM was made independently (by lidR's authors), and its contours come from it.
-    laz = f"{SHARED}/data/laz/Topography_lidR2016.laz"
-    dtm = f"{SHARED}/data/dem/Topography_lidR2016_dtm.tif"
-    contours = f"{SHARED}/data/contours/Topography_lidR2016_contours_2m_3d.shp"
-    rows = []
-    for extra in ([], ["--hard-lines", contours]):
-        dem = f"{OUT}/lidr2016_rmse_{len(extra)}.tif"
-        cmd = [TINCDT, laz, "--keep-class", "2", "-o", f"{OUT}/tin.ply", "--overwrite", "-q",
-               "--dem", dem, "--resolution", "1", "--dem-extent", "684800.5", "5018000.5",
-               "685150.5", "5018300.5", "--dem-type", "Float64"] + extra
-        subprocess.run(cmd, check=True)
-        rows.append(compare(dem, dtm, b_nodata=-32768.0))
-    a, b = rows
-    print(f"| Topography_lidR2016 (independent DTM) | {a['both']:,} | {a['rmse']:.4f} "
-          f"| {a['max']:.3f} | {b['rmse']:.4f} | {b['max']:.3f} |")
     print()
 
 
