@@ -81,8 +81,8 @@ double aspect_ratio(Point2 p, Point2 q, Point2 r) {
 
 class ConstraintInserter {
  public:
-  ConstraintInserter(Triangulation& tin, const ConstraintOptions& options)
-      : tin_(tin), options_(options), points_(tin) {
+  ConstraintInserter(Triangulation& tin, const ConstraintOptions& options, std::uint64_t segments)
+      : tin_(tin), options_(options), points_(tin), crossing_bound_(segments * segments / 2) {
     if (!tin_.has_vertex_index()) tin_.build_vertex_index();
   }
 
@@ -281,23 +281,36 @@ class ConstraintInserter {
     const double z_a = tin_.z(s.a) + t * (tin_.z(s.b) - tin_.z(s.a));
     const double z_b = tin_.z(r) + u * (tin_.z(l) - tin_.z(r));
 
-    VertexId w;
-    const mesh::Location loc = points_.locate(at, triangle_of(tin_.find_edge(r, l)));
-    // Rounding can also put the crossing on another constraint's edge, which the insertion then
-    // splits: its pieces must be split too, or they name an edge that is gone.
+    // The true crossing of two nearly parallel segments is ill-conditioned: the rounded point
+    // sits an ulp off both lines, so the halves cross again next to it, and again, without end.
+    // A crossing within a hair of one of the four ends joins that end instead, so no new piece
+    // is shorter than that; a bound on the crossings made ends the rest.
+    VertexId w = nearest_end({s.a, s.b, r, l}, at);
     VertexId split_u = kNoId, split_v = kNoId;
-    if (loc.kind == mesh::Location::on_edge && tin_.is_constrained(loc.edge) &&
-        edge_key(tin_.origin(loc.edge), tin_.dest(loc.edge)) != edge_key(r, l)) {
-      split_u = tin_.origin(loc.edge);
-      split_v = tin_.dest(loc.edge);
-    }
-    if (loc.kind == mesh::Location::on_vertex) {
-      w = tin_.origin(loc.edge);  // rounding put the crossing on an existing vertex
+    if (w != kNoId) {
+      ++result_.split_at_vertices;  // the crossing joins an existing vertex
     } else {
-      w = tin_.add_vertex(at, 0.5 * (z_a + z_b));
-      points_.insert(w, loc);
-      result_.crossings.push_back({w, s.source, other, z_a, z_b});
-      result_.max_z_disagreement = std::max(result_.max_z_disagreement, std::fabs(z_a - z_b));
+      if (++crossings_made_ > crossing_bound_)
+        throw GeometryError("constraints from features " + std::to_string(s.source) + " and " +
+                            std::to_string(other) +
+                            " cross more often than the input segments can: nearly parallel "
+                            "lines whose crossings rounding cannot place");
+      const mesh::Location loc = points_.locate(at, triangle_of(tin_.find_edge(r, l)));
+      // Rounding can also put the crossing on another constraint's edge, which the insertion
+      // then splits: its pieces must be split too, or they name an edge that is gone.
+      if (loc.kind == mesh::Location::on_edge && tin_.is_constrained(loc.edge) &&
+          edge_key(tin_.origin(loc.edge), tin_.dest(loc.edge)) != edge_key(r, l)) {
+        split_u = tin_.origin(loc.edge);
+        split_v = tin_.dest(loc.edge);
+      }
+      if (loc.kind == mesh::Location::on_vertex) {
+        w = tin_.origin(loc.edge);  // rounding put the crossing on an existing vertex
+      } else {
+        w = tin_.add_vertex(at, 0.5 * (z_a + z_b));
+        points_.insert(w, loc);
+        result_.crossings.push_back({w, s.source, other, z_a, z_b});
+        result_.max_z_disagreement = std::max(result_.max_z_disagreement, std::fabs(z_a - z_b));
+      }
     }
     // The crossed constraint: unmark r-l if it survived (the new vertex may have split it) and
     // queue its halves for every source it carried.
@@ -312,6 +325,24 @@ class ConstraintInserter {
       requeue_through(index_.find(edge_key(split_u, split_v)), split_u, split_v, w);
     work_.push_back({w, s.b, s.source});
     work_.push_back({s.a, w, s.source});
+  }
+
+  // The vertex among `ends` within a hair (2^-40 of the coordinates' magnitude, thousands of ulps
+  // yet well under a micrometre on projected data) of `at`, or kNoId.
+  VertexId nearest_end(std::initializer_list<VertexId> ends, Point2 at) const {
+    double scale = std::max(std::fabs(at.x), std::fabs(at.y));
+    for (const VertexId v : ends) scale = std::max({scale, std::fabs(pt(v).x), std::fabs(pt(v).y)});
+    const double hair = std::ldexp(scale, -40);
+    VertexId best = kNoId;
+    double best_d2 = hair * hair;
+    for (const VertexId v : ends) {
+      const double dx = pt(v).x - at.x, dy = pt(v).y - at.y;
+      if (const double d2 = dx * dx + dy * dy; d2 <= best_d2) {
+        best = v;
+        best_d2 = d2;
+      }
+    }
+    return best;
   }
 
   // Retires the pieces on edge u-v (the chain from FIRST_PIECE) and queues, for each source they
@@ -331,6 +362,8 @@ class ConstraintInserter {
   mesh::PointInserter points_;
   ConstraintResult result_;
   bool indexed_ = false;
+  std::uint64_t crossings_made_ = 0;
+  std::uint64_t crossing_bound_;           // m segments cross at most m (m - 1) / 2 times
   PieceIndex index_;                       // edge -> its latest piece
   std::vector<std::uint32_t> next_piece_;  // piece -> the previous piece on the same edge
   std::vector<Segment> work_;
@@ -343,7 +376,7 @@ class ConstraintInserter {
 
 ConstraintResult insert_constraints(Triangulation& tin, const std::vector<Segment>& segments,
                                     const ConstraintOptions& options, const ProgressFn* progress) {
-  ConstraintInserter inserter(tin, options);
+  ConstraintInserter inserter(tin, options, segments.size());
   inserter.result().pieces.reserve(segments.size());
   Progress report(progress, "constraints", segments.size());
   std::uint64_t done = 0;

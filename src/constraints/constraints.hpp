@@ -57,7 +57,8 @@ struct Piece {
 struct ConstraintResult {
   std::uint64_t segments = 0;           // segments inserted
   std::uint64_t segments_skipped = 0;   // zero length (both ends merged into one vertex)
-  std::uint64_t split_at_vertices = 0;  // times a segment ran through an existing vertex
+  std::uint64_t split_at_vertices = 0;  // times a segment ran through (or, crossing, a hair
+                                        // from) an existing vertex
   std::uint64_t flips_insertion = 0;
   std::uint64_t flips_restoration = 0;
   std::vector<Crossing> crossings;
