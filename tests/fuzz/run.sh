@@ -5,6 +5,7 @@
 # stops that target, leaves the input in build/fuzz/artifacts/<target>/ and fails the script:
 # fix it, and keep the input as tests/fuzz/regressions/<target>/<name> (replayed by CTest).
 # Usage, after `cmake --workflow --preset fuzz`:  tests/fuzz/run.sh SECONDS [TARGET...]
+# FUZZ_TIMEOUT=S raises the hang limit (wall clock) when several targets share the cores.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/../.."
 seconds=${1:?usage: tests/fuzz/run.sh SECONDS [TARGET...]}
@@ -25,7 +26,7 @@ for t in "${targets[@]}"; do
   shared=()  # seeds the project may not copy (see tests/fuzz/CMakeLists.txt)
   [[ $t == laz_fuzz && -d ../shared/data/laz ]] && shared=(../shared/data/laz)
   # New inputs go to the first directory; seeds and regressions are only read.
-  if ! "$bin/$t" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len=32768 \
+  if ! "$bin/$t" -max_total_time="$seconds" -timeout="${FUZZ_TIMEOUT:-10}" -rss_limit_mb=2048 -max_len=32768 \
       -print_final_stats=1 -artifact_prefix="$artifacts" \
       "$corpus" "tests/fuzz/seeds/$t" "tests/fuzz/regressions/$t" "${shared[@]}"; then
     failed+=("$t")
