@@ -393,7 +393,10 @@ ConstraintResult insert_constraints(Triangulation& tin, const std::vector<Segmen
   }
   report.finish();
   ConstraintResult result = inserter.take_result();
-  if (result.crossings.empty()) return result;  // no piece retired, repeated or added a triangle
+  // Every crossing, joined at a new vertex or at one a hair away, retires the pieces it split.
+  if (std::none_of(result.pieces.begin(), result.pieces.end(),
+                   [](const Piece& p) { return p.source == kNoId; }))
+    return result;  // no crossing: no piece retired or repeated, no triangle added
 
   // Drop retired pieces, and repeats of one edge for one source: two crossing points that round
   // to within an ulp of each other can make a chain step back over an edge it already holds.
@@ -408,7 +411,7 @@ ConstraintResult insert_constraints(Triangulation& tin, const std::vector<Segmen
                                     return x.source == y.source && x.a == y.a && x.b == y.b;
                                   }),
                       result.pieces.end());
-  tin.recount();  // each crossing vertex added triangles
+  if (!result.crossings.empty()) tin.recount();  // each crossing vertex added triangles
   return result;
 }
 

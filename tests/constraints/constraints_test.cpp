@@ -229,6 +229,20 @@ TEST(Constraints, NearlyParallelLinesCrossAFiniteNumberOfTimes) {
   }
 }
 
+// A segment ending a hair past a constraint crosses it next to its end: the crossing joins that
+// end (no new vertex), and the crossed constraint's old piece is dropped (vector_fuzz: an erase
+// ring's piece was left naming an edge that was gone).
+TEST(Constraints, ACrossingAHairFromASegmentEndJoinsThatEnd) {
+  Input in;
+  in.points = {{80, 20, 0}, {80, 80, 0}, {200, 80, 5}, {80 - 1e-12, 60, 5}, {0, 0, 0}, {0, 100, 0}};
+  in.segments = {{0, 1}, {2, 3}};
+  const Built b = build(in);
+  EXPECT_TRUE(b.result.crossings.empty());
+  EXPECT_EQ(b.result.split_at_vertices, 1u);
+  expect_cdt(b, true);
+  EXPECT_EQ(b.result.pieces.size(), 3u);  // 0-3 and 3-1 for the first, 2-3 for the second
+}
+
 TEST(Constraints, CrossingIsAnErrorWhenAsked) {
   Input in;
   in.points = {{0, 0, 0}, {10, 10, 10}, {0, 10, 100}, {10, 0, 100}};
