@@ -103,11 +103,32 @@ constexpr double kCos2[8] = {0.96984631039295421, 0.88302222155948906, 0.7500000
                              0.58682408883346526, 0.41317591116653485, 0.25000000000000011,
                              0.11697777844051105, 0.030153689607045842};
 
+// How many of 10, 20, ..., 80 degrees an acute angle of squared cosine c2 reaches, that is how
+// many kCos2[j] are >= c2, by a table over 256 cells of [0, 1]: no two thresholds share a cell,
+// so the count is the cell's own (thresholds above it) plus at most one comparison.
+struct AngleCells {
+  std::array<std::uint8_t, 257> above{};
+  std::array<double, 257> inside{};  // the threshold inside the cell, or -1
+  AngleCells() {
+    for (std::size_t i = 0; i <= 256; ++i) {
+      const double low = static_cast<double>(i) / 256, high = static_cast<double>(i + 1) / 256;
+      inside[i] = -1;
+      for (double c : kCos2) {
+        if (c >= high)
+          ++above[i];
+        else if (c >= low)
+          inside[i] = c;
+      }
+    }
+  }
+};
+const AngleCells kAngleCells;
+
 // The 10-degree bin of an angle from its cosine's sign and square: no trigonometry.
-std::size_t angle_bin(double dot, double cos2) {
+inline std::size_t angle_bin(double dot, double cos2) {
   if (dot == 0) return 9;
-  int below = 0;  // how many of 10, 20, ..., 80 degrees the acute angle reaches
-  for (double c : kCos2) below += cos2 <= c;
+  const auto cell = static_cast<std::size_t>((cos2 < 1 ? cos2 : 1.0) * 256);  // NaN: 1
+  const int below = kAngleCells.above[cell] + (cos2 <= kAngleCells.inside[cell]);
   return static_cast<std::size_t>(dot > 0 ? below : 17 - below);
 }
 
@@ -224,13 +245,16 @@ class Measurer {
   void triangle(TriangleId t, Tally& p, Sums& s, Lengths& lengths) const {
     const std::array<VertexId, 3> c = tin_.triangle(t);
     ++p.triangles;
+    // The three-step loops are unrolled so that the corners stay in registers.
     Point3 q[3];
+#pragma GCC unroll 3
     for (int i = 0; i < 3; ++i) {
       const Point2 xy = tin_.point(c[i]);
       q[i] = {xy.x, xy.y, tin_.z(c[i])};
     }
     // e[i]: corner i -> i + 1, in x, y; l2 its squared length, len its length.
     double ex[3], ey[3], l2[3], len[3];
+#pragma GCC unroll 3
     for (int i = 0; i < 3; ++i) {
       const Point3& a = q[i];
       const Point3& b = q[(i + 1) % 3];
@@ -252,6 +276,7 @@ class Measurer {
     // dot^2 / (l2[i] l2[i - 1]) = dot^2 l2[i + 1] / (l2[0] l2[1] l2[2]): one division for three.
     const double inverse = 1 / (l2[0] * l2[1] * l2[2]);
     double smallest_key = -2;
+#pragma GCC unroll 3
     for (int i = 0; i < 3; ++i) {
       const int in = (i + 2) % 3;
       const double dot = -(ex[i] * ex[in] + ey[i] * ey[in]);
