@@ -98,7 +98,9 @@ void log_summary(const pipeline::BuildOptions& options, const pipeline::BuildRep
   for (const auto& [key, seconds] : r.timings_s.more) t += ", " + key + " " + secs(seconds);
   if (r.timings_s.terrain > 0.0005) t += ", terrain " + secs(r.timings_s.terrain);
   if (r.timings_s.validate > 0) t += ", validate " + secs(r.timings_s.validate);
-  t += ", write " + secs(r.timings_s.write) + ", total " + secs(r.timings_s.total);
+  t += ", write " + secs(r.timings_s.write);
+  if (r.quality_measured) t += ", quality (beside the outputs) " + secs(r.timings_s.quality);
+  t += ", total " + secs(r.timings_s.total);
   if (r.peak_rss_bytes > 0) t += "; peak memory " + bytes(r.peak_rss_bytes);
   spdlog::info(t);
   const std::string format = r.output_format == "obj"       ? "OBJ"

@@ -42,6 +42,14 @@ Job::Job(const BuildOptions& job_options, const CheckedOptions& checked, const P
     };
 }
 
+void Job::wait_for_quality() {
+  if (!quality_pass.valid()) return;
+  MeasuredQuality measured = quality_pass.get();
+  report.quality = std::move(measured.quality);
+  report.quality_measured = true;
+  report.timings_s.quality = measured.seconds;
+}
+
 void Job::finish_output(io::OutputFile& out) {
   out.close();
   for (const io::OutputSet::Entry& e : outputs.entries())

@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <future>
 #include <map>
 #include <string>
 #include <string_view>
@@ -19,6 +20,7 @@
 #include "io/vector/line_reader.hpp"
 #include "pipeline/build.hpp"
 #include "pipeline/surface.hpp"
+#include "terrain/quality.hpp"
 
 namespace tincdt::pipeline {
 
@@ -84,6 +86,16 @@ struct Job {
   // tile: the triangles proven final that other tiles own (removed from the TIN, for the mesh
   // outputs); the tile's DEM takes the cells of its box from them too (stage_dem.cpp).
   std::vector<TriangleId> tile_final_unowned;
+  // quality: the --stats measurement of the final TIN, running beside the output stages, which
+  // only read the TIN (a tile's DEM, which keeps tile_final_unowned for a while, waits first).
+  // Declared after the mesh, so that a failed job waits for it before the mesh goes.
+  struct MeasuredQuality {
+    terrain::QualityReport quality;
+    double seconds = 0;
+  };
+  std::future<MeasuredQuality> quality_pass;
+  // Joins quality_pass, if running, and files its result in the report.
+  void wait_for_quality();
 
   // ---- outputs --------------------------------------------------------------------------------
   // The TIN's write options: from the options, crs_wkt (read), the automatic offset (write);

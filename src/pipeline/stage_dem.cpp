@@ -53,6 +53,7 @@ void rasterize_and_write(Job& job, const products::Grid& grid, io::OutputFile& o
   std::vector<T> cells(grid.cells());
   // A tile's neighbours' final triangles are kept while it rasterizes (the outputs after this
   // stage see the tile's own triangles again).
+  if (!job.tile_final_unowned.empty()) job.wait_for_quality();  // it reads the removed flags
   mesh::Triangulation& tin = job.tin();
   struct KeepFinal {
     mesh::Triangulation& tin;

@@ -1,4 +1,6 @@
-// quality: the quality block of --stats, measured on the final TIN.
+// quality: the quality block of --stats, measured on the final TIN beside the output stages
+// (Job::quality_pass); the stats stage files it.
+#include "core/parallel.hpp"
 #include "pipeline/stage.hpp"
 #include "terrain/quality.hpp"
 
@@ -10,13 +12,24 @@ bool wanted(const BuildOptions& o) {
 }
 
 void run(Job& job) {
-  job.report.quality = terrain::measure_quality(
-      job.tin(), job.on_contour.empty() ? nullptr : &job.on_contour, job.options.threads);
-  job.report.quality_measured = true;
+  // Beside the writers on one core fewer than the job's (the mesh writers use one); with one
+  // core in all, in turn, when the stats stage asks for it.
+  const std::size_t cores = thread_count(job.options.threads);
+  const auto threads = static_cast<unsigned>(std::max<std::size_t>(1, cores - 1));
+  const auto policy = cores > 1 ? std::launch::async : std::launch::deferred;
+  job.quality_pass = std::async(policy, [&job, threads] {
+    const auto t0 = std::chrono::steady_clock::now();
+    Job::MeasuredQuality m;
+    m.quality = terrain::measure_quality(
+        job.tin(), job.on_contour.empty() ? nullptr : &job.on_contour, threads);
+    m.seconds = seconds_since(t0);
+    return m;
+  });
 }
 
 }  // namespace
 
-extern const Stage quality_stage{"quality", "quality", wanted, run};
+// No timing key: the pass times itself, as it runs while the next stages do.
+extern const Stage quality_stage{"quality", "", wanted, run};
 
 }  // namespace tincdt::pipeline

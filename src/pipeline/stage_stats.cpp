@@ -10,6 +10,7 @@ bool wanted(const BuildOptions& o) {
 }
 
 void run(Job& job) {
+  job.wait_for_quality();
   job.report.timings_s.total = seconds_since(job.started);
   job.report.peak_rss_bytes = peak_rss_bytes();
   // Not through Job::write_output: the document does not list itself among the outputs.

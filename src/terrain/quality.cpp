@@ -275,24 +275,31 @@ class Measurer {
     // Corner i lies between edge i (outgoing) and edge i - 1 (incoming, reversed); its cos^2 is
     // dot^2 / (l2[i] l2[i - 1]) = dot^2 l2[i + 1] / (l2[0] l2[1] l2[2]): one division for three.
     const double inverse = 1 / (l2[0] * l2[1] * l2[2]);
-    double smallest_key = -2;
+    double key[3];
 #pragma GCC unroll 3
     for (int i = 0; i < 3; ++i) {
       const int in = (i + 2) % 3;
       const double dot = -(ex[i] * ex[in] + ey[i] * ey[in]);
       const double cos2 = dot * dot * l2[(i + 1) % 3] * inverse;
       ++p.angles[angle_bin(dot, cos2)];
-      const double key = angle_key(dot, cos2);
-      smallest_key = std::max(smallest_key, key);
-      if (key > p.smallest.key) p.smallest = {t, i, key};
-      if (key < p.largest.key) p.largest = {t, i, key};
+      key[i] = angle_key(dot, cos2);
     }
-    if (smallest_key > kCos2[1]) ++p.below_20;
+    // The triangle's smallest and largest angle first; which corner, only for a new extreme.
+    const double smallest = std::max({key[0], key[1], key[2]});
+    const double largest = std::min({key[0], key[1], key[2]});
+    if (smallest > p.smallest.key) p.smallest = {t, corner_with(key, smallest), smallest};
+    if (largest < p.largest.key) p.largest = {t, corner_with(key, largest), largest};
+    if (smallest > kCos2[1]) ++p.below_20;
     // R / r = abc / (4A) / (2A / (a + b + c)) = abc (a + b + c) / (8 A^2), with 2A = area2.
     const double ratio =
         len[0] * len[1] * len[2] * (len[0] + len[1] + len[2]) / (2 * area2 * area2);
     p.max_ratio = std::max(p.max_ratio, ratio);
-    if (is_flat(tin_, c, on_contour_)) ++p.flats;
+    // Flat needs equal z, rare: the contour test only then.
+    if (q[0].z == q[1].z && q[0].z == q[2].z && is_flat(tin_, c, on_contour_)) ++p.flats;
+  }
+
+  static int corner_with(const double (&key)[3], double k) {
+    return key[0] == k ? 0 : (key[1] == k ? 1 : 2);
   }
 
   // Queues an edge of length L when COUNTED, without a branch: half the edges of a triangle are
