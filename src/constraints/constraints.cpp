@@ -272,8 +272,20 @@ class ConstraintInserter {
     // The crossing point, from the signed areas (each a difference of nearby coordinates).
     const double area_a = (pl.x - pr.x) * (pa.y - pr.y) - (pl.y - pr.y) * (pa.x - pr.x);
     const double area_b = (pl.x - pr.x) * (pb.y - pr.y) - (pl.y - pr.y) * (pb.x - pr.x);
-    const double t = area_a / (area_a - area_b);
-    const Point2 at{pa.x + t * (pb.x - pa.x), pa.y + t * (pb.y - pa.y)};
+    // Rounded, the areas of nearly collinear segments may fail to put a and b on opposite sides
+    // of r-l, and then no crossing point can be computed: the segment bends through whichever
+    // of r and l (exactly on opposite sides of it) lies nearer its line, as CGAL does.
+    const bool placed = (area_a > 0 && area_b < 0) || (area_a < 0 && area_b > 0);
+    const double t = placed ? area_a / (area_a - area_b) : 0;
+    Point2 at{pa.x + t * (pb.x - pa.x), pa.y + t * (pb.y - pa.y)};
+    VertexId nearer = kNoId;
+    if (!placed) {
+      const auto off_line = [&](Point2 q) {
+        return std::fabs((pb.x - pa.x) * (q.y - pa.y) - (pb.y - pa.y) * (q.x - pa.x));
+      };
+      nearer = off_line(pr) <= off_line(pl) ? r : l;
+      at = pt(nearer);
+    }
     if (options_.on_crossing == OnCrossing::error) throw CrossingError(s.source, other, at);
 
     const double len2 = (pl.x - pr.x) * (pl.x - pr.x) + (pl.y - pr.y) * (pl.y - pr.y);
@@ -285,7 +297,7 @@ class ConstraintInserter {
     // sits an ulp off both lines, so the halves cross again next to it, and again, without end.
     // A crossing within a hair of one of the four ends joins that end instead, so no new piece
     // is shorter than that; a bound on the crossings made ends the rest.
-    VertexId w = nearest_end({s.a, s.b, r, l}, at);
+    VertexId w = placed ? nearest_end({s.a, s.b, r, l}, at) : nearer;
     VertexId split_u = kNoId, split_v = kNoId;
     if (w != kNoId) {
       ++result_.split_at_vertices;  // the crossing joins an existing vertex
