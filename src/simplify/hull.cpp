@@ -1,9 +1,7 @@
-// Strict convex hull corners and duplicate merging: the two steps a caller needs before
-// simplify() when it has not built the full TIN.
+// Strict convex hull corners: the corners simplify() keeps so that its TIN covers every point.
 #include <algorithm>
 #include <numeric>
 
-#include "delaunay/spatial_order.hpp"
 #include "predicates/predicates.hpp"
 #include "simplify/simplify.hpp"
 
@@ -98,38 +96,6 @@ std::vector<std::uint32_t> hull_corners(std::span<const Point2> xy) {
   for (auto it = rest.rbegin() + 1; it != rest.rend(); ++it) add(*it, lower);  // upper
   hull.pop_back();  // the first point again
   return hull;
-}
-
-std::vector<Point3> merge_duplicates(std::vector<Point3>&& points, delaunay::DuplicatePolicy policy,
-                                     std::uint64_t* merged) {
-  std::vector<Point3> input = std::move(points);
-  std::vector<std::uint32_t> order(input.size());
-  std::iota(order.begin(), order.end(), 0u);
-  // Equal x, y in increasing z, as the Delaunay stage merges them (delaunay::MergedZ), so that
-  // the merged z have the same bits whatever the input order.
-  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
-    const Point3& p = input[a];
-    const Point3& q = input[b];
-    if (p.x != q.x || p.y != q.y) return xy_less({p.x, p.y}, {q.x, q.y});
-    return p.z != q.z ? p.z < q.z : a < b;
-  });
-  std::vector<Point3> out;
-  out.reserve(input.size());
-  delaunay::MergedZ z{};
-  std::uint64_t folded = 0;
-  for (std::uint32_t i : order) {
-    const Point3& p = input[i];
-    if (!out.empty() && out.back().x == p.x && out.back().y == p.y) {
-      z.add(p.z, i, policy);
-      out.back().z = z.z;
-      ++folded;
-    } else {
-      out.push_back(p);
-      z = delaunay::MergedZ::start(p.z, i);
-    }
-  }
-  if (merged) *merged = folded;
-  return out;
 }
 
 }  // namespace tincdt::simplify

@@ -41,11 +41,11 @@ struct SimplifyResult {
   SimplifyReport report;
 };
 
-// Simplifies the surface of the points (xy[i], z[i]), whose x, y must be distinct (see
-// merge_duplicates). Points `kept` stay as vertices, and every segment (its ends are point
-// indices) becomes a chain of constrained edges: two crossing segments meet at a new vertex;
-// a point lying on a segment splits it when it is inserted. The corners of the points' convex
-// hull are kept too, so the result covers every point. Ties in error go by x, then y: the
+// Simplifies the surface of the points (xy[i], z[i]), whose x, y must be distinct (the
+// Delaunay stage merges duplicates). Points `kept` stay as vertices, and every segment (its ends
+// are point indices) becomes a chain of constrained edges: two crossing segments meet at a new
+// vertex; a point lying on a segment splits it when it is inserted. The corners of the points'
+// convex hull are kept too, so the result covers every point. Ties in error go by x, then y: the
 // result depends neither on the order of the points nor on the thread count. Throws
 // GeometryError when the points are all collinear or fewer than 3, or when a point that must
 // become a vertex shares x, y with another.
@@ -64,11 +64,5 @@ SimplifyResult simplify_tin(const mesh::Triangulation& full, const SimplifyOptio
 // The strict corners of the convex hull of the points (no point on an edge between two
 // corners), counter-clockwise, starting at the lexicographically smallest point.
 std::vector<std::uint32_t> hull_corners(std::span<const Point2> xy);
-
-// Merges points with equal x, y into one, its z chosen by `policy` as the Delaunay stage does
-// (`first` = the earliest in input order). Returns the distinct points ordered by x, then y;
-// `merged` (if given) gets the number of points folded into another.
-std::vector<Point3> merge_duplicates(std::vector<Point3>&& points, delaunay::DuplicatePolicy policy,
-                                     std::uint64_t* merged = nullptr);
 
 }  // namespace tincdt::simplify
