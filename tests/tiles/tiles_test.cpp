@@ -158,11 +158,18 @@ std::string build_tile(const std::string& plan_path, std::int64_t tile, const fs
   if (resolution > 0) {
     o.dem.path = (dir / ("tile_" + std::to_string(tile) + ".tif")).string();
     o.dem.resolution = resolution;
+    // The quality pass runs beside the outputs; the DEM, which keeps the neighbours' final
+    // triangles while it rasterizes, waits for it (stage_quality.cpp).
+    o.stats_path = (dir / ("tile_" + std::to_string(tile) + ".json")).string();
   }
   o.tile_outline = (dir / ("tile_" + std::to_string(tile) + ".outline.ply")).string();
   o.write.overwrite = true;
   o.validate = true;
-  pipeline::build(o);
+  const pipeline::BuildReport r = pipeline::build(o);
+  if (resolution > 0) {
+    EXPECT_TRUE(r.quality_measured);
+    EXPECT_EQ(r.quality.triangles, r.triangles) << "tile " << tile;  // its own triangles only
+  }
   return o.output;
 }
 
