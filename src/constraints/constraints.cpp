@@ -82,7 +82,7 @@ double aspect_ratio(Point2 p, Point2 q, Point2 r) {
 class ConstraintInserter {
  public:
   ConstraintInserter(Triangulation& tin, const ConstraintOptions& options, std::uint64_t segments)
-      : tin_(tin), options_(options), points_(tin), crossing_bound_(segments * segments / 2) {
+      : tin_(tin), options_(options), points_(tin), crossing_bound_(segments * segments) {
     if (!tin_.has_vertex_index()) tin_.build_vertex_index();
   }
 
@@ -296,17 +296,17 @@ class ConstraintInserter {
     // The true crossing of two nearly parallel segments is ill-conditioned: the rounded point
     // sits an ulp off both lines, so the halves cross again next to it, and again, without end.
     // A crossing within a hair of one of the four ends joins that end instead, so no new piece
-    // is shorter than that; a bound on the crossings made ends the rest.
+    // is shorter than that; a bound on the crossings met ends the rest.
+    if (++crossings_met_ > crossing_bound_)
+      throw GeometryError("constraints from features " + std::to_string(s.source) + " and " +
+                          std::to_string(other) +
+                          " cross more often than the input segments can: nearly parallel "
+                          "lines whose crossings rounding cannot place");
     VertexId w = placed ? nearest_end({s.a, s.b, r, l}, at) : nearer;
     VertexId split_u = kNoId, split_v = kNoId;
     if (w != kNoId) {
       ++result_.split_at_vertices;  // the crossing joins an existing vertex
     } else {
-      if (++crossings_made_ > crossing_bound_)
-        throw GeometryError("constraints from features " + std::to_string(s.source) + " and " +
-                            std::to_string(other) +
-                            " cross more often than the input segments can: nearly parallel "
-                            "lines whose crossings rounding cannot place");
       const mesh::Location loc = points_.locate(at, triangle_of(tin_.find_edge(r, l)));
       // Rounding can also put the crossing on another constraint's edge, which the insertion
       // then splits: its pieces must be split too, or they name an edge that is gone.
@@ -374,8 +374,9 @@ class ConstraintInserter {
   mesh::PointInserter points_;
   ConstraintResult result_;
   bool indexed_ = false;
-  std::uint64_t crossings_made_ = 0;
-  std::uint64_t crossing_bound_;           // m segments cross at most m (m - 1) / 2 times
+  std::uint64_t crossings_met_ = 0;
+  // m segments cross at most m (m - 1) / 2 times; as many again allow for rounding.
+  std::uint64_t crossing_bound_;
   PieceIndex index_;                       // edge -> its latest piece
   std::vector<std::uint32_t> next_piece_;  // piece -> the previous piece on the same edge
   std::vector<Segment> work_;
