@@ -86,12 +86,14 @@ class ConstraintInserter {
     if (!tin_.has_vertex_index()) tin_.build_vertex_index();
   }
 
-  void insert(const Segment& segment) {
+  // REPORT hears of each piece: crossings can make one segment a long piece of work.
+  void insert(const Segment& segment, Progress& report) {
     work_.push_back(segment);
     while (!work_.empty()) {
       const Segment s = work_.back();
       work_.pop_back();
       if (s.a != s.b) insert_piece(s);
+      report.heartbeat();
     }
   }
 
@@ -399,7 +401,7 @@ ConstraintResult insert_constraints(Triangulation& tin, const std::vector<Segmen
     if (s.a == s.b) {
       ++inserter.result().segments_skipped;
     } else {
-      inserter.insert(s);
+      inserter.insert(s, report);
       ++inserter.result().segments;
     }
     report.tick(++done);

@@ -29,9 +29,15 @@ class Progress {
   void finish() {
     if (fn_) report(total_);
   }
+  // For the inner steps of one item, which may be many: every 2^16th call reports the last
+  // fraction again, so that a request to stop still gets through.
+  void heartbeat() {
+    if (fn_ && (++beats_ & 0xffff) == 0) report(done_);
+  }
 
  private:
   void report(std::uint64_t done) {
+    done_ = done;
     next_ = done + step_;
     if (!(*fn_)(stage_, static_cast<double>(done) / static_cast<double>(total_))) throw Cancelled();
   }
@@ -41,6 +47,8 @@ class Progress {
   std::uint64_t total_ = 1;
   std::uint64_t step_ = UINT64_MAX;
   std::uint64_t next_ = UINT64_MAX;
+  std::uint64_t done_ = 0;   // at the last report
+  std::uint64_t beats_ = 0;  // heartbeat() calls
 };
 
 }  // namespace tincdt
