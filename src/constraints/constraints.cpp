@@ -438,6 +438,7 @@ std::string check_segments(const Triangulation& tin, const std::vector<Segment>&
   for (std::size_t e = 0; e < corners.size(); ++e)
     if (corners[e] < kInfinite) out[corners[e]] = static_cast<EdgeId>(e);
   auto find_edge = [&](VertexId u, VertexId v) {
+    if (out[u] == kNoId) return kNoId;  // a vertex in no triangle
     EdgeId e = out[u];
     do {
       if (tin.dest(e) == v) return e;
@@ -445,12 +446,6 @@ std::string check_segments(const Triangulation& tin, const std::vector<Segment>&
     } while (e != out[u]);
     return kNoId;
   };
-
-  // Pieces grouped by source.
-  std::vector<std::uint32_t> order(pieces.size());
-  for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = i;
-  std::sort(order.begin(), order.end(),
-            [&](std::uint32_t x, std::uint32_t y) { return pieces[x].source < pieces[y].source; });
   for (const Piece& p : pieces) {
     if (p.a >= tin.vertex_count() || p.b >= tin.vertex_count())
       return "a piece names a vertex that does not exist";
@@ -461,28 +456,44 @@ std::string check_segments(const Triangulation& tin, const std::vector<Segment>&
       return "edge " + std::to_string(p.a) + "-" + std::to_string(p.b) + " is not constrained";
   }
 
-  std::vector<VertexId> reached, todo;
+  // Each piece both ways, by source and then first vertex: a vertex's neighbours along one
+  // source's pieces are one range.
+  struct Step {
+    std::uint32_t source;
+    VertexId from, to;
+    auto key() const { return std::pair{source, from}; }
+  };
+  std::vector<Step> steps;
+  steps.reserve(2 * pieces.size());
+  for (const Piece& p : pieces) {
+    steps.push_back({p.source, p.a, p.b});
+    steps.push_back({p.source, p.b, p.a});
+  }
+  std::sort(steps.begin(), steps.end(),
+            [](const Step& x, const Step& y) { return x.key() < y.key(); });
+
+  // a reaches b through its source's pieces (a chain; a crossing can add a harmless spur).
+  // Breadth first, so that b, a few pieces away, is found before the rest of a long line.
+  std::vector<std::uint32_t> seen(tin.vertex_count(), 0);  // the segment that reached it, + 1
+  std::vector<VertexId> queue;
+  std::uint32_t stamp = 0;
   for (const Segment& s : segments) {
     if (s.a == s.b) continue;
-    auto first = std::lower_bound(
-        order.begin(), order.end(), s.source,
-        [&](std::uint32_t i, std::uint32_t src) { return pieces[i].source < src; });
-    auto last = first;
-    while (last != order.end() && pieces[*last].source == s.source) ++last;
-    // a reaches b through the source's pieces (a chain; a crossing can add a harmless spur).
-    reached.assign(1, s.a);
-    todo.assign(1, s.a);
+    if (s.a >= tin.vertex_count() || s.b >= tin.vertex_count())
+      return "a segment names a vertex that does not exist";
+    ++stamp;
+    queue.assign(1, s.a);
+    seen[s.a] = stamp;
     bool joined = false;
-    while (!todo.empty() && !joined) {
-      const VertexId v = todo.back();
-      todo.pop_back();
-      for (auto it = first; it != last; ++it) {
-        const Piece& p = pieces[*it];
-        const VertexId w = p.a == v ? p.b : (p.b == v ? p.a : kNoId);
-        if (w == kNoId || std::find(reached.begin(), reached.end(), w) != reached.end()) continue;
-        if (w == s.b) joined = true;
-        reached.push_back(w);
-        todo.push_back(w);
+    for (std::size_t next = 0; next < queue.size() && !joined; ++next) {
+      const auto [first, last] =
+          std::equal_range(steps.begin(), steps.end(), Step{s.source, queue[next], 0},
+                           [](const Step& x, const Step& y) { return x.key() < y.key(); });
+      for (auto it = first; it != last && !joined; ++it) {
+        if (seen[it->to] == stamp) continue;
+        seen[it->to] = stamp;
+        joined = it->to == s.b;
+        queue.push_back(it->to);
       }
     }
     if (!joined)
