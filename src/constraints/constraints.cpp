@@ -81,8 +81,12 @@ double aspect_ratio(Point2 p, Point2 q, Point2 r) {
 
 class ConstraintInserter {
  public:
-  ConstraintInserter(Triangulation& tin, const ConstraintOptions& options, std::uint64_t segments)
-      : tin_(tin), options_(options), points_(tin), crossing_bound_(segments * segments) {
+  ConstraintInserter(Triangulation& tin, const ConstraintOptions& options, std::uint64_t segments,
+                     std::uint64_t old_constraints)
+      : tin_(tin),
+        options_(options),
+        points_(tin),
+        crossing_bound_(segments * (segments + 2 * old_constraints)) {
     if (!tin_.has_vertex_index()) tin_.build_vertex_index();
   }
 
@@ -377,7 +381,7 @@ class ConstraintInserter {
   ConstraintResult result_;
   bool indexed_ = false;
   std::uint64_t crossings_met_ = 0;
-  // m segments cross at most m (m - 1) / 2 times; as many again allow for rounding.
+  // Twice the most crossings there can be (insert_constraints()): room for rounding.
   std::uint64_t crossing_bound_;
   PieceIndex index_;                       // edge -> its latest piece
   std::vector<std::uint32_t> next_piece_;  // piece -> the previous piece on the same edge
@@ -391,7 +395,11 @@ class ConstraintInserter {
 
 ConstraintResult insert_constraints(Triangulation& tin, const std::vector<Segment>& segments,
                                     const ConstraintOptions& options, const ProgressFn* progress) {
-  ConstraintInserter inserter(tin, options, segments.size());
+  // The new segments cross each other and the constraints already in (a later stage's lines
+  // cross the contours): m new and k old make at most m (m - 1) / 2 + m k crossings.
+  std::uint64_t old_constraints = 0;
+  tin.for_each_constrained_edge([&](EdgeId) { ++old_constraints; });
+  ConstraintInserter inserter(tin, options, segments.size(), old_constraints);
   inserter.result().pieces.reserve(segments.size());
   Progress report(progress, "constraints", segments.size());
   std::uint64_t done = 0;

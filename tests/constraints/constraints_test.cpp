@@ -243,6 +243,30 @@ TEST(Constraints, ACrossingAHairFromASegmentEndJoinsThatEnd) {
   EXPECT_EQ(b.result.pieces.size(), 3u);  // 0-3 and 3-1 for the first, 2-3 for the second
 }
 
+// The bound on crossings counts the constraints already in: a later call's one segment (a clip
+// ring after the contours) may cross every one of them.
+TEST(Constraints, ALaterSegmentMayCrossEveryEarlierConstraint) {
+  Input in;
+  for (int k = 0; k < 60; ++k) {
+    in.points.push_back({0, k + 0.5, 0});
+    in.points.push_back({10, k + 0.5, 0});
+    in.segments.push_back({2u * k, 2u * k + 1});
+  }
+  in.points.push_back({5, -1, 0});
+  in.points.push_back({5.25, 61, 0});
+  Built b = build(in);
+  ASSERT_TRUE(b.result.crossings.empty());
+  const auto vertex_at = [&](Point2 p) {
+    VertexId v = 0;
+    while (b.tin.point(v) != p) ++v;
+    return v;
+  };
+  const std::vector<Segment> across{{vertex_at({5, -1}), vertex_at({5.25, 61}), 99}};
+  const ConstraintResult r = insert_constraints(b.tin, across);
+  EXPECT_EQ(r.crossings.size(), 60u);
+  EXPECT_EQ(b.tin.validate(), "");
+}
+
 TEST(Constraints, CrossingIsAnErrorWhenAsked) {
   Input in;
   in.points = {{0, 0, 0}, {10, 10, 10}, {0, 10, 100}, {10, 0, 100}};
