@@ -278,20 +278,25 @@ class ConstraintInserter {
     // The crossing point, from the signed areas (each a difference of nearby coordinates).
     const double area_a = (pl.x - pr.x) * (pa.y - pr.y) - (pl.y - pr.y) * (pa.x - pr.x);
     const double area_b = (pl.x - pr.x) * (pb.y - pr.y) - (pl.y - pr.y) * (pb.x - pr.x);
-    // Rounded, the areas of nearly collinear segments may fail to put a and b on opposite sides
-    // of r-l, and then no crossing point can be computed: the segment bends through whichever
-    // of r and l (exactly on opposite sides of it) lies nearer its line, as CGAL does.
+    // Nearly collinear segments cross nowhere well defined. When an end of one lies within a
+    // hair of the other's line, the two join at that end: a ring laid over its own contour,
+    // whose pieces end at rounded crossings, then shares their edges instead of crossing them
+    // again and again. The rounded areas may even fail to put a and b on opposite sides of
+    // r-l (no crossing point at all): the segment then bends through the nearer of r and l,
+    // which lie exactly on opposite sides of it, as CGAL does.
+    const double hair = hair_at({s.a, s.b, r, l});
     const bool placed = (area_a > 0 && area_b < 0) || (area_a < 0 && area_b > 0);
     const double t = placed ? area_a / (area_a - area_b) : 0;
     Point2 at{pa.x + t * (pb.x - pa.x), pa.y + t * (pb.y - pa.y)};
     VertexId nearer = kNoId;
-    if (!placed) {
-      const auto off_line = [&](Point2 q) {
-        return std::fabs((pb.x - pa.x) * (q.y - pa.y) - (pb.y - pa.y) * (q.x - pa.x));
-      };
-      nearer = off_line(pr) <= off_line(pl) ? r : l;
-      at = pt(nearer);
+    const double off_r = off_line(pa, pb, pr), off_l = off_line(pa, pb, pl);
+    if (!placed || std::min(off_r, off_l) <= hair) {
+      nearer = off_r <= off_l ? r : l;
+    } else if (const double off_a = off_line(pr, pl, pa), off_b = off_line(pr, pl, pb);
+               std::min(off_a, off_b) <= hair) {
+      nearer = off_a <= off_b ? s.a : s.b;
     }
+    if (nearer != kNoId) at = pt(nearer);
     if (options_.on_crossing == OnCrossing::error) throw CrossingError(s.source, other, at);
 
     const double len2 = (pl.x - pr.x) * (pl.x - pr.x) + (pl.y - pr.y) * (pl.y - pr.y);
@@ -308,7 +313,7 @@ class ConstraintInserter {
                           std::to_string(other) +
                           " cross more often than the input segments can: nearly parallel "
                           "lines whose crossings rounding cannot place");
-    VertexId w = placed ? nearest_end({s.a, s.b, r, l}, at) : nearer;
+    VertexId w = nearer != kNoId ? nearer : nearest_end({s.a, s.b, r, l}, at, hair);
     VertexId split_u = kNoId, split_v = kNoId;
     if (w != kNoId) {
       ++result_.split_at_vertices;  // the crossing joins an existing vertex
@@ -345,12 +350,22 @@ class ConstraintInserter {
     work_.push_back({s.a, w, s.source});
   }
 
-  // The vertex among `ends` within a hair (2^-40 of the coordinates' magnitude, thousands of ulps
-  // yet well under a micrometre on projected data) of `at`, or kNoId.
-  VertexId nearest_end(std::initializer_list<VertexId> ends, Point2 at) const {
-    double scale = std::max(std::fabs(at.x), std::fabs(at.y));
+  // A hair at the vertices ENDS: 2^-40 of their coordinates' magnitude, thousands of ulps yet a
+  // few micrometres at UTM coordinates.
+  double hair_at(std::initializer_list<VertexId> ends) const {
+    double scale = 0;
     for (const VertexId v : ends) scale = std::max({scale, std::fabs(pt(v).x), std::fabs(pt(v).y)});
-    const double hair = std::ldexp(scale, -40);
+    return std::ldexp(scale, -40);
+  }
+
+  // How far X lies from the line through P and Q.
+  static double off_line(Point2 p, Point2 q, Point2 x) {
+    return std::fabs((q.x - p.x) * (x.y - p.y) - (q.y - p.y) * (x.x - p.x)) /
+           std::hypot(q.x - p.x, q.y - p.y);
+  }
+
+  // The vertex among ENDS within HAIR of AT, or kNoId.
+  VertexId nearest_end(std::initializer_list<VertexId> ends, Point2 at, double hair) const {
     VertexId best = kNoId;
     double best_d2 = hair * hair;
     for (const VertexId v : ends) {
