@@ -204,6 +204,17 @@ TEST(Constraints, TwoCrossingSegmentsMeetAtOneVertexWithAveragedZ) {
   EXPECT_EQ(b.result.pieces.size(), 4u);
 }
 
+// Appends N points alternately near (600354, 5190350) and far up the same line (y to 5e9), x
+// wobbling by half a unit: the strokes between them are long and nearly parallel, as in the
+// contours vector_fuzz mangled. Returns the first one's index.
+std::uint32_t add_long_strokes(std::mt19937_64& rng, Input& in, std::uint32_t n) {
+  std::uniform_real_distribution<double> wobble(-0.5, 0.5), far(1e6, 5e9);
+  const auto first = static_cast<std::uint32_t>(in.points.size());
+  for (std::uint32_t k = 0; k < n; ++k)
+    in.points.push_back({600354 + wobble(rng), k % 2 ? far(rng) : 5190350 + wobble(rng), 0});
+  return first;
+}
+
 // Long lines a hair from parallel cross at points no double holds: rounded, each crossing sits an
 // ulp off both lines, and without care the halves crossed again beside it for ever (vector_fuzz
 // found contours reaching y = 5e9 that never finished).
@@ -211,10 +222,7 @@ TEST(Constraints, NearlyParallelLinesCrossAFiniteNumberOfTimes) {
   for (unsigned seed = 0; seed < 40; ++seed) {
     std::mt19937_64 rng(7000 + seed);
     Input in = random_points(rng, 30, 600300, 5190300);
-    std::uniform_real_distribution<double> wobble(-0.5, 0.5), far(1e6, 5e9);
-    const auto first = static_cast<std::uint32_t>(in.points.size());
-    for (int k = 0; k < 16; ++k)
-      in.points.push_back({600354 + wobble(rng), k % 2 ? far(rng) : 5190350 + wobble(rng), 0});
+    const std::uint32_t first = add_long_strokes(rng, in, 16);
     for (int k = 0; k < 24; ++k)
       in.segments.push_back({first + static_cast<std::uint32_t>(rng() % 16),
                              first + static_cast<std::uint32_t>(rng() % 16)});
@@ -274,12 +282,8 @@ TEST(Constraints, ALineOverItsOwnSplitCopySharesItsEdges) {
   for (unsigned seed = 0; seed < 20; ++seed) {
     std::mt19937_64 rng(9000 + seed);
     Input in = random_points(rng, 30, 600300, 5190300);
-    std::uniform_real_distribution<double> wobble(-0.5, 0.5), far(1e6, 5e9);
-    const auto first = static_cast<std::uint32_t>(in.points.size());
-    for (std::uint32_t k = 0; k < 12; ++k) {  // a zig-zag of long, nearly parallel strokes
-      in.points.push_back({600354 + wobble(rng), k % 2 ? far(rng) : 5190350 + wobble(rng), 0});
-      if (k > 0) in.segments.push_back({first + k - 1, first + k});
-    }
+    const std::uint32_t first = add_long_strokes(rng, in, 12);
+    for (std::uint32_t k = 1; k < 12; ++k) in.segments.push_back({first + k - 1, first + k});
     SCOPED_TRACE("seed " + std::to_string(seed));
     Built b = build(in);
     ASSERT_FALSE(b.result.crossings.empty());
