@@ -7,10 +7,13 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <random>
 #include <regex>
 #include <set>
@@ -287,6 +290,111 @@ TEST(GpkgWriter, TinZFeaturesOnRequest) {
   OGRwkbGeometryType type = wkbUnknown;
   EXPECT_EQ(read_gpkg_faces(path, &crs, &type), kept_faces(tin));
   EXPECT_EQ(type, wkbTINZ);
+}
+
+// The rows of an SQL query on a GeoPackage, each field as text.
+std::vector<std::vector<std::string>> query(GDALDataset& ds, const std::string& sql) {
+  std::vector<std::vector<std::string>> rows;
+  OGRLayer* result = ds.ExecuteSQL(sql.c_str(), nullptr, nullptr);
+  EXPECT_NE(result, nullptr) << sql;
+  if (result == nullptr) return rows;
+  for (const auto& f : *result) {
+    rows.emplace_back();
+    for (int i = 0; i < f->GetFieldCount(); ++i) rows.back().push_back(f->GetFieldAsString(i));
+  }
+  ds.ReleaseResultSet(result);
+  return rows;
+}
+
+// F is the float32 rounding of X in the given direction: on the right side, and the next float
+// beyond it is on the other.
+bool rounded_down(float f, double x) {
+  return f <= x && std::nextafter(f, INFINITY) > x;
+}
+bool rounded_up(float f, double x) {
+  return f >= x && std::nextafter(f, -INFINITY) < x;
+}
+
+// Random TINs of 2, about 600 and about 6,000 triangles: the index is one leaf, two levels and
+// three levels of the SQLite rtree module (at most 51 cells a node).
+TEST(GpkgWriter, SpatialIndexHoldsEveryTriangleAndFollowsEdits) {
+  const std::string dir = test::scratch_dir("mesh_formats");
+  for (const int points : {4, 300, 3000}) {
+    SCOPED_TRACE(points);
+    std::mt19937 rng(static_cast<unsigned>(points));
+    std::uniform_real_distribution<double> u(0, 1000), z(100, 150);
+    std::vector<Point3> pts;
+    for (int i = 0; i < points; ++i) pts.push_back({kX0 + u(rng), kY0 + u(rng), z(rng)});
+    const mesh::Triangulation tin = delaunay::triangulate(std::move(pts)).tin;
+    const std::string path = dir + "/indexed.gpkg";
+    fs::remove(path);
+    write_tin(path, tin, {});
+
+    GDALAllRegister();
+    const GDALDatasetUniquePtr ds(GDALDataset::Open(path.c_str(), GDAL_OF_VECTOR | GDAL_OF_UPDATE));
+    ASSERT_TRUE(ds);
+    OGRLayer* layer = ds->GetLayerByName("tin");
+    ASSERT_NE(layer, nullptr);
+    EXPECT_EQ(query(*ds,
+                    "SELECT extension_name FROM gpkg_extensions WHERE table_name = 'tin' "
+                    "AND column_name = 'geom'"),
+              (std::vector<std::vector<std::string>>{{"gpkg_rtree_index"}}));
+    EXPECT_EQ(query(*ds,
+                    "SELECT count(*) FROM sqlite_master WHERE type = 'trigger' AND name "
+                    "LIKE 'rtree_tin_geom_%'")[0][0],
+              "6");
+    EXPECT_EQ(query(*ds, "SELECT rtreecheck('rtree_tin_geom')")[0][0], "ok");
+
+    // Every feature's envelope, rounded outwards, is its row of the index.
+    std::map<GIntBig, OGREnvelope> envelope;
+    for (const auto& f : *layer) f->GetGeometryRef()->getEnvelope(&envelope[f->GetFID()]);
+    EXPECT_EQ(envelope.size(), tin.triangle_count());
+    const auto rows = query(*ds, "SELECT id, minx, maxx, miny, maxy FROM rtree_tin_geom");
+    ASSERT_EQ(rows.size(), envelope.size());
+    std::map<GIntBig, std::array<float, 4>> box;
+    for (const auto& r : rows) {
+      const GIntBig id = std::stoll(r[0]);
+      ASSERT_EQ(envelope.count(id), 1u) << id;
+      const OGREnvelope& e = envelope[id];
+      box[id] = {std::stof(r[1]), std::stof(r[2]), std::stof(r[3]), std::stof(r[4])};
+      EXPECT_TRUE(rounded_down(box[id][0], e.MinX) && rounded_up(box[id][1], e.MaxX) &&
+                  rounded_down(box[id][2], e.MinY) && rounded_up(box[id][3], e.MaxY))
+          << id;
+    }
+    // A search of the tree finds what a scan of the boxes finds.
+    std::uniform_real_distribution<double> corner(-100, 1000), side(1, 300);
+    for (int q = 0; q < 20; ++q) {
+      const double x0 = kX0 + corner(rng), y0 = kY0 + corner(rng);
+      const double x1 = x0 + side(rng), y1 = y0 + side(rng);
+      std::set<GIntBig> expected, found;
+      for (const auto& [id, b] : box)
+        if (b[0] <= x1 && b[1] >= x0 && b[2] <= y1 && b[3] >= y0) expected.insert(id);
+      char sql[256];
+      std::snprintf(sql, sizeof sql,
+                    "SELECT id FROM rtree_tin_geom WHERE minx <= %.17g AND maxx >= %.17g AND "
+                    "miny <= %.17g AND maxy >= %.17g",
+                    x1, x0, y1, y0);
+      for (const auto& r : query(*ds, sql)) found.insert(std::stoll(r[0]));
+      EXPECT_EQ(found, expected) << sql;
+    }
+    // The triggers keep it in step: a deleted feature leaves, a moved one moves.
+    const GIntBig gone = envelope.begin()->first, moved = envelope.rbegin()->first;
+    ASSERT_EQ(layer->DeleteFeature(gone), OGRERR_NONE);
+    OGRFeatureUniquePtr f(layer->GetFeature(moved));
+    ASSERT_TRUE(f);
+    OGRPolygon far;
+    OGRLinearRing ring;
+    for (const auto& [x, y] : {std::pair{1.0, 1.0}, {2.0, 1.0}, {1.0, 2.0}, {1.0, 1.0}})
+      ring.addPoint(x, y, 0.0);
+    far.addRing(&ring);
+    f->SetGeometry(&far);
+    ASSERT_EQ(layer->SetFeature(f.get()), OGRERR_NONE);
+    EXPECT_EQ(query(*ds, "SELECT rtreecheck('rtree_tin_geom')")[0][0], "ok");
+    EXPECT_EQ(query(*ds, "SELECT count(*) FROM rtree_tin_geom")[0][0],
+              std::to_string(envelope.size() - 1));
+    EXPECT_EQ(query(*ds, "SELECT id FROM rtree_tin_geom WHERE maxx <= 3"),
+              (std::vector<std::vector<std::string>>{{std::to_string(moved)}}));
+  }
 }
 
 TEST(GpkgAndLandXml, RefuseAnOffsetAndLeaveNothing) {

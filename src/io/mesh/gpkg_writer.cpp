@@ -2,14 +2,17 @@
 // ring, counter-clockwise seen from above), with the CRS; or, with TinWriteOptions::ogr_tin, one
 // TIN Z feature per triangle (GDAL writes GeoPackage TINs as an extension type, which not every
 // reader knows). The features go in through one OGR feature and geometry reused for all, in
-// transactions of kBatch features. GDAL builds the GeoPackage at the OutputFile's take_path(),
+// transactions of kBatch features, then their spatial index is packed in one pass
+// (gpkg_rtree.hpp). GDAL builds the GeoPackage at the OutputFile's take_path(),
 // so it moves into place with the run's other outputs. A GeoPackage keeps real coordinates: a
 // non-zero offset is refused (write_tin).
 #include <algorithm>
+#include <cmath>
 #include <optional>
 #include <vector>
 
 #include "io/gdal_support.hpp"
+#include "io/mesh/gpkg_rtree.hpp"
 #include "io/mesh/writer_detail.hpp"
 
 namespace tincdt::io::detail {
@@ -38,7 +41,8 @@ TinWriteStats write_gpkg(OutputFile& out, const mesh::Triangulation& tin,
   {
     GdalDataset ds(driver->Create(out.take_path().c_str(), 0, 0, 0, GDT_Unknown, nullptr));
     if (!ds) fail("", "cannot create the GeoPackage");
-    const char* const layer_options[] = {"DESCRIPTION=TIN triangles written by tincdt", nullptr};
+    const char* const layer_options[] = {"DESCRIPTION=TIN triangles written by tincdt",
+                                         "SPATIAL_INDEX=NO", nullptr};  // packed below
     OGRLayer* layer =
         ds->CreateLayer("tin", srs ? &*srs : nullptr, options.ogr_tin ? wkbTINZ : wkbPolygon25D,
                         const_cast<char**>(layer_options));
@@ -52,8 +56,8 @@ TinWriteStats write_gpkg(OutputFile& out, const mesh::Triangulation& tin,
     std::uint64_t written = 0;
     if (ds->StartTransaction(FALSE) != OGRERR_NONE) fail("", "cannot start a transaction");
     // In the order of their lowest corner, which follows the vertices' spatial (Hilbert) order:
-    // GDAL builds the R-tree from the rows in fid order at the end, faster when neighbours in
-    // the table are neighbours on the ground.
+    // neighbours in the table are neighbours on the ground, and consecutive rows make the
+    // leaves of the spatial index.
     std::vector<std::uint32_t> first(tin.vertex_count() + 1, 0);
     tin.for_each_triangle([&](TriangleId, const std::array<VertexId, 3>& c) {
       ++first[std::min({c[0], c[1], c[2]}) + 1];
@@ -90,6 +94,18 @@ TinWriteStats write_gpkg(OutputFile& out, const mesh::Triangulation& tin,
         fail("", "cannot commit a transaction");
     }
     if (ds->CommitTransaction() != OGRERR_NONE) fail("", "cannot commit the transaction");
+    const auto envelope = [&](std::uint64_t k) {
+      const auto c = tin.triangle(order[k]);
+      Envelope e{INFINITY, -INFINITY, INFINITY, -INFINITY};
+      for (const VertexId v : c) {
+        const Point3 p = shifted_vertex(path, tin, v, options.offset);  // as written
+        e = {std::min(e.min_x, p.x), std::max(e.max_x, p.x), std::min(e.min_y, p.y),
+             std::max(e.max_y, p.y)};
+      }
+      return e;
+    };
+    if (!write_gpkg_rtree(*ds, "tin", layer->GetGeometryColumn(), written, envelope))
+      fail("", "cannot write the spatial index");
     CPLErrorReset();
     ds.reset();
     if (CPLGetLastErrorType() == CE_Failure || CPLGetLastErrorType() == CE_Fatal)
