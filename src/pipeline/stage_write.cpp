@@ -52,9 +52,11 @@ void run(Job& job) {
     const std::string warning = io::stl_precision_warning(tin, job.write.offset);
     if (!warning.empty()) job.warn(warning);
   }
+  io::TinWriteOptions options = job.write;
+  options.progress = job.stage_progress();
   io::TinWriteStats ws;
   const io::OutputFile& out = job.write_output(
-      job.options.output, "tin", [&](io::OutputFile& f) { ws = io::write_tin(f, tin, job.write); });
+      job.options.output, "tin", [&](io::OutputFile& f) { ws = io::write_tin(f, tin, options); });
   if (job.write_prj)
     job.write_output(io::prj_path(job.options.output), "prj",
                      [&](io::OutputFile& f) { io::write_prj(f, job.crs_wkt); });

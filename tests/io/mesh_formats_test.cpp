@@ -455,6 +455,35 @@ TEST(StlWriter, WarnsWhenFloatsWouldRoundMapCoordinates) {
   EXPECT_EQ(stl_precision_warning(tin, {512000, 4123000, 0}), "");
 }
 
+// Every format reports its progress (never backwards, ending at 1) and stops, leaving no file,
+// when the callback asks it to (a Ctrl-C in the middle of a large file).
+TEST(TinWriters, ReportProgressAndStopWhenAsked) {
+  const std::string dir = test::scratch_dir("mesh_formats");
+  const mesh::Triangulation tin = sample_tin(true);
+  for (const char* name : {"t.obj", "t.ply", "t.geojson", "t.xml", "t.gpkg", "t.stl"}) {
+    SCOPED_TRACE(name);
+    std::vector<double> seen;
+    const ProgressFn record = [&seen](std::string_view stage, double fraction) {
+      EXPECT_EQ(stage, "write");
+      seen.push_back(fraction);
+      return true;
+    };
+    TinWriteOptions o;
+    o.progress = &record;
+    write_tin(dir + "/" + name, tin, o);
+    ASSERT_GE(seen.size(), 3u);
+    EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end()));
+    EXPECT_EQ(seen.front(), 0.0);
+    EXPECT_EQ(seen.back(), 1.0);
+    fs::remove(dir + "/" + name);
+
+    const ProgressFn stop = [](std::string_view, double fraction) { return fraction == 0; };
+    o.progress = &stop;
+    EXPECT_THROW(write_tin(dir + "/" + name, tin, o), Cancelled);
+    EXPECT_TRUE(test::names_in(dir).empty());
+  }
+}
+
 TEST(FormatFromPath, KnowsTheProductExtensions) {
   EXPECT_EQ(format_from_path("a.xml"), TinFormat::landxml);
   EXPECT_EQ(format_from_path("a.LandXML"), TinFormat::landxml);

@@ -155,9 +155,11 @@ TinWriteStats write_geojson(OutputFile& out, const mesh::Triangulation& tin,
                                   used.compacted() ? &used.vertices() : nullptr);
 
   BlockWriter w(out);
+  Progress progress(options.progress, "write", nt);
   put_feature_collection_start(w, path, options);
   std::uint64_t id = 0;
   tin.for_each_triangle([&](TriangleId, const std::array<VertexId, 3>& c) {
+    progress.tick(id);
     if (id > 0) w.put(std::string_view(",\n"));
     w.put(std::string_view("{\"type\":\"Feature\",\"properties\":{\"id\":"));
     w.put_uint(id);
@@ -175,6 +177,7 @@ TinWriteStats write_geojson(OutputFile& out, const mesh::Triangulation& tin,
   });
   w.put(std::string_view("\n]\n}\n"));
   w.flush();
+  progress.finish();
   return {used.count(), nt, 0};
 }
 

@@ -68,7 +68,9 @@ TinWriteStats write_gpkg(OutputFile& out, const mesh::Triangulation& tin,
       order[first[std::min({c[0], c[1], c[2]})]++] = t;
     });
     std::vector<std::uint32_t>().swap(first);
+    Progress progress(options.progress, "write", order.size());
     for (const TriangleId t : order) {
+      progress.tick(written);
       const auto c = tin.triangle(t);
       for (int i = 0; i < 3; ++i) {
         const Point3 p = shifted_vertex(path, tin, c[i], options.offset);
@@ -106,6 +108,7 @@ TinWriteStats write_gpkg(OutputFile& out, const mesh::Triangulation& tin,
     };
     if (!write_gpkg_rtree(*ds, "tin", layer->GetGeometryColumn(), written, envelope))
       fail("", "cannot write the spatial index");
+    progress.finish();
     CPLErrorReset();
     ds.reset();
     if (CPLGetLastErrorType() == CE_Failure || CPLGetLastErrorType() == CE_Fatal)

@@ -207,8 +207,11 @@ TinWriteStats write_landxml(OutputFile& out, const mesh::Triangulation& tin,
     w.put(std::string_view("</Breaklines>\n</SourceData>\n"));
   }
 
+  Progress progress(options.progress, "write", nv + counts.kept);
+  std::uint64_t done = 0;
   w.put(std::string_view("<Definition surfType=\"TIN\">\n<Pnts>\n"));
   for (std::size_t i = 0; i < nv; ++i) {
+    progress.tick(done++);
     w.put(std::string_view("<P id=\""));
     w.put_uint(i + 1);
     w.put(std::string_view("\">"));
@@ -217,6 +220,7 @@ TinWriteStats write_landxml(OutputFile& out, const mesh::Triangulation& tin,
   }
   w.put(std::string_view("</Pnts>\n<Faces>\n"));
   tin.for_each_triangle([&](TriangleId, const std::array<VertexId, 3>& c) {
+    progress.tick(done++);
     w.put(std::string_view("<F>"));
     w.put_uint(std::uint64_t{number(c[0])} + 1);
     w.put(' ');
@@ -227,6 +231,7 @@ TinWriteStats write_landxml(OutputFile& out, const mesh::Triangulation& tin,
   });
   w.put(std::string_view("</Faces>\n</Definition>\n</Surface>\n</Surfaces>\n</LandXML>\n"));
   w.flush();
+  progress.finish();
   return {nv, counts.kept, 0};
 }
 

@@ -20,14 +20,18 @@ TinWriteStats write_obj(OutputFile& out, const mesh::Triangulation& tin,
               " (subtracted from every vertex: add it back for the original coordinates)\n";
 
   BlockWriter w(out);
+  Progress progress(options.progress, "write", nv + nt);
+  std::uint64_t done = 0;
   w.put(header);
   for (std::size_t i = 0; i < nv; ++i) {
+    progress.tick(done++);
     const Point3 p = shifted_vertex(path, tin, number.vertex(i), options.offset);
     w.put(std::string_view("v "));
     w.put_xyz(p, ' ');
     w.put('\n');
   }
-  const auto face = [&w](VertexId a, VertexId b, VertexId c) {
+  const auto face = [&](VertexId a, VertexId b, VertexId c) {
+    progress.tick(done++);
     w.put(std::string_view("f "));
     w.put_uint(std::uint64_t{a} + 1);
     w.put(' ');
@@ -45,6 +49,7 @@ TinWriteStats write_obj(OutputFile& out, const mesh::Triangulation& tin,
         [&](TriangleId, const std::array<VertexId, 3>& c) { face(c[0], c[1], c[2]); });
   }
   w.flush();
+  progress.finish();
   return {nv, nt, 0};
 }
 

@@ -45,9 +45,12 @@ TinWriteStats write_ply(OutputFile& out, const mesh::Triangulation& tin,
   const std::uint64_t ne = count_constrained_segments(tin, compact);
 
   BlockWriter w(out);
+  Progress progress(options.progress, "write", nv + nt);
+  std::uint64_t done = 0;
   w.put(ply_header(ascii, nv, nt, ne, options));
 
   for (std::size_t i = 0; i < nv; ++i) {
+    progress.tick(done++);
     const Point3 p = shifted_vertex(path, tin, number.vertex(i), options.offset);
     if (ascii) {
       w.put_xyz(p, ' ');
@@ -60,7 +63,8 @@ TinWriteStats write_ply(OutputFile& out, const mesh::Triangulation& tin,
   }
 
   if (ascii) {
-    tin.for_each_triangle([&w, &number](TriangleId, const std::array<VertexId, 3>& c) {
+    tin.for_each_triangle([&](TriangleId, const std::array<VertexId, 3>& c) {
+      progress.tick(done++);
       w.put(std::string_view("3 "));
       w.put_uint(number(c[0]));
       w.put(' ');
@@ -76,7 +80,8 @@ TinWriteStats write_ply(OutputFile& out, const mesh::Triangulation& tin,
       w.put('\n');
     });
   } else if (number.compacted()) {
-    tin.for_each_triangle([&w, &number](TriangleId, const std::array<VertexId, 3>& c) {
+    tin.for_each_triangle([&](TriangleId, const std::array<VertexId, 3>& c) {
+      progress.tick(done++);
       w.put_le(std::uint8_t{3});
       w.put_le(number(c[0]));
       w.put_le(number(c[1]));
@@ -87,7 +92,8 @@ TinWriteStats write_ply(OutputFile& out, const mesh::Triangulation& tin,
       w.put_le(number(b));
     });
   } else {
-    tin.for_each_triangle([&w](TriangleId, const std::array<VertexId, 3>& c) {
+    tin.for_each_triangle([&](TriangleId, const std::array<VertexId, 3>& c) {
+      progress.tick(done++);
       w.put_le(std::uint8_t{3});
       w.put_le(c[0]);
       w.put_le(c[1]);
@@ -99,6 +105,7 @@ TinWriteStats write_ply(OutputFile& out, const mesh::Triangulation& tin,
     });
   }
   w.flush();
+  progress.finish();
   return {nv, nt, 0};
 }
 

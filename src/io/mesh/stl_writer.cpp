@@ -58,9 +58,12 @@ TinWriteStats write_stl(OutputFile& out, const mesh::Triangulation& tin,
   header.resize(80, ' ');
 
   BlockWriter w(out);
+  Progress progress(options.progress, "write", counts.kept);
+  std::uint64_t done = 0;
   w.put(header);
   w.put_le(static_cast<std::uint32_t>(counts.kept));
   tin.for_each_triangle([&](TriangleId, const std::array<VertexId, 3>& c) {
+    progress.tick(done++);
     Point3 p[3];
     for (int i = 0; i < 3; ++i) p[i] = shifted_vertex(path, tin, c[i], options.offset);
     const double ux = p[1].x - p[0].x, uy = p[1].y - p[0].y, uz = p[1].z - p[0].z;
@@ -83,6 +86,7 @@ TinWriteStats write_stl(OutputFile& out, const mesh::Triangulation& tin,
     w.put_le(std::uint16_t{0});
   });
   w.flush();
+  progress.finish();
 
   const VertexNumbering number(tin, counts.removed > 0);  // only to count the vertices used
   return {number.count(), counts.kept, 0};

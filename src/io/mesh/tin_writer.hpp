@@ -7,6 +7,8 @@
 #include <string>
 #include <string_view>
 
+#include "core/progress.hpp"
+
 #include "core/types.hpp"
 #include "io/output_file.hpp"
 #include "mesh/triangulation.hpp"
@@ -25,6 +27,9 @@ struct TinWriteOptions {
                                // refused by LandXML and GeoPackage (format_takes_offset)
   std::string crs_wkt;         // CRS of the vertices; empty = unknown
   std::string target_crs_wkt;  // GeoJSON only: reproject to this CRS (e.g. EPSG:4326)
+  // Stage "write", over the vertices and triangles written; a request to stop is honoured
+  // within the file (Cancelled), which is then removed.
+  const ProgressFn* progress = nullptr;
 };
 
 struct TinWriteStats {
