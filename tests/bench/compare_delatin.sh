@@ -3,12 +3,14 @@
 # heights and tolerances, run round-robin in one session; prints every run and a table of
 # medians: vertex counts, their ratio, time ratio (delatin / tincdt) and peak RSS. The time is
 # each tool's own timing of the simplification (wall clock); the CPU time is the whole process's
-# (user + system, reading the grid included), which a busy machine disturbs less.
+# (user + system, reading the grid included, and with MODE=stage the untimed triangulation too),
+# which a busy machine disturbs less.
 #   tests/bench/compare_delatin.sh [BUILD_DIR] [ROUNDS]
 # Grids: ../shared/bench gen.py's contours/dem.tif (1000 x 1000, made if missing) at 0.1, 0.5
 # and 1 m, and a 4096 x 4096 synthetic terrain this script writes (smooth hills and four octaves
 # of detail) at BIG_ERRORS (default 0.5). Environment: TINBENCH (default /tmp/tinbench), BIG_N,
-# BIG_ERRORS, DEM_ERRORS, THREADS (tincdt's; default 0 = all cores).
+# BIG_ERRORS, DEM_ERRORS, THREADS (tincdt's; default 0 = all cores), MODE (simplify_bench's:
+# "points", the default, or "stage", what the pipeline's stage runs on the Delaunay TIN).
 # Needs gdal-bin, python3-numpy, python3-gdal (cmake/setup.sh python3-numpy python3-gdal
 # gdal-bin), node, and /usr/bin/time.
 set -euo pipefail
@@ -21,6 +23,7 @@ big_n=${BIG_N:-4096}
 dem_errors=${DEM_ERRORS:-"0.1 0.5 1"}
 big_errors=${BIG_ERRORS:-0.5}
 threads=${THREADS:-0}
+mode=${MODE:-points}
 bench=$build/tests/bench/simplify_bench
 [[ -x $bench ]] || { echo "no $bench: cmake --build --preset test --target simplify_bench" >&2; exit 1; }
 
@@ -68,7 +71,7 @@ run() {
   ((round % 2)) && order="delatin tincdt"
   for tool in $order; do
     if [[ $tool == tincdt ]]; then
-      /usr/bin/time -v "$bench" "$grid" "$w" "$h" "$e" "$threads" > "$work/out" 2> "$work/time"
+      /usr/bin/time -v "$bench" "$grid" "$w" "$h" "$e" "$threads" "$mode" > "$work/out" 2> "$work/time"
     else
       /usr/bin/time -v node "$shared/node/delatin_run.mjs" "$grid" "$w" "$h" "$e" > "$work/out" \
         2> "$work/time"

@@ -1,29 +1,36 @@
 // tincdt's simplification on a height grid, in the terms of ../shared/bench/node/delatin_run.mjs:
 // cell (i, j) of a WIDTH x HEIGHT Float32 grid (row-major, as gdal_translate -of ENVI writes it)
-// is the point x = i (column), y = j (row), z = its height. Times simplify() alone (not the
-// file reading) and prints
+// is the point x = i (column), y = j (row), z = its height. Times the simplification alone (not
+// the file reading) and prints
 //   RESULT tool=tincdt width=W height=H max_error=E vertices=V triangles=T run_s=S
 //          achieved_max_error=M rmse=R
-// Usage: simplify_bench GRID.f32 WIDTH HEIGHT MAX_ERROR [THREADS]
+// MODE "points" (the default) times simplify() on the cells as given (row by row); "stage" times
+// what the pipeline's simplify stage runs, simplify_tin() on the Delaunay TIN of the cells (its
+// vertices in the Delaunay stage's Hilbert order; the triangulation itself untimed).
+// Usage: simplify_bench GRID.f32 WIDTH HEIGHT MAX_ERROR [THREADS [MODE]]
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <string>
 #include <vector>
 
 #include "core/memory.hpp"
+#include "delaunay/delaunay.hpp"
 #include "simplify/simplify.hpp"
 
 int main(int argc, char** argv) {
-  if (argc < 5 || argc > 6) {
-    std::fprintf(stderr, "usage: %s GRID.f32 WIDTH HEIGHT MAX_ERROR [THREADS]\n", argv[0]);
+  const std::string mode = argc > 6 ? argv[6] : "points";
+  if (argc < 5 || argc > 7 || (mode != "points" && mode != "stage")) {
+    std::fprintf(stderr, "usage: %s GRID.f32 WIDTH HEIGHT MAX_ERROR [THREADS [points|stage]]\n",
+                 argv[0]);
     return 2;
   }
   const std::size_t width = std::strtoull(argv[2], nullptr, 10);
   const std::size_t height = std::strtoull(argv[3], nullptr, 10);
   const double max_error = std::strtod(argv[4], nullptr);
-  const unsigned threads = argc == 6 ? static_cast<unsigned>(std::atoi(argv[5])) : 0;
+  const unsigned threads = argc > 5 ? static_cast<unsigned>(std::atoi(argv[5])) : 0;
   const std::size_t n = width * height;
 
   std::ifstream in(argv[1], std::ios::binary | std::ios::ate);
@@ -54,8 +61,18 @@ int main(int argc, char** argv) {
   tincdt::simplify::SimplifyOptions options;
   options.max_error = max_error;
   options.threads = threads;
+  tincdt::mesh::Triangulation full;
+  if (mode == "stage") {
+    std::vector<tincdt::Point3> points(n);
+    for (std::size_t k = 0; k < n; ++k) points[k] = {xy[k].x, xy[k].y, z[k]};
+    std::vector<tincdt::Point2>().swap(xy);
+    std::vector<double>().swap(z);
+    full = tincdt::delaunay::triangulate(std::move(points), {.threads = threads}).tin;
+  }
   const auto t0 = std::chrono::steady_clock::now();
-  const tincdt::simplify::SimplifyResult r = tincdt::simplify::simplify(xy, z, {}, {}, options);
+  const tincdt::simplify::SimplifyResult r =
+      mode == "stage" ? tincdt::simplify::simplify_tin(full, options)
+                      : tincdt::simplify::simplify(xy, z, {}, {}, options);
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::printf(
       "RESULT tool=tincdt width=%zu height=%zu max_error=%g vertices=%llu triangles=%zu "
