@@ -6,6 +6,8 @@
 #include <cstring>
 #include <vector>
 
+#include "core/error.hpp"
+
 namespace tincdt::io::detail {
 namespace {
 
@@ -167,48 +169,42 @@ bool pack(GDALDataset& ds, const std::string& table, const std::string& column,
   }
   first_node.back() = 1;
 
+  // Level by level from the leaves: node n of a level holds its children n * fanout onwards,
+  // the rows of a leaf, the nodes of the level below otherwise (each with its parent recorded).
   NodeWriter nodes(ds, rtree + "_node", node_bytes);
-  std::vector<std::pair<std::int64_t, Box>> cells;
-  std::vector<Box> below, above;  // the boxes of the level just written, and of this one
-  for (std::uint64_t n = 0; n < level_nodes[0]; ++n) {
-    cells.clear();
-    Box all;
-    for (std::uint64_t k = n * fanout; k < std::min(rows, (n + 1) * fanout); ++k) {
-      const Envelope e = envelope(k);
-      const Box b{down(e.min_x), up(e.max_x), down(e.min_y), up(e.max_y)};
-      cells.emplace_back(static_cast<std::int64_t>(k + 1), b);
-      all.add(b);
-    }
-    if (!nodes.add(first_node[0] + static_cast<std::int64_t>(n), depth, cells)) return false;
-    below.push_back(all);
-  }
   const std::string insert_parent = "INSERT INTO \"" + rtree + "_parent\" VALUES ";
   std::string parents;
-  for (std::size_t l = 1; l < level_nodes.size(); ++l) {
-    above.clear();
+  std::vector<std::pair<std::int64_t, Box>> cells;
+  std::vector<Box> below, boxes;  // the boxes of the level below, and of this one
+  for (std::size_t l = 0; l < level_nodes.size(); ++l) {
+    const std::uint64_t children = l == 0 ? rows : below.size();
+    boxes.clear();
     for (std::uint64_t n = 0; n < level_nodes[l]; ++n) {
+      const std::int64_t nodeno = first_node[l] + static_cast<std::int64_t>(n);
       cells.clear();
       Box all;
-      for (std::uint64_t c = n * fanout;
-           c < std::min<std::uint64_t>(below.size(), (n + 1) * fanout); ++c) {
-        const std::int64_t child = first_node[l - 1] + static_cast<std::int64_t>(c);
-        const std::int64_t parent = first_node[l] + static_cast<std::int64_t>(n);
-        cells.emplace_back(child, below[c]);
-        all.add(below[c]);
-        parents.append(parents.empty() ? insert_parent : ",").append("(");
-        parents.append(std::to_string(child))
-            .append(",")
-            .append(std::to_string(parent))
-            .append(")");
-        if (parents.size() > (1 << 16)) {
-          if (!run(ds, parents)) return false;
-          parents.clear();
+      for (std::uint64_t c = n * fanout; c < std::min(children, (n + 1) * fanout); ++c) {
+        if (l == 0) {
+          const Envelope e = envelope(c);
+          cells.emplace_back(static_cast<std::int64_t>(c + 1),
+                             Box{down(e.min_x), up(e.max_x), down(e.min_y), up(e.max_y)});
+        } else {
+          const std::int64_t child = first_node[l - 1] + static_cast<std::int64_t>(c);
+          cells.emplace_back(child, below[c]);
+          parents.append(parents.empty() ? insert_parent : ",").append("(");
+          parents.append(std::to_string(child)).append(",").append(std::to_string(nodeno));
+          parents.append(")");
+          if (parents.size() > (1 << 16)) {
+            if (!run(ds, parents)) return false;
+            parents.clear();
+          }
         }
+        all.add(cells.back().second);
       }
-      if (!nodes.add(first_node[l] + static_cast<std::int64_t>(n), depth, cells)) return false;
-      above.push_back(all);
+      if (!nodes.add(nodeno, depth, cells)) return false;
+      boxes.push_back(all);
     }
-    std::swap(below, above);
+    std::swap(below, boxes);
   }
   if (!nodes.flush() || (!parents.empty() && !run(ds, parents))) return false;
   // Row k + 1 is in leaf k / fanout.
@@ -241,9 +237,12 @@ bool write_gpkg_rtree(GDALDataset& ds, const std::string& table, const std::stri
   const std::string fid = layer->GetFIDColumn();
   const std::vector<std::int64_t> span = first_row(
       ds, "SELECT min(\"" + fid + "\"), max(\"" + fid + "\"), count(*) FROM \"" + table + "\"");
+  if (span.size() != 3) return false;
+  // The caller wrote ROWS features into a new table; SQLite numbered them 1, 2, ...
   const auto n = static_cast<std::int64_t>(rows);
-  if (span.size() != 3 || (n > 0 && (span[0] != 1 || span[1] != n)) || span[2] != n)
-    return run(ds, "SELECT CreateSpatialIndex('" + table + "', '" + column + "')");
+  if (span[2] != n || (n > 0 && (span[0] != 1 || span[1] != n)))
+    throw InternalError("the GeoPackage table " + table + " holds rows other than fid 1.." +
+                        std::to_string(n));
   if (ds.StartTransaction(FALSE) != OGRERR_NONE) return false;
   if (!pack(ds, table, column, fid, rows, envelope)) {
     ds.RollbackTransaction();

@@ -29,8 +29,8 @@ struct Envelope {
 
 // Creates the spatial index "rtree_<table>_<column>" of TABLE (geometry column COLUMN), whose
 // rows must be fid 1..ROWS with the envelope ENVELOPE(i) for fid i + 1, in one transaction of
-// DS (none may be open). Rows that are not exactly fid 1..ROWS get GDAL's own (row by row)
-// index instead. False when GDAL or SQLite failed (last_gdal_message() says why).
+// DS (none may be open); other rows are an InternalError. False when GDAL or SQLite failed
+// (last_gdal_message() says why).
 bool write_gpkg_rtree(GDALDataset& ds, const std::string& table, const std::string& column,
                       std::uint64_t rows, const std::function<Envelope(std::uint64_t)>& envelope);
 
