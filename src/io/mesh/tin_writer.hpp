@@ -8,7 +8,6 @@
 #include <string_view>
 
 #include "core/progress.hpp"
-
 #include "core/types.hpp"
 #include "io/output_file.hpp"
 #include "mesh/triangulation.hpp"
