@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <exception>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -346,10 +347,12 @@ class Simplifier {
     if (!(options.max_error >= 0))
       throw Error("simplify: the maximum error must be a number >= 0, not " +
                   std::to_string(options.max_error));
-    const std::size_t arena = 2 * xy.size() + 1024;
-    ids_.reserve(arena);
-    advise_huge_pages(ids_);
-    ids_.assign(arena, kNoId);
+    // Only the marks are set: fresh pages cost more than the writes, and the ranges are written
+    // before they are read. (Huge pages were no faster here, and asking for them cost 0.2 s a
+    // 16M-point run when memory was fragmented.)
+    arena_size_ = 2 * xy.size() + 1024;
+    ids_ = std::make_unique_for_overwrite<std::uint32_t[]>(arena_size_);
+    std::fill_n(ids_.get(), xy.size(), kNoId);
   }
 
   // The constrained Delaunay triangulation of the kept points, the segments' ends and the
@@ -675,7 +678,7 @@ class Simplifier {
     // The replaced triangles' ranges (the star's slots that held points); their slots reset.
     std::size_t total = 0;
     for (const EdgeId s : star_) total += count_[triangle_of(s)];
-    if (arena_end_ + total > ids_.size()) compact();
+    if (arena_end_ + total > arena_size_) compact();
     old_.clear();
     for (const EdgeId s : star_) {
       const TriangleId u = triangle_of(s);
@@ -730,7 +733,7 @@ class Simplifier {
       std::size_t j = 0;
       for (const Range& r : old_) {
         const std::size_t from = std::max(lo, j), to = std::min(hi, j + r.count);
-        if (from < to) f(ids_.data() + r.begin + (from - j), to - from, from);
+        if (from < to) f(ids_.get() + r.begin + (from - j), to - from, from);
         j += r.count;
       }
     };
@@ -756,7 +759,7 @@ class Simplifier {
         at += count;
       }
     }
-    std::uint32_t* out = ids_.data() + arena_end_;
+    std::uint32_t* out = ids_.get() + arena_end_;
     arena_end_ = at;
     auto move_chunk = [&](std::size_t c, std::size_t n_chunks) {
       Tally* cursor = tallies_.data() + c * m;
@@ -808,8 +811,7 @@ class Simplifier {
               [&](TriangleId a, TriangleId b) { return begin_[a] < begin_[b]; });
     std::size_t at = 0;
     for (TriangleId t : live) {
-      std::copy_n(ids_.begin() + static_cast<std::ptrdiff_t>(begin_[t]), count_[t],
-                  ids_.begin() + static_cast<std::ptrdiff_t>(at));
+      std::copy_n(ids_.get() + begin_[t], count_[t], ids_.get() + at);
       begin_[t] = at;
       at += count_[t];
     }
@@ -827,8 +829,8 @@ class Simplifier {
 
   // The points of each triangle are one range of ids_, an arena: new ranges are appended, old
   // ones abandoned, and compact() closes the gaps when the end is reached.
-  std::vector<std::uint32_t> ids_;
-  std::size_t arena_end_ = 0;
+  std::unique_ptr<std::uint32_t[]> ids_;
+  std::size_t arena_size_ = 0, arena_end_ = 0;
   // Per triangle slot: its range and what it holds.
   std::vector<std::size_t> begin_;
   std::vector<std::uint32_t> count_;
