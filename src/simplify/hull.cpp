@@ -17,8 +17,16 @@ bool xy_less(Point2 a, Point2 b) {
 }  // namespace
 
 std::vector<std::uint32_t> hull_corners(std::span<const Point2> xy) {
-  const auto n = static_cast<std::uint32_t>(xy.size());
+  return hull_corners(xy, {});
+}
+
+std::vector<std::uint32_t> hull_corners(std::span<const Point2> xy,
+                                        std::span<const std::uint32_t> ids) {
+  const std::size_t n = ids.empty() ? xy.size() : ids.size();
   if (n == 0) return {};
+  const auto id = [&](std::size_t j) {
+    return ids.empty() ? static_cast<std::uint32_t>(j) : ids[j];
+  };
 
   // Akl-Toussaint: the extreme points in 8 directions, counter-clockwise from the leftmost,
   // bound a region F (strictly left of each of their edges) that holds no hull corner: a point
@@ -26,14 +34,16 @@ std::vector<std::uint32_t> hull_corners(std::span<const Point2> xy) {
   // none of them. Which points are extreme may be decided inexactly (x + y rounds); F only
   // depends on them being input points.
   // Directions counter-clockwise from the left: -x, -x-y, -y, x-y, x, x+y, y, y-x.
-  std::uint32_t ext[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+  std::uint32_t ext[8];
+  std::fill_n(ext, 8, id(0));
   double best[8];
   const auto keys = [](Point2 p, double(&k)[8]) {
     k[0] = -p.x, k[1] = -p.x - p.y, k[2] = -p.y, k[3] = p.x - p.y;
     k[4] = p.x, k[5] = p.x + p.y, k[6] = p.y, k[7] = p.y - p.x;
   };
-  keys(xy[0], best);
-  for (std::uint32_t i = 1; i < n; ++i) {
+  keys(xy[id(0)], best);
+  for (std::size_t j = 1; j < n; ++j) {
+    const std::uint32_t i = id(j);
     double k[8];
     keys(xy[i], k);
     for (int d = 0; d < 8; ++d) {
@@ -70,7 +80,8 @@ std::vector<std::uint32_t> hull_corners(std::span<const Point2> xy) {
     }
   }
   std::vector<std::uint32_t> rest;
-  for (std::uint32_t i = 0; i < n; ++i) {
+  for (std::size_t j = 0; j < n; ++j) {
+    const std::uint32_t i = id(j);
     const Point2 p = xy[i];
     if (p.x > box[0] && p.x < box[1] && p.y > box[2] && p.y < box[3]) continue;
     if (!in_f(p)) rest.push_back(i);

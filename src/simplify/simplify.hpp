@@ -64,5 +64,8 @@ SimplifyResult simplify_tin(const mesh::Triangulation& full, const SimplifyOptio
 // The strict corners of the convex hull of the points (no point on an edge between two
 // corners), counter-clockwise, starting at the lexicographically smallest point.
 std::vector<std::uint32_t> hull_corners(std::span<const Point2> xy);
+// The same for the points xy[i], i in `ids` (all points if empty).
+std::vector<std::uint32_t> hull_corners(std::span<const Point2> xy,
+                                        std::span<const std::uint32_t> ids);
 
 }  // namespace tincdt::simplify

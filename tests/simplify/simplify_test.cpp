@@ -376,6 +376,15 @@ TEST(HullCorners, MatchesJarvisMarchOnRandomAndDegenerateSets) {
     std::vector<Point2> got;
     for (std::uint32_t i : corners) got.push_back(p[i]);
     EXPECT_EQ(got, jarvis(p)) << "round " << round;
+
+    // Of a subset named by ids: the hull of those points alone.
+    std::vector<std::uint32_t> ids;
+    std::vector<Point2> subset;
+    for (std::uint32_t i = 0; i < p.size(); ++i)
+      if (i % 3 != 1 || i < 3) ids.push_back(i), subset.push_back(p[i]);
+    got.clear();
+    for (std::uint32_t i : hull_corners(p, ids)) got.push_back(p[i]);
+    EXPECT_EQ(got, jarvis(subset)) << "round " << round << ", a subset";
   }
 }
 
