@@ -3,7 +3,9 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <cstdlib>
 #include <cstring>
 #include <exception>
@@ -23,7 +25,7 @@ namespace {
 using namespace mesh;  // the half-edge vocabulary: next_edge, triangle_of, kInfinite, ...
 using predicates::orient2d;
 
-// ids_[i] before the ranges are made: point i is a vertex (kept). Never a triangle slot.
+// ids_[j] before the ranges are made: the j-th point is a vertex (kept). Never a triangle slot.
 constexpr std::uint32_t kKept = kNoId - 1;
 
 unsigned thread_count(unsigned requested) {
@@ -332,54 +334,74 @@ class Pool {
   std::exception_ptr error_;
 };
 
+// The points a run simplifies: all of xy, z, or those named by `ids` (ascending).
+struct PointSet {
+  std::span<const Point2> xy;
+  std::span<const double> z;
+  std::span<const std::uint32_t> ids;  // empty: all
+
+  std::size_t size() const { return ids.empty() ? xy.size() : ids.size(); }
+  // The point of the j-th member.
+  std::uint32_t operator[](std::size_t j) const {
+    return ids.empty() ? static_cast<std::uint32_t>(j) : ids[j];
+  }
+  // The place of point i among the members, or size() when it is not one.
+  std::size_t find(std::uint32_t i) const {
+    if (ids.empty()) return i < xy.size() ? i : xy.size();
+    const auto it = std::lower_bound(ids.begin(), ids.end(), i);
+    return it != ids.end() && *it == i ? static_cast<std::size_t>(it - ids.begin()) : ids.size();
+  }
+};
+
 class Simplifier {
  public:
-  Simplifier(std::span<const Point2> xy, std::span<const double> z, const SimplifyOptions& options,
-             const ProgressFn* progress)
-      : xy_(xy),
-        z_(z),
+  Simplifier(const PointSet& set, const SimplifyOptions& options, const ProgressFn* progress)
+      : set_(set),
+        xy_(set.xy),
+        z_(set.z),
         options_(options),
         progress_(progress),
         pool_(thread_count(options.threads)),
-        queue_(xy.data()) {
-    if (xy.size() != z.size()) throw Error("simplify: x, y and z counts differ");
-    if (xy.size() >= kKept) throw GeometryError("simplify: too many points for 32-bit ids");
+        queue_(set.xy.data()) {
+    if (xy_.size() != z_.size()) throw Error("simplify: x, y and z counts differ");
+    if (xy_.size() >= kKept) throw GeometryError("simplify: too many points for 32-bit ids");
     if (!(options.max_error >= 0))
       throw Error("simplify: the maximum error must be a number >= 0, not " +
                   std::to_string(options.max_error));
     // Only the marks are set: fresh pages cost more than the writes, and the ranges are written
     // before they are read. (Huge pages were no faster here, and asking for them cost 0.2 s a
     // 16M-point run when memory was fragmented.)
-    arena_size_ = 2 * xy.size() + 1024;
+    arena_size_ = 2 * set.size() + 1024;
     ids_ = std::make_unique_for_overwrite<std::uint32_t[]>(arena_size_);
-    std::fill_n(ids_.get(), xy.size(), kNoId);
+    std::fill_n(ids_.get(), set.size(), kNoId);
   }
 
   // The constrained Delaunay triangulation of the kept points, the segments' ends and the
-  // seeds (points inserted up front, counted as inserted; none of them kept).
+  // seeds (points inserted up front, counted as inserted; none of them kept). All are points of
+  // the set.
   void start(std::span<const std::uint32_t> kept, std::span<const constraints::Segment> segments,
              std::span<const std::uint32_t> seeds = {}) {
-    const auto n = static_cast<std::uint32_t>(xy_.size());
-    for (std::uint32_t i : kept) {
-      if (i >= n) throw Error("simplify: a kept point index is out of range");
-      ids_[i] = kKept;
-    }
-    for (std::uint32_t i : seeds) ids_[i] = kKept;
-    for (const constraints::Segment& s : segments) {
-      if (s.a >= n || s.b >= n) throw Error("simplify: a segment names a point out of range");
-      ids_[s.a] = ids_[s.b] = kKept;
-    }
+    const std::size_t m = set_.size();
+    const auto member = [&](std::uint32_t i) {
+      const std::size_t j = set_.find(i);
+      if (j == m) throw Error("simplify: a kept point or segment end is not one of the points");
+      return j;
+    };
+    for (std::uint32_t i : kept) ids_[member(i)] = kKept;
+    for (std::uint32_t i : seeds) ids_[member(i)] = kKept;
+    for (const constraints::Segment& s : segments) ids_[member(s.a)] = ids_[member(s.b)] = kKept;
     std::vector<Point3> points;
-    std::vector<std::uint32_t> point_of;  // of each entry of `points`
-    for (std::uint32_t i = 0; i < n; ++i) {
-      if (ids_[i] != kKept) continue;
+    std::vector<std::uint32_t> point_of;  // of each entry of `points`, its place in the set
+    for (std::size_t j = 0; j < m; ++j) {
+      if (ids_[j] != kKept) continue;
+      const std::uint32_t i = set_[j];
       points.push_back({xy_[i].x, xy_[i].y, z_[i]});
-      point_of.push_back(i);
+      point_of.push_back(static_cast<std::uint32_t>(j));
     }
-    report_.points = n;
+    report_.points = m;
     report_.kept_vertices = points.size() - seeds.size();
     report_.inserted = seeds.size();
-    candidates_ = n - points.size();
+    candidates_ = m - points.size();
     delaunay::DelaunayOptions d;
     d.keep_point_map = true;
     delaunay::DelaunayResult r = delaunay::triangulate(std::move(points), d);
@@ -388,14 +410,14 @@ class Simplifier {
     tin_ = std::move(r.tin);
     point_of_vertex_.assign(tin_.vertex_count(), kNoId);
     for (std::size_t k = 0; k < point_of.size(); ++k)
-      point_of_vertex_[r.vertex_of_point[k]] = point_of[k];
+      point_of_vertex_[r.vertex_of_point[k]] = set_[point_of[k]];
     if (!segments.empty()) {
       std::vector<constraints::Segment> s;
       s.reserve(segments.size());
       for (const constraints::Segment& g : segments) s.push_back({g.a, g.b, g.source});
       for (std::size_t k = 0; k < point_of.size(); ++k) ids_[point_of[k]] = r.vertex_of_point[k];
-      for (constraints::Segment& g : s) g = {ids_[g.a], ids_[g.b], g.source};
-      for (std::uint32_t i : point_of) ids_[i] = kKept;
+      for (constraints::Segment& g : s) g = {ids_[set_.find(g.a)], ids_[set_.find(g.b)], g.source};
+      for (std::uint32_t j : point_of) ids_[j] = kKept;
       // In an order of their geometry, so that the caller's order does not decide.
       const auto key = [&](const constraints::Segment& g) {
         const Point2 a = tin_.point(g.a), b = tin_.point(g.b);
@@ -415,10 +437,10 @@ class Simplifier {
   }
 
   // Every other point into the range of the triangle holding it, its error measured: on all
-  // threads, each walking from the triangle of its previous point. ids_[i] holds the triangle
-  // of point i until a counting sort makes the ranges, in [n, n + candidates).
+  // threads, each walking from the triangle of its previous point. ids_[j] holds the triangle
+  // of the j-th point until a counting sort makes the ranges, in [m, m + candidates).
   void assign_points() {
-    const std::size_t n = xy_.size();
+    const std::size_t n = set_.size();
     const std::size_t slots = tin_.triangle_slots();
     grow();
     TriangleId first_real = 0;
@@ -430,7 +452,7 @@ class Simplifier {
       TriangleId t = first_real;
       for (std::size_t i = n * c / chunks, end = n * (c + 1) / chunks; i < end; ++i) {
         if (ids_[i] == kKept) continue;
-        t = locate(xy_[i], t, random);
+        t = locate(xy_[set_[i]], t, random);
         ids_[i] = t;
       }
     };
@@ -448,7 +470,7 @@ class Simplifier {
     std::vector<std::size_t> cursor(begin_.begin(),
                                     begin_.begin() + static_cast<std::ptrdiff_t>(slots));
     for (std::size_t i = 0; i < n; ++i)
-      if (ids_[i] != kKept) ids_[cursor[ids_[i]]++] = static_cast<std::uint32_t>(i);
+      if (ids_[i] != kKept) ids_[cursor[ids_[i]]++] = set_[i];
     release(cursor);
 
     // Each triangle's worst point.
@@ -818,6 +840,7 @@ class Simplifier {
     arena_end_ = at;
   }
 
+  PointSet set_;
   std::span<const Point2> xy_;
   std::span<const double> z_;
   SimplifyOptions options_;
@@ -867,8 +890,7 @@ struct GreedyRun {
   std::vector<std::uint32_t> order;  // the inserted points, seeds first, in insertion order
 };
 
-GreedyRun greedy(std::span<const Point2> xy, std::span<const double> z,
-                 std::span<const std::uint32_t> kept,
+GreedyRun greedy(const PointSet& set, std::span<const std::uint32_t> kept,
                  std::span<const constraints::Segment> segments, const SimplifyOptions& options,
                  const ProgressFn* progress, int depth = 0);
 
@@ -898,19 +920,20 @@ std::uint64_t xy_hash(Point2 p) {
 // (Recursively: a large subset is itself seeded.) Within 1% in vertex count either way on the
 // benchmark grids. Not with a vertex budget: there the greedy order alone decides which vertices
 // are in.
-std::vector<std::uint32_t> coarse_seeds(std::span<const Point2> xy, std::span<const double> z,
-                                        std::span<const std::uint32_t> kept,
+std::vector<std::uint32_t> coarse_seeds(const PointSet& set, std::span<const std::uint32_t> kept,
                                         std::span<const constraints::Segment> segments,
                                         const SimplifyOptions& options, int depth) {
-  const std::size_t n = xy.size();
+  const std::size_t n = set.size();
   if (n < kSeedMinPoints || options.max_vertices) return {};
   // The points that must be in (few next to n), sorted: merged with the scan below, so that no
-  // array of n entries is needed (fresh pages cost more than their use here).
+  // array of n entries is needed (fresh pages cost more than their use here). Points that are
+  // not in the set are left to the full run to report.
   std::vector<std::uint32_t> must;
+  const auto in_set = [&](std::uint32_t i) { return set.find(i) < n; };
   for (std::uint32_t i : kept)
-    if (i < n) must.push_back(i);
+    if (in_set(i)) must.push_back(i);
   for (const constraints::Segment& s : segments)
-    if (s.a < n && s.b < n) must.insert(must.end(), {s.a, s.b});
+    if (in_set(s.a) && in_set(s.b)) must.insert(must.end(), {s.a, s.b});
   std::sort(must.begin(), must.end());
   must.erase(std::unique(must.begin(), must.end()), must.end());
   std::vector<Point2> sub_xy;
@@ -922,13 +945,14 @@ std::vector<std::uint32_t> coarse_seeds(std::span<const Point2> xy, std::span<co
   point_of_sub.reserve(expected);
   const std::uint64_t mask = (std::uint64_t{1} << kThinningBits) - 1;
   std::size_t next = 0;  // in must
-  for (std::uint32_t i = 0; i < n; ++i) {
+  for (std::size_t j = 0; j < n; ++j) {
+    const std::uint32_t i = set[j];
     const bool required = next < must.size() && must[next] == i;
     next += required;
-    if (!required && ((xy_hash(xy[i]) >> (kThinningBits * depth)) & mask) != 0) continue;
+    if (!required && ((xy_hash(set.xy[i]) >> (kThinningBits * depth)) & mask) != 0) continue;
     point_of_sub.push_back(i);
-    sub_xy.push_back(xy[i]);
-    sub_z.push_back(z[i]);
+    sub_xy.push_back(set.xy[i]);
+    sub_z.push_back(set.z[i]);
   }
   const auto sub_of = [&](std::uint32_t i) {
     return static_cast<std::uint32_t>(
@@ -936,34 +960,238 @@ std::vector<std::uint32_t> coarse_seeds(std::span<const Point2> xy, std::span<co
   };
   std::vector<std::uint32_t> sub_kept;
   for (std::uint32_t i : kept)
-    if (i < n) sub_kept.push_back(sub_of(i));
+    if (in_set(i)) sub_kept.push_back(sub_of(i));
   std::vector<constraints::Segment> sub_segments;
   for (const constraints::Segment& s : segments)
-    if (s.a < n && s.b < n) sub_segments.push_back({sub_of(s.a), sub_of(s.b), s.source});
+    if (in_set(s.a) && in_set(s.b)) sub_segments.push_back({sub_of(s.a), sub_of(s.b), s.source});
   SimplifyOptions coarse_options = options;
   coarse_options.max_error *= kSeedTolerance;
   const GreedyRun coarse =
-      greedy(sub_xy, sub_z, sub_kept, sub_segments, coarse_options, nullptr, depth + 1);
+      greedy({sub_xy, sub_z, {}}, sub_kept, sub_segments, coarse_options, nullptr, depth + 1);
   std::vector<std::uint32_t> seeds;
   seeds.reserve(coarse.order.size());
   for (const std::uint32_t k : coarse.order) seeds.push_back(point_of_sub[k]);
   return seeds;
 }
 
-GreedyRun greedy(std::span<const Point2> xy, std::span<const double> z,
-                 std::span<const std::uint32_t> kept,
+// The greedy run on the points of `set`, from the seeds (inserted up front) or, if there are
+// none, from seeds of its own (coarse_seeds).
+GreedyRun greedy(const PointSet& set, std::span<const std::uint32_t> kept,
                  std::span<const constraints::Segment> segments, const SimplifyOptions& options,
-                 const ProgressFn* progress, int depth) {
-  const std::vector<std::uint32_t> seeds = coarse_seeds(xy, z, kept, segments, options, depth);
-  Simplifier s(xy, z, options, progress);
+                 const ProgressFn* progress, std::span<const std::uint32_t> seeds, int depth) {
+  std::vector<std::uint32_t> own;
+  if (seeds.empty()) {
+    own = coarse_seeds(set, kept, segments, options, depth);
+    seeds = own;
+  }
+  Simplifier s(set, options, progress);
   s.start(kept, segments, seeds);
   s.assign_points();
   s.run();
   GreedyRun run;
-  run.order = seeds;
+  run.order.assign(seeds.begin(), seeds.end());
   const std::vector<std::uint32_t> order = s.greedy_order();
   run.order.insert(run.order.end(), order.begin(), order.end());
   run.result = s.finish();
+  return run;
+}
+
+GreedyRun greedy(const PointSet& set, std::span<const std::uint32_t> kept,
+                 std::span<const constraints::Segment> segments, const SimplifyOptions& options,
+                 const ProgressFn* progress, int depth) {
+  return greedy(set, kept, segments, options, progress, {}, depth);
+}
+
+// Inputs this large are split into kRegionsPerSide^2 regions, the cells of a grid over the
+// points' bounding box (independent of the thread count: the regions decide the result). Each
+// region's points are simplified on their own, the regions on all threads at once, with the
+// kept points and segments that lie in them. All a region inserted, except within kSeamShare
+// of a cell's side of an edge it shares with another, seeds the run on all points (with all
+// kept points and segments), which then has little left to do but the seams. The regions are
+// only a start: the last run alone decides that every point is within the tolerance. Smaller
+// regions are faster (their points stay in cache) but their seams cost vertices and time.
+// Not with a vertex budget (see coarse_seeds).
+constexpr std::size_t kRegionMinPoints = std::size_t{1} << 18;
+constexpr int kRegionsPerSide = 2;
+constexpr double kSeamShare = 1.0 / 32;
+// The share of the stage's progress the regions take (the last run has the rest).
+constexpr double kRegionProgress = 0.9;
+
+// The regions' runs on `threads` threads, the calling one included: only the calling thread
+// reports progress; a request to stop reaches the others through stop_. A region whose run
+// meets a GeometryError (its points all collinear, say) seeds nothing: the last run decides.
+class RegionRuns {
+ public:
+  RegionRuns(std::vector<std::function<std::vector<std::uint32_t>(const ProgressFn*)>> runs,
+             std::vector<double> weights, const ProgressFn* progress)
+      : runs_(std::move(runs)),
+        weights_(std::move(weights)),
+        progress_(progress && *progress ? progress : nullptr),
+        done_(runs_.size()),
+        seeds_(runs_.size()),
+        errors_(runs_.size()) {}
+
+  std::vector<std::vector<std::uint32_t>> run(unsigned threads) {
+    const auto n = static_cast<unsigned>(runs_.size());
+    left_ = n;
+    std::vector<std::thread> workers;
+    for (unsigned i = 1; i < std::min(threads, n); ++i)
+      workers.emplace_back([this] { work(false); });
+    work(true);
+    if (progress_) {
+      std::unique_lock lock(mutex_);
+      while (left_ > 0) {
+        if (finished_.wait_for(lock, std::chrono::milliseconds(20)) == std::cv_status::timeout) {
+          lock.unlock();
+          report();
+          lock.lock();
+        }
+      }
+    }
+    for (std::thread& t : workers) t.join();
+    for (const std::exception_ptr& e : errors_)
+      if (e) std::rethrow_exception(e);
+    if (stop_) throw Cancelled();
+    return std::move(seeds_);
+  }
+
+ private:
+  void work(bool caller) {
+    for (;;) {
+      const unsigned r = next_.fetch_add(1);
+      if (r >= runs_.size()) return;
+      const ProgressFn fn = [this, r, caller](std::string_view, double fraction) {
+        done_[r].store(fraction, std::memory_order_relaxed);
+        return caller ? report() : !stop_.load(std::memory_order_relaxed);
+      };
+      try {
+        if (!stop_) seeds_[r] = runs_[r](&fn);
+      } catch (const Cancelled&) {
+        stop_ = true;
+      } catch (const GeometryError&) {
+        seeds_[r].clear();
+      } catch (...) {
+        errors_[r] = std::current_exception();
+        stop_ = true;
+      }
+      const std::lock_guard lock(mutex_);
+      if (--left_ == 0) finished_.notify_all();
+    }
+  }
+
+  // The regions' fractions, weighted, to the caller's callback; false when it asks to stop.
+  bool report() {
+    if (stop_) return false;
+    if (!progress_) return true;
+    double sum = 0;
+    for (std::size_t r = 0; r < runs_.size(); ++r)
+      sum += weights_[r] * done_[r].load(std::memory_order_relaxed);
+    if (!(*progress_)("simplify", kRegionProgress * sum)) stop_ = true;
+    return !stop_;
+  }
+
+  std::vector<std::function<std::vector<std::uint32_t>(const ProgressFn*)>> runs_;
+  std::vector<double> weights_;  // each region's share of the points
+  const ProgressFn* progress_;
+  std::vector<std::atomic<double>> done_;  // each region's fraction
+  std::vector<std::vector<std::uint32_t>> seeds_;
+  std::vector<std::exception_ptr> errors_;
+  std::atomic<unsigned> next_{0};
+  std::atomic<bool> stop_{false};
+  std::mutex mutex_;
+  std::condition_variable finished_;
+  unsigned left_ = 0;  // regions not finished; under mutex_
+};
+
+struct RegionSeeds {
+  std::vector<std::uint32_t> seeds;
+  std::uint32_t regions = 0;  // that ran
+};
+
+// The seeds the regions give (see kRegionsPerSide), or none when the input is too small or
+// the regions do not apply. `kept` holds the corners of the points' hull, so it spans their box.
+RegionSeeds region_seeds(const PointSet& set, std::span<const std::uint32_t> kept,
+                         std::span<const constraints::Segment> segments,
+                         const SimplifyOptions& options, const ProgressFn* progress) {
+  const std::size_t n = set.size();
+  if (n < kRegionMinPoints || options.max_vertices || !set.ids.empty()) return {};
+  for (std::uint32_t i : kept)
+    if (i >= n) return {};  // the last run reports it
+  for (const constraints::Segment& s : segments)
+    if (s.a >= n || s.b >= n) return {};
+  Point2 lo{INFINITY, INFINITY}, hi{-INFINITY, -INFINITY};
+  for (std::uint32_t i : kept) {
+    lo = {std::min(lo.x, set.xy[i].x), std::min(lo.y, set.xy[i].y)};
+    hi = {std::max(hi.x, set.xy[i].x), std::max(hi.y, set.xy[i].y)};
+  }
+  if (!(hi.x > lo.x && hi.y > lo.y)) return {};
+  // Where a point is in cell units: cell (i, j) holds i <= x < i + 1, j <= y < j + 1 (the last
+  // ones up to kRegionsPerSide).
+  constexpr int side = kRegionsPerSide;
+  const Point2 cell_size{(hi.x - lo.x) / side, (hi.y - lo.y) / side};
+  const auto place = [&](std::uint32_t i) {
+    return Point2{(set.xy[i].x - lo.x) / cell_size.x, (set.xy[i].y - lo.y) / cell_size.y};
+  };
+  const auto cell = [](double p) { return std::min(side - 1, static_cast<int>(p)); };
+  const auto region = [&](std::uint32_t i) {
+    const Point2 p = place(i);
+    return static_cast<std::size_t>(cell(p.x) + side * cell(p.y));
+  };
+  constexpr std::size_t regions = side * side;
+  std::vector<std::vector<std::uint32_t>> members(regions), region_kept(regions);
+  std::vector<std::vector<constraints::Segment>> region_segments(regions);
+  for (auto& m : members) m.reserve(n / regions + n / 16);
+  for (std::uint32_t i = 0; i < n; ++i) members[region(i)].push_back(i);
+  for (std::uint32_t i : kept) region_kept[region(i)].push_back(i);
+  for (const constraints::Segment& s : segments)
+    if (region(s.a) == region(s.b)) region_segments[region(s.a)].push_back(s);
+  // Near a shared edge, a region's run inserted points for its own hull's sake.
+  const auto near_seam = [&](std::uint32_t i, std::size_t r) {
+    const Point2 p = place(i);
+    const auto x = static_cast<int>(r % side), y = static_cast<int>(r / side);
+    return (x > 0 && p.x < x + kSeamShare) || (x + 1 < side && p.x > x + 1 - kSeamShare) ||
+           (y > 0 && p.y < y + kSeamShare) || (y + 1 < side && p.y > y + 1 - kSeamShare);
+  };
+
+  SimplifyOptions region_options = options;
+  region_options.threads = 1;
+  std::vector<std::function<std::vector<std::uint32_t>(const ProgressFn*)>> runs;
+  std::vector<double> weights;
+  for (std::size_t r = 0; r < regions; ++r) {
+    weights.push_back(static_cast<double>(members[r].size()) / static_cast<double>(n));
+    runs.emplace_back([&, r](const ProgressFn* fn) {
+      std::vector<std::uint32_t> own_kept = hull_corners(set.xy, members[r]);
+      if (own_kept.size() < 3) return std::vector<std::uint32_t>{};  // collinear or empty
+      own_kept.insert(own_kept.end(), region_kept[r].begin(), region_kept[r].end());
+      const GreedyRun run =
+          greedy({set.xy, set.z, members[r]}, own_kept, region_segments[r], region_options, fn);
+      std::vector<std::uint32_t> seeds;
+      for (std::uint32_t i : run.order)
+        if (!near_seam(i, r)) seeds.push_back(i);
+      return seeds;
+    });
+  }
+  const std::vector<std::vector<std::uint32_t>> found =
+      RegionRuns(std::move(runs), std::move(weights), progress).run(thread_count(options.threads));
+  RegionSeeds out;
+  out.regions = regions;
+  for (const auto& f : found) out.seeds.insert(out.seeds.end(), f.begin(), f.end());
+  return out;
+}
+
+// The whole simplification: seeds from the regions when they apply, then the run on all points.
+GreedyRun simplify_all(const PointSet& set, std::span<const std::uint32_t> kept,
+                       std::span<const constraints::Segment> segments,
+                       const SimplifyOptions& options, const ProgressFn* progress) {
+  const RegionSeeds start = region_seeds(set, kept, segments, options, progress);
+  if (start.seeds.empty()) return greedy(set, kept, segments, options, progress);
+  ProgressFn rest;
+  if (progress && *progress)
+    rest = [progress](std::string_view stage, double fraction) {
+      return (*progress)(stage, kRegionProgress + (1 - kRegionProgress) * fraction);
+    };
+  GreedyRun run = greedy(set, kept, segments, options, progress ? &rest : nullptr, start.seeds, 0);
+  run.result.report.regions = start.regions;
   return run;
 }
 
@@ -975,7 +1203,7 @@ SimplifyResult simplify(std::span<const Point2> xy, std::span<const double> z,
                         const SimplifyOptions& options, const ProgressFn* progress) {
   std::vector<std::uint32_t> all = hull_corners(xy);
   all.insert(all.end(), kept.begin(), kept.end());
-  return greedy(xy, z, all, segments, options, progress).result;
+  return simplify_all({xy, z, {}}, all, segments, options, progress).result;
 }
 
 SimplifyResult simplify_tin(const mesh::Triangulation& full, const SimplifyOptions& options,
@@ -997,7 +1225,8 @@ SimplifyResult simplify_tin(const mesh::Triangulation& full, const SimplifyOptio
     const VertexId w = full.dest(next_edge(inf_v));
     if (orient2d(full.point(w), full.point(v), full.point(u)) != 0) kept.push_back(v);
   }
-  return greedy(full.points(), full.heights(), kept, segments, options, progress).result;
+  return simplify_all({full.points(), full.heights(), {}}, kept, segments, options, progress)
+      .result;
 }
 
 }  // namespace tincdt::simplify

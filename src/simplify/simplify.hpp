@@ -32,6 +32,7 @@ struct SimplifyReport {
   double max_error = 0;             // achieved: the largest |z - TIN(x, y)| over all points
   double rmse = 0;                  // root mean square of the same, over all points
   bool stopped_at_max_vertices = false;
+  std::uint32_t regions = 0;  // simplified on their own first, on all threads (0: none)
 };
 
 struct SimplifyResult {

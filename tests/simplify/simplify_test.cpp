@@ -9,6 +9,7 @@
 #include <random>
 #include <set>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "core/error.hpp"
@@ -206,6 +207,84 @@ TEST(Simplify, SeededLargeInputDoesNotDependOnOrder) {
   EXPECT_EQ(a.report.max_error, b.report.max_error);
   EXPECT_EQ(a.report.inserted, b.report.inserted);
   check(in, options, a);
+}
+
+// From 2^18 points on, the points' box is cut into regions simplified on their own (on all
+// threads) that seed the run on all points: still every point within the tolerance, every
+// constraint kept (the ring and the line cross the regions' edges), the same TIN for any thread
+// count and input order, and about as few vertices as one greedy run (a vertex budget turns
+// both the regions and the coarse seeds off).
+TEST(Simplify, RegionsDoNotChangeWithThreadsOrOrder) {
+  const Input in = random_input(21, 300000, true);
+  SimplifyOptions options;
+  options.max_error = 0.5;
+  options.threads = 1;
+  const SimplifyResult a = run(in, options);
+  EXPECT_EQ(a.report.regions, 4u);
+  check(in, options, a);
+  options.threads = 2;
+  const SimplifyResult b = run(in, options);
+  EXPECT_EQ(test::triangle_set(a.tin), test::triangle_set(b.tin));
+  EXPECT_EQ(a.report.max_error, b.report.max_error);
+  EXPECT_EQ(a.report.rmse, b.report.rmse);
+  options.threads = 3;
+  const SimplifyResult c = run(shuffled(in, 22), options);
+  EXPECT_EQ(test::triangle_set(a.tin), test::triangle_set(c.tin));
+  EXPECT_EQ(a.report.max_error, c.report.max_error);
+
+  options.max_vertices = 1u << 30;
+  const SimplifyResult one = run(in, options);
+  EXPECT_EQ(one.report.regions, 0u);
+  EXPECT_LE(static_cast<double>(a.report.vertices),
+            1.02 * static_cast<double>(one.report.vertices));
+}
+
+// The regions' progress reaches the caller from its own thread only, never goes back, and a
+// request to stop during the regions stops them all.
+TEST(Simplify, RegionsReportProgressAndCanCancel) {
+  const Input in = random_input(23, 300000, false);
+  SimplifyOptions options;
+  options.max_error = 0.5;
+  options.threads = 2;
+  std::vector<double> seen;
+  bool other_thread = false;
+  const std::thread::id caller = std::this_thread::get_id();
+  ProgressFn report = [&](std::string_view stage, double f) {
+    EXPECT_EQ(stage, "simplify");
+    other_thread |= std::this_thread::get_id() != caller;
+    seen.push_back(f);
+    return true;
+  };
+  const SimplifyResult r = simplify(in.xy, in.z, {}, {}, options, &report);
+  EXPECT_EQ(r.report.regions, 4u);
+  EXPECT_FALSE(other_thread);
+  EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end()));
+  ASSERT_FALSE(seen.empty());
+  EXPECT_EQ(seen.back(), 1.0);
+  EXPECT_GT(std::count_if(seen.begin(), seen.end(), [](double f) { return f > 0 && f < 0.5; }), 0);
+  ProgressFn cancel = [](std::string_view, double f) { return f < 0.3; };
+  EXPECT_THROW(simplify(in.xy, in.z, {}, {}, options, &cancel), Cancelled);
+}
+
+// Regions whose points are all on one line (or none) seed nothing; bad input found inside a
+// region is reported as the run on all points reports it.
+TEST(Simplify, DegenerateRegionsAreLeftToTheLastRun) {
+  Input in = random_input(25, 300000, false);
+  for (Point2& p : in.xy) p.x = kX0 + (p.x - kX0) / 2;  // the left half of the box
+  for (int i = 0; i < 2000; ++i) {                      // and a line at its right edge
+    in.xy.push_back({kX0 + 200, kY0 + 0.1 * i});
+    in.z.push_back(100 + 0.001 * i * i);
+  }
+  SimplifyOptions options;
+  options.max_error = 0.5;
+  const SimplifyResult r = run(in, options);
+  EXPECT_EQ(r.report.regions, 4u);
+  check(in, options, r);
+
+  in.xy.push_back(in.xy[10]);
+  in.z.push_back(in.z[10] + 1);
+  in.kept = {10, static_cast<std::uint32_t>(in.xy.size() - 1)};
+  EXPECT_THROW(run(in, options), GeometryError);
 }
 
 // A grid: every cell cocircular, many points on every long edge, and equal errors everywhere
