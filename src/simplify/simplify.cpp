@@ -60,11 +60,13 @@ bool worse(double e, std::uint32_t p, double we, std::uint32_t w, const Point2* 
 // What a set of points (a triangle's, or one thread's share of it) holds.
 struct Tally {
   double worst_error = -1.0;
+  double sum_sq = 0;  // of the errors
   std::uint32_t worst = kNoId;
   std::uint32_t count = 0;
 
   void add(double e, std::uint32_t p, const Point2* xy) {
     ++count;
+    sum_sq += e * e;
     if (worse(e, p, worst_error, worst, xy)) {
       worst_error = e;
       worst = p;
@@ -475,9 +477,10 @@ class Simplifier {
 
     // Each triangle's worst point.
     for_each_range([&](std::size_t t) {
-      const Tally tally = measure(t, nullptr);
+      const Tally tally = measure(t);
       worst_[t] = tally.worst;
       worst_error_[t] = tally.worst_error;
+      sum_sq_[t] = tally.sum_sq;
     });
 
     for (std::size_t t = 0; t < slots; ++t) {
@@ -515,15 +518,13 @@ class Simplifier {
   }
 
   SimplifyResult finish() {
-    // The squares summed triangle by triangle, then in slot order: the same for any thread count.
-    // (The greedy loop keeps only the worst point of each triangle.)
-    std::vector<double> sum_sq_of(count_.size(), 0.0);
-    for_each_range([&](std::size_t t) { measure(t, &sum_sq_of[t]); });
+    // The squares as each triangle's points were last measured, in slot order: the same for
+    // any thread count.
     double max_error = 0, sum_sq = 0;
     for (std::size_t t = 0; t < count_.size(); ++t) {
       if (count_[t] == 0) continue;
       max_error = std::max(max_error, worst_error_[t]);
-      sum_sq += sum_sq_of[t];
+      sum_sq += sum_sq_[t];
     }
     report_.max_error = max_error;
     report_.rmse = report_.points ? std::sqrt(sum_sq / static_cast<double>(report_.points)) : 0;
@@ -549,24 +550,19 @@ class Simplifier {
 
   Point2 pt(VertexId v) const { return tin_.point(v); }
 
-  // The points of triangle slot t measured against its plane: their worst, and (if asked)
-  // the sum of their squared errors.
-  Tally measure(std::size_t t, double* sum_sq) const {
+  // The points of triangle slot t measured against its plane.
+  Tally measure(std::size_t t) const {
     const EdgeId e = 3 * static_cast<EdgeId>(t);
     const VertexId a = tin_.origin(e), b = tin_.origin(e + 1), d = tin_.origin(e + 2);
     const Point2 pa = pt(a);
     const double za = tin_.z(a);
     const Gradient g(pa, za, pt(b), tin_.z(b), pt(d), tin_.z(d));
     Tally tally;
-    double sum = 0;
     for (std::size_t k = begin_[t]; k < begin_[t] + count_[t]; ++k) {
       const std::uint32_t q = ids_[k];
       const Point2 p = xy_[q];
-      const double error = std::fabs(z_[q] - (za + g.gx * (p.x - pa.x) + g.gy * (p.y - pa.y)));
-      tally.add(error, q, xy_.data());
-      sum += error * error;
+      tally.add(std::fabs(z_[q] - (za + g.gx * (p.x - pa.x) + g.gy * (p.y - pa.y))), q, xy_.data());
     }
-    if (sum_sq) *sum_sq = sum;
     return tally;
   }
 
@@ -599,6 +595,7 @@ class Simplifier {
     count_.resize(slots, 0);
     worst_.resize(slots, kNoId);
     worst_error_.resize(slots, -1.0);
+    sum_sq_.resize(slots, 0.0);
     queue_.grow(slots);
   }
 
@@ -606,6 +603,7 @@ class Simplifier {
   void absorb(const Tally& t, TriangleId u) {
     if (t.count == 0) return;
     count_[u] += t.count;
+    sum_sq_[u] += t.sum_sq;
     if (worse(t.worst_error, t.worst, worst_error_[u], worst_[u], xy_.data())) {
       worst_error_[u] = t.worst_error;
       worst_[u] = t.worst;
@@ -710,6 +708,7 @@ class Simplifier {
       count_[u] = 0;
       worst_[u] = kNoId;
       worst_error_[u] = -1.0;
+      sum_sq_[u] = 0;
     }
     const Fan fan{at,
                   z_[p],
@@ -859,7 +858,8 @@ class Simplifier {
   std::vector<std::uint32_t> count_;
   std::vector<std::uint32_t> worst_;  // the point with the largest error, or kNoId
   std::vector<double> worst_error_;
-  WorstQueue queue_;  // the triangles with a point beyond the tolerance
+  std::vector<double> sum_sq_;  // of the errors of its points, as last measured
+  WorstQueue queue_;            // the triangles with a point beyond the tolerance
   std::size_t first_greedy_vertex_ = 0;
   std::uint64_t candidates_ = 0, settled_ = 0;  // points, and those in triangles within max_error
 
