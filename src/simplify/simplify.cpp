@@ -406,6 +406,7 @@ class Simplifier {
     candidates_ = m - points.size();
     delaunay::DelaunayOptions d;
     d.keep_point_map = true;
+    d.threads = options_.threads;
     delaunay::DelaunayResult r = delaunay::triangulate(std::move(points), d);
     if (r.duplicates_merged > 0)
       throw GeometryError("simplify: two kept points share x, y (merge duplicates first)");
@@ -436,6 +437,125 @@ class Simplifier {
     }
     if (!tin_.has_vertex_index()) tin_.build_vertex_index();
     first_greedy_vertex_ = tin_.vertex_count();
+  }
+
+  // A part of the points that an earlier run (or none) simplified on its own: see adopt().
+  struct Part {
+    const Simplifier* run;                  // after run(); null: none
+    std::span<const std::uint32_t> points;  // all of the part's points
+  };
+
+  // What assign_points() does, taking the triangles of the parts' runs that this TIN has too
+  // (the same three points) as they are: such a triangle lies in the part's hull, which holds
+  // no other part's point, so it holds exactly the points it held there, measured against the
+  // same plane. Only the other points are located and measured. The parts hold every point of
+  // the set (all of xy) once.
+  void adopt(std::span<const Part> parts) {
+    if (!set_.ids.empty()) throw Error("internal error: simplify: adopt() on a subset");
+    grow();
+    const std::size_t slots = tin_.triangle_slots();
+    // The marks become each vertex's id (all kept points are vertices now): the triangle of
+    // three points, if this TIN has it, is found around the first one's vertex.
+    for (VertexId v = 0; v < tin_.vertex_count(); ++v)
+      if (point_of_vertex_[v] != kNoId) ids_[point_of_vertex_[v]] = v;
+    const auto find = [&](const Simplifier& r, TriangleId t) {
+      VertexId v[3];
+      for (int i = 0; i < 3; ++i) {
+        const std::uint32_t q = r.point_of_vertex_[r.tin_.origin(3 * t + static_cast<EdgeId>(i))];
+        v[i] = q == kNoId ? kNoId : ids_[q];
+        if (v[i] == kNoId) return kNoId;
+      }
+      const EdgeId first = tin_.edge_from(v[0]);
+      EdgeId e = first;
+      do {
+        if (tin_.dest(e) == v[1]) return tin_.apex(e) == v[2] ? triangle_of(e) : kNoId;
+        e = tin_.twin(prev_edge(e));
+      } while (e != first);
+      return kNoId;
+    };
+
+    // Per slot of this TIN: the part and slot it takes as it is, if any; the rest is loose.
+    std::vector<std::pair<std::uint32_t, TriangleId>> source(slots, {kNoId, kNoId});
+    std::vector<std::uint32_t> loose;
+    const auto add_loose = [&](std::uint32_t q) {
+      if (ids_[q] == kNoId) loose.push_back(q);  // not a vertex
+    };
+    for (std::uint32_t k = 0; k < parts.size(); ++k) {
+      const Simplifier* r = parts[k].run;
+      if (!r) {
+        for (std::uint32_t q : parts[k].points) add_loose(q);
+        continue;
+      }
+      for (TriangleId t = 0; t < r->count_.size(); ++t) {
+        if (r->count_[t] == 0) continue;
+        const TriangleId u = find(*r, static_cast<TriangleId>(t));
+        if (u != kNoId) {
+          source[u] = {k, t};
+        } else {
+          for (std::size_t j = r->begin_[t]; j < r->begin_[t] + r->count_[t]; ++j)
+            add_loose(r->ids_[j]);
+        }
+      }
+      for (std::uint32_t q : r->point_of_vertex_)
+        if (q != kNoId) add_loose(q);
+    }
+
+    // The loose points located (ids_[q] their triangle), on all threads, in the order of their
+    // ids: the points' own order is spatial (a grid, or the Delaunay stage's Hilbert order), so
+    // the walks are short.
+    std::sort(loose.begin(), loose.end());
+    TriangleId first_real = 0;
+    while (tin_.is_ghost(first_real)) ++first_real;
+    auto locate_chunk = [&](std::size_t c, std::size_t chunks) {
+      std::uint64_t random = 0x9e3779b97f4a7c15ULL ^ c;
+      TriangleId t = first_real;
+      for (std::size_t i = loose.size() * c / chunks; i < loose.size() * (c + 1) / chunks; ++i) {
+        t = locate(xy_[loose[i]], t, random);
+        ids_[loose[i]] = t;
+      }
+    };
+    pool_.run(locate_chunk, std::clamp<std::size_t>(loose.size() / kChunkPoints, 1, kMaxChunks));
+
+    // The ranges, in slot order: the adopted points, then the loose ones, each in their order.
+    for (std::uint32_t q : loose) ++count_[ids_[q]];
+    std::vector<std::size_t> cursor(slots);
+    std::size_t at = set_.size();
+    for (std::size_t u = 0; u < slots; ++u) {
+      begin_[u] = at;
+      if (source[u].first != kNoId) {
+        const Simplifier& r = *parts[source[u].first].run;
+        const TriangleId t = source[u].second;
+        std::copy_n(r.ids_.get() + r.begin_[t], r.count_[t], ids_.get() + at);
+        at += r.count_[t];
+      }
+      cursor[u] = at;
+      at += count_[u];
+    }
+    arena_end_ = at;
+    if (at - set_.size() != candidates_)  // each point once: in a triangle, or a vertex
+      throw Error("internal error: simplify: the regions' triangles do not hold every point once");
+    for (std::uint32_t q : loose) ids_[cursor[ids_[q]]++] = q;
+    release(cursor);
+    release(loose);
+    for (std::size_t u = 0; u < slots; ++u) {
+      if (source[u].first == kNoId) continue;
+      const Simplifier& r = *parts[source[u].first].run;
+      const TriangleId t = source[u].second;
+      if (count_[u] == 0) {  // as it was: no need to measure again
+        worst_[u] = r.worst_[t];
+        worst_error_[u] = r.worst_error_[t];
+        sum_sq_[u] = r.sum_sq_[t];
+      }
+      count_[u] += r.count_[t];
+    }
+    for_each_range([&](std::size_t u) {
+      if (source[u].first != kNoId && worst_[u] != kNoId) return;  // adopted as it was
+      const Tally tally = measure(u);
+      worst_[u] = tally.worst;
+      worst_error_[u] = tally.worst_error;
+      sum_sq_[u] = tally.sum_sq;
+    });
+    queue_ranges();
   }
 
   // Every other point into the range of the triangle holding it, its error measured: on all
@@ -483,7 +603,12 @@ class Simplifier {
       sum_sq_[t] = tally.sum_sq;
     });
 
-    for (std::size_t t = 0; t < slots; ++t) {
+    queue_ranges();
+  }
+
+  // Every triangle beyond the tolerance into the queue; the others' points counted as settled.
+  void queue_ranges() {
+    for (std::size_t t = 0; t < count_.size(); ++t) {
       if (count_[t] == 0) continue;
       if (worst_error_[t] <= options_.max_error)
         settled_ += count_[t];
@@ -974,26 +1099,38 @@ std::vector<std::uint32_t> coarse_seeds(const PointSet& set, std::span<const std
   return seeds;
 }
 
+// A greedy run before finish(): its state, and the points it inserted, seeds first.
+struct Unfinished {
+  std::unique_ptr<Simplifier> run;
+  std::vector<std::uint32_t> order;
+};
+
 // The greedy run on the points of `set`, from the seeds (inserted up front) or, if there are
 // none, from seeds of its own (coarse_seeds).
-GreedyRun greedy(const PointSet& set, std::span<const std::uint32_t> kept,
-                 std::span<const constraints::Segment> segments, const SimplifyOptions& options,
-                 const ProgressFn* progress, std::span<const std::uint32_t> seeds, int depth) {
+Unfinished run_greedy(const PointSet& set, std::span<const std::uint32_t> kept,
+                      std::span<const constraints::Segment> segments,
+                      const SimplifyOptions& options, const ProgressFn* progress,
+                      std::span<const std::uint32_t> seeds, int depth) {
   std::vector<std::uint32_t> own;
   if (seeds.empty()) {
     own = coarse_seeds(set, kept, segments, options, depth);
     seeds = own;
   }
-  Simplifier s(set, options, progress);
-  s.start(kept, segments, seeds);
-  s.assign_points();
-  s.run();
-  GreedyRun run;
-  run.order.assign(seeds.begin(), seeds.end());
-  const std::vector<std::uint32_t> order = s.greedy_order();
-  run.order.insert(run.order.end(), order.begin(), order.end());
-  run.result = s.finish();
-  return run;
+  Unfinished u{std::make_unique<Simplifier>(set, options, progress), {}};
+  u.run->start(kept, segments, seeds);
+  u.run->assign_points();
+  u.run->run();
+  u.order.assign(seeds.begin(), seeds.end());
+  const std::vector<std::uint32_t> order = u.run->greedy_order();
+  u.order.insert(u.order.end(), order.begin(), order.end());
+  return u;
+}
+
+GreedyRun greedy(const PointSet& set, std::span<const std::uint32_t> kept,
+                 std::span<const constraints::Segment> segments, const SimplifyOptions& options,
+                 const ProgressFn* progress, std::span<const std::uint32_t> seeds, int depth) {
+  Unfinished u = run_greedy(set, kept, segments, options, progress, seeds, depth);
+  return {u.run->finish(), std::move(u.order)};
 }
 
 GreedyRun greedy(const PointSet& set, std::span<const std::uint32_t> kept,
@@ -1022,16 +1159,16 @@ constexpr double kRegionProgress = 0.9;
 // meets a GeometryError (its points all collinear, say) seeds nothing: the last run decides.
 class RegionRuns {
  public:
-  RegionRuns(std::vector<std::function<std::vector<std::uint32_t>(const ProgressFn*)>> runs,
+  RegionRuns(std::vector<std::function<Unfinished(const ProgressFn*)>> runs,
              std::vector<double> weights, const ProgressFn* progress)
       : runs_(std::move(runs)),
         weights_(std::move(weights)),
         progress_(progress && *progress ? progress : nullptr),
         done_(runs_.size()),
-        seeds_(runs_.size()),
+        done_runs_(runs_.size()),
         errors_(runs_.size()) {}
 
-  std::vector<std::vector<std::uint32_t>> run(unsigned threads) {
+  std::vector<Unfinished> run(unsigned threads) {
     const auto n = static_cast<unsigned>(runs_.size());
     left_ = n;
     std::vector<std::thread> workers;
@@ -1052,7 +1189,7 @@ class RegionRuns {
     for (const std::exception_ptr& e : errors_)
       if (e) std::rethrow_exception(e);
     if (stop_) throw Cancelled();
-    return std::move(seeds_);
+    return std::move(done_runs_);
   }
 
  private:
@@ -1065,11 +1202,11 @@ class RegionRuns {
         return caller ? report() : !stop_.load(std::memory_order_relaxed);
       };
       try {
-        if (!stop_) seeds_[r] = runs_[r](&fn);
+        if (!stop_) done_runs_[r] = runs_[r](&fn);
       } catch (const Cancelled&) {
         stop_ = true;
       } catch (const GeometryError&) {
-        seeds_[r].clear();
+        done_runs_[r] = {};
       } catch (...) {
         errors_[r] = std::current_exception();
         stop_ = true;
@@ -1090,11 +1227,11 @@ class RegionRuns {
     return !stop_;
   }
 
-  std::vector<std::function<std::vector<std::uint32_t>(const ProgressFn*)>> runs_;
+  std::vector<std::function<Unfinished(const ProgressFn*)>> runs_;
   std::vector<double> weights_;  // each region's share of the points
   const ProgressFn* progress_;
   std::vector<std::atomic<double>> done_;  // each region's fraction
-  std::vector<std::vector<std::uint32_t>> seeds_;
+  std::vector<Unfinished> done_runs_;      // a region's run, or none
   std::vector<std::exception_ptr> errors_;
   std::atomic<unsigned> next_{0};
   std::atomic<bool> stop_{false};
@@ -1103,16 +1240,18 @@ class RegionRuns {
   unsigned left_ = 0;  // regions not finished; under mutex_
 };
 
-struct RegionSeeds {
-  std::vector<std::uint32_t> seeds;
-  std::uint32_t regions = 0;  // that ran
+// The regions' runs (see kRegionsPerSide) and what they hand on to the last run.
+struct Regions {
+  std::vector<std::vector<std::uint32_t>> members;  // each region's points, ascending
+  std::vector<Unfinished> runs;                     // each region's, or none
+  std::vector<std::uint32_t> seeds;                 // all they inserted but near the seams
 };
 
-// The seeds the regions give (see kRegionsPerSide), or none when the input is too small or
-// the regions do not apply. `kept` holds the corners of the points' hull, so it spans their box.
-RegionSeeds region_seeds(const PointSet& set, std::span<const std::uint32_t> kept,
-                         std::span<const constraints::Segment> segments,
-                         const SimplifyOptions& options, const ProgressFn* progress) {
+// The regions' runs, or none when the input is too small or the regions do not apply. `kept`
+// holds the corners of the points' hull, so it spans their box.
+Regions run_regions(const PointSet& set, std::span<const std::uint32_t> kept,
+                    std::span<const constraints::Segment> segments, const SimplifyOptions& options,
+                    const ProgressFn* progress) {
   const std::size_t n = set.size();
   if (n < kRegionMinPoints || options.max_vertices || !set.ids.empty()) return {};
   for (std::uint32_t i : kept)
@@ -1138,10 +1277,12 @@ RegionSeeds region_seeds(const PointSet& set, std::span<const std::uint32_t> kep
     return static_cast<std::size_t>(cell(p.x) + side * cell(p.y));
   };
   constexpr std::size_t regions = side * side;
-  std::vector<std::vector<std::uint32_t>> members(regions), region_kept(regions);
+  Regions out;
+  out.members.resize(regions);
+  std::vector<std::vector<std::uint32_t>> region_kept(regions);
   std::vector<std::vector<constraints::Segment>> region_segments(regions);
-  for (auto& m : members) m.reserve(n / regions + n / 16);
-  for (std::uint32_t i = 0; i < n; ++i) members[region(i)].push_back(i);
+  for (auto& m : out.members) m.reserve(n / regions + n / 16);
+  for (std::uint32_t i = 0; i < n; ++i) out.members[region(i)].push_back(i);
   for (std::uint32_t i : kept) region_kept[region(i)].push_back(i);
   for (const constraints::Segment& s : segments)
     if (region(s.a) == region(s.b)) region_segments[region(s.a)].push_back(s);
@@ -1155,44 +1296,56 @@ RegionSeeds region_seeds(const PointSet& set, std::span<const std::uint32_t> kep
 
   SimplifyOptions region_options = options;
   region_options.threads = 1;
-  std::vector<std::function<std::vector<std::uint32_t>(const ProgressFn*)>> runs;
+  std::vector<std::function<Unfinished(const ProgressFn*)>> runs;
   std::vector<double> weights;
   for (std::size_t r = 0; r < regions; ++r) {
-    weights.push_back(static_cast<double>(members[r].size()) / static_cast<double>(n));
+    const std::vector<std::uint32_t>& members = out.members[r];
+    weights.push_back(static_cast<double>(members.size()) / static_cast<double>(n));
     runs.emplace_back([&, r](const ProgressFn* fn) {
-      std::vector<std::uint32_t> own_kept = hull_corners(set.xy, members[r]);
-      if (own_kept.size() < 3) return std::vector<std::uint32_t>{};  // collinear or empty
+      std::vector<std::uint32_t> own_kept = hull_corners(set.xy, members);
+      if (own_kept.size() < 3) return Unfinished{};  // collinear or empty
       own_kept.insert(own_kept.end(), region_kept[r].begin(), region_kept[r].end());
-      const GreedyRun run =
-          greedy({set.xy, set.z, members[r]}, own_kept, region_segments[r], region_options, fn);
-      std::vector<std::uint32_t> seeds;
-      for (std::uint32_t i : run.order)
-        if (!near_seam(i, r)) seeds.push_back(i);
-      return seeds;
+      return run_greedy({set.xy, set.z, members}, own_kept, region_segments[r], region_options, fn,
+                        {}, 0);
     });
   }
-  const std::vector<std::vector<std::uint32_t>> found =
+  out.runs =
       RegionRuns(std::move(runs), std::move(weights), progress).run(thread_count(options.threads));
-  RegionSeeds out;
-  out.regions = regions;
-  for (const auto& f : found) out.seeds.insert(out.seeds.end(), f.begin(), f.end());
+  for (std::size_t r = 0; r < regions; ++r)
+    for (std::uint32_t i : out.runs[r].order)
+      if (!near_seam(i, r)) out.seeds.push_back(i);
   return out;
 }
 
-// The whole simplification: seeds from the regions when they apply, then the run on all points.
+// The whole simplification: the regions' runs when they apply, then the run on all points,
+// seeded by them, which adopts the triangles it shares with them.
 GreedyRun simplify_all(const PointSet& set, std::span<const std::uint32_t> kept,
                        std::span<const constraints::Segment> segments,
                        const SimplifyOptions& options, const ProgressFn* progress) {
-  const RegionSeeds start = region_seeds(set, kept, segments, options, progress);
-  if (start.seeds.empty()) return greedy(set, kept, segments, options, progress);
+  Regions regions = run_regions(set, kept, segments, options, progress);
+  if (regions.seeds.empty()) return greedy(set, kept, segments, options, progress);
   ProgressFn rest;
   if (progress && *progress)
     rest = [progress](std::string_view stage, double fraction) {
       return (*progress)(stage, kRegionProgress + (1 - kRegionProgress) * fraction);
     };
-  GreedyRun run = greedy(set, kept, segments, options, progress ? &rest : nullptr, start.seeds, 0);
-  run.result.report.regions = start.regions;
-  return run;
+  Simplifier s(set, options, progress ? &rest : nullptr);
+  s.start(kept, segments, regions.seeds);
+  {
+    std::vector<Simplifier::Part> parts;
+    for (std::size_t r = 0; r < regions.runs.size(); ++r)
+      parts.push_back({regions.runs[r].run.get(), regions.members[r]});
+    s.adopt(parts);
+  }
+  GreedyRun out;
+  out.order = std::move(regions.seeds);
+  regions = {};  // their memory, before the run needs more
+  s.run();
+  const std::vector<std::uint32_t> order = s.greedy_order();
+  out.order.insert(out.order.end(), order.begin(), order.end());
+  out.result = s.finish();
+  out.result.report.regions = kRegionsPerSide * kRegionsPerSide;
+  return out;
 }
 
 }  // namespace
