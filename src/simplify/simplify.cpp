@@ -1397,17 +1397,24 @@ SimplifyResult simplify_tin(const mesh::Triangulation& full, const SimplifyOptio
   full.for_each_constrained_edge([&](EdgeId e) {
     segments.push_back({full.origin(e), full.dest(e), 0});
   });
-  // Strict hull corners: ghost (u, v, inf) lies outside hull edge v -> u, and the ghost across
-  // its edge v -> inf lies outside the hull edge w -> v before it.
-  for (std::size_t t = 0; t < full.triangle_slots(); ++t) {
-    const auto tri = full.triangle(static_cast<TriangleId>(t));
+  // Strict hull corners, around the ring of ghosts (not a pass over every triangle, which reads
+  // 400 MB on a 16M-point TIN): ghost (u, v, inf) lies outside hull edge v -> u, and the ghost
+  // across its edge v -> inf lies outside the hull edge w -> v before it.
+  const std::size_t slots = full.triangle_slots();
+  TriangleId first = 0;
+  while (first < slots && !full.is_ghost(first)) ++first;
+  TriangleId t = first;
+  for (std::size_t steps = 0; first < slots; ++steps) {
+    if (steps == slots) throw Error("internal error: simplify: the ghosts are not one ring");
+    const auto tri = full.triangle(t);
     int k = 0;
     while (k < 3 && tri[k] != kInfinite) ++k;
-    if (k == 3) continue;
     const VertexId u = tri[(k + 1) % 3], v = tri[(k + 2) % 3];
-    const EdgeId inf_v = full.twin(3 * static_cast<EdgeId>(t) + static_cast<EdgeId>((k + 2) % 3));
+    const EdgeId inf_v = full.twin(3 * t + static_cast<EdgeId>((k + 2) % 3));
     const VertexId w = full.dest(next_edge(inf_v));
     if (orient2d(full.point(w), full.point(v), full.point(u)) != 0) kept.push_back(v);
+    t = triangle_of(inf_v);
+    if (t == first) break;
   }
   return simplify_all({full.points(), full.heights(), {}}, kept, segments, options, progress)
       .result;
