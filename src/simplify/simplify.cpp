@@ -367,7 +367,8 @@ class Simplifier {
         pool_(thread_count(options.threads)),
         queue_(set.xy.data()) {
     if (xy_.size() != z_.size()) throw Error("simplify: x, y and z counts differ");
-    if (xy_.size() >= kKept) throw GeometryError("simplify: too many points for 32-bit ids");
+    if (xy_.size() >= kKept || set.size() > (UINT32_MAX - 1024) / 2)  // the arena's too
+      throw GeometryError("simplify: too many points for 32-bit ids");
     if (!(options.max_error >= 0))
       throw Error("simplify: the maximum error must be a number >= 0, not " +
                   std::to_string(options.max_error));
@@ -608,9 +609,12 @@ class Simplifier {
   }
 
   // Every triangle beyond the tolerance into the queue; the others' points counted as settled.
+  // The ranges are in slot order: the log of ranges starts so.
   void queue_ranges() {
+    ranges_.clear();
     for (std::size_t t = 0; t < count_.size(); ++t) {
       if (count_[t] == 0) continue;
+      ranges_.push_back({static_cast<std::uint32_t>(begin_[t]), static_cast<TriangleId>(t)});
       if (worst_error_[t] <= options_.max_error)
         settled_ += count_[t];
       else
@@ -897,14 +901,16 @@ class Simplifier {
     // its chunk's write position.
     std::size_t at = arena_end_;
     for (std::size_t i = 0; i < m; ++i) {
-      begin_[fan.cones[i].tri] = at;
+      const TriangleId u = fan.cones[i].tri;
+      begin_[u] = at;
       for (std::size_t c = 0; c < chunks; ++c) {
         Tally& t = tallies_[c * m + i];
-        absorb(t, fan.cones[i].tri);
+        absorb(t, u);
         const std::size_t count = t.count;
         t.count = static_cast<std::uint32_t>(at - arena_end_);
         at += count;
       }
+      if (count_[u] > 0) ranges_.push_back({static_cast<std::uint32_t>(begin_[u]), u});
     }
     std::uint32_t* out = ids_.get() + arena_end_;
     arena_end_ = at;
@@ -950,18 +956,17 @@ class Simplifier {
   }
 
   // Moves the live ranges to the front of the arena, in the order they lie.
+  // (The log of ranges is in arena order: a range is live if its slot still has it.)
   void compact() {
-    std::vector<TriangleId> live;
-    for (std::size_t t = 0; t < count_.size(); ++t)
-      if (count_[t] > 0) live.push_back(static_cast<TriangleId>(t));
-    std::sort(live.begin(), live.end(),
-              [&](TriangleId a, TriangleId b) { return begin_[a] < begin_[b]; });
-    std::size_t at = 0;
-    for (TriangleId t : live) {
-      std::copy_n(ids_.get() + begin_[t], count_[t], ids_.get() + at);
+    std::size_t at = 0, live = 0;
+    for (const auto& [begin, t] : ranges_) {
+      if (count_[t] == 0 || begin_[t] != begin) continue;
+      std::copy_n(ids_.get() + begin, count_[t], ids_.get() + at);  // at <= begin
       begin_[t] = at;
+      ranges_[live++] = {static_cast<std::uint32_t>(at), t};
       at += count_[t];
     }
+    ranges_.resize(live);
     arena_end_ = at;
   }
 
@@ -979,6 +984,8 @@ class Simplifier {
   // ones abandoned, and compact() closes the gaps when the end is reached.
   std::unique_ptr<std::uint32_t[]> ids_;
   std::size_t arena_size_ = 0, arena_end_ = 0;
+  // The ranges with points as they were appended: (begin, slot), in arena order.
+  std::vector<std::pair<std::uint32_t, TriangleId>> ranges_;
   // Per triangle slot: its range and what it holds.
   std::vector<std::size_t> begin_;
   std::vector<std::uint32_t> count_;
