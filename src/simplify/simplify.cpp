@@ -878,9 +878,22 @@ class Simplifier {
     if (cone_of.size() < total) cone_of.resize(total);
     const std::size_t chunks = std::clamp<std::size_t>(total / kChunkPoints, 1, kMaxChunks);
     tallies_.assign(chunks * m, Tally{});
+    // A few ranges become one run of ids, so that the prefetches in scan() run across them
+    // (most ranges are shorter than the prefetch distance).
+    const std::uint32_t* gathered = nullptr;
+    if (chunks == 1 && old_.size() > 1) {
+      gathered_.clear();
+      for (const Range& r : old_)
+        gathered_.insert(gathered_.end(), ids_.get() + r.begin, ids_.get() + r.begin + r.count);
+      gathered = gathered_.data();
+    }
     // Calls f(ids, count, j) on the slices of the old ranges that hold points [lo, hi) of their
     // concatenation, j being the first one's place in it.
     const auto for_slices = [&](std::size_t lo, std::size_t hi, auto&& f) {
+      if (gathered) {
+        if (lo < hi) f(gathered + lo, hi - lo, lo);
+        return;
+      }
       std::size_t j = 0;
       for (const Range& r : old_) {
         const std::size_t from = std::max(lo, j), to = std::min(hi, j + r.count);
@@ -1002,6 +1015,7 @@ class Simplifier {
   std::vector<double> bounds_;
   std::vector<Cone> cones_;
   std::vector<Range> old_;
+  std::vector<std::uint32_t> gathered_;
   std::vector<std::uint8_t> cone8_;
   std::vector<std::uint32_t> cone32_;
   std::vector<Tally> tallies_;
