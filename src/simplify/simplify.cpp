@@ -1172,7 +1172,7 @@ GreedyRun greedy(const PointSet& set, std::span<const std::uint32_t> kept,
 // Not with a vertex budget (see coarse_seeds).
 constexpr std::size_t kRegionMinPoints = std::size_t{1} << 18;
 constexpr int kRegionsPerSide = 2;
-constexpr double kSeamShare = 1.0 / 32;
+constexpr double kSeamShare = 1.0 / 128;
 // The share of the stage's progress the regions take (the last run has the rest).
 constexpr double kRegionProgress = 0.9;
 
