@@ -337,6 +337,38 @@ class Pool {
   std::exception_ptr error_;
 };
 
+// Points to the vertices they are (kNoId: none), in open addressing: for the few vertices of a
+// simplified TIN, not an array over all points.
+class VertexMap {
+ public:
+  explicit VertexMap(const std::vector<std::uint32_t>& point_of_vertex) {
+    std::size_t size = 16;
+    while (size < 2 * point_of_vertex.size()) size *= 2;
+    mask_ = size - 1;
+    slots_.assign(size, {kNoId, kNoId});
+    for (VertexId v = 0; v < point_of_vertex.size(); ++v) {
+      const std::uint32_t q = point_of_vertex[v];
+      if (q == kNoId) continue;  // a crossing
+      std::size_t i = slot(q);
+      while (slots_[i].first != kNoId) i = (i + 1) & mask_;
+      slots_[i] = {q, v};
+    }
+  }
+  VertexId find(std::uint32_t q) const {
+    for (std::size_t i = slot(q);; i = (i + 1) & mask_) {
+      if (slots_[i].first == q) return slots_[i].second;
+      if (slots_[i].first == kNoId) return kNoId;
+    }
+  }
+
+ private:
+  std::size_t slot(std::uint32_t q) const {
+    return static_cast<std::size_t>((q * 0x9e3779b97f4a7c15ULL) >> 32) & mask_;
+  }
+  std::vector<std::pair<std::uint32_t, VertexId>> slots_;
+  std::size_t mask_ = 0;
+};
+
 // The points a run simplifies: all of xy, z, or those named by `ids` (ascending).
 struct PointSet {
   std::span<const Point2> xy;
@@ -372,12 +404,11 @@ class Simplifier {
     if (!(options.max_error >= 0))
       throw Error("simplify: the maximum error must be a number >= 0, not " +
                   std::to_string(options.max_error));
-    // Only the marks are set: fresh pages cost more than the writes, and the ranges are written
-    // before they are read. (Huge pages were no faster here, and asking for them cost 0.2 s a
-    // 16M-point run when memory was fragmented.)
+    // Left unwritten: every entry is written before it is read, and fresh pages cost more than
+    // the writes. (Huge pages were no faster here, and asking for them cost 0.2 s a 16M-point
+    // run when memory was fragmented.)
     arena_size_ = 2 * set.size() + 1024;
     ids_ = std::make_unique_for_overwrite<std::uint32_t[]>(arena_size_);
-    std::fill_n(ids_.get(), set.size(), kNoId);
   }
 
   // The constrained Delaunay triangulation of the kept points, the segments' ends and the
@@ -389,23 +420,26 @@ class Simplifier {
     const auto member = [&](std::uint32_t i) {
       const std::size_t j = set_.find(i);
       if (j == m) throw Error("simplify: a kept point or segment end is not one of the points");
-      return j;
+      return static_cast<std::uint32_t>(j);
     };
-    for (std::uint32_t i : kept) ids_[member(i)] = kKept;
-    for (std::uint32_t i : seeds) ids_[member(i)] = kKept;
-    for (const constraints::Segment& s : segments) ids_[member(s.a)] = ids_[member(s.b)] = kKept;
+    std::vector<std::uint32_t>& places = vertex_places_;
+    places.clear();
+    for (std::uint32_t i : kept) places.push_back(member(i));
+    for (std::uint32_t i : seeds) places.push_back(member(i));
+    for (const constraints::Segment& s : segments)
+      places.insert(places.end(), {member(s.a), member(s.b)});
+    std::sort(places.begin(), places.end());
+    places.erase(std::unique(places.begin(), places.end()), places.end());
     std::vector<Point3> points;
-    std::vector<std::uint32_t> point_of;  // of each entry of `points`, its place in the set
-    for (std::size_t j = 0; j < m; ++j) {
-      if (ids_[j] != kKept) continue;
+    points.reserve(places.size());
+    for (std::uint32_t j : places) {
       const std::uint32_t i = set_[j];
       points.push_back({xy_[i].x, xy_[i].y, z_[i]});
-      point_of.push_back(static_cast<std::uint32_t>(j));
     }
     report_.points = m;
-    report_.kept_vertices = points.size() - seeds.size();
+    report_.kept_vertices = places.size() - seeds.size();
     report_.inserted = seeds.size();
-    candidates_ = m - points.size();
+    candidates_ = m - places.size();
     delaunay::DelaunayOptions d;
     d.keep_point_map = true;
     d.threads = options_.threads;
@@ -414,15 +448,17 @@ class Simplifier {
       throw GeometryError("simplify: two kept points share x, y (merge duplicates first)");
     tin_ = std::move(r.tin);
     point_of_vertex_.assign(tin_.vertex_count(), kNoId);
-    for (std::size_t k = 0; k < point_of.size(); ++k)
-      point_of_vertex_[r.vertex_of_point[k]] = set_[point_of[k]];
+    for (std::size_t k = 0; k < places.size(); ++k)
+      point_of_vertex_[r.vertex_of_point[k]] = set_[places[k]];
     if (!segments.empty()) {
+      const auto vertex = [&](std::uint32_t i) {
+        const auto k = std::lower_bound(places.begin(), places.end(), member(i)) - places.begin();
+        return r.vertex_of_point[static_cast<std::size_t>(k)];
+      };
       std::vector<constraints::Segment> s;
       s.reserve(segments.size());
-      for (const constraints::Segment& g : segments) s.push_back({g.a, g.b, g.source});
-      for (std::size_t k = 0; k < point_of.size(); ++k) ids_[point_of[k]] = r.vertex_of_point[k];
-      for (constraints::Segment& g : s) g = {ids_[set_.find(g.a)], ids_[set_.find(g.b)], g.source};
-      for (std::uint32_t j : point_of) ids_[j] = kKept;
+      for (const constraints::Segment& g : segments)
+        s.push_back({vertex(g.a), vertex(g.b), g.source});
       // In an order of their geometry, so that the caller's order does not decide.
       const auto key = [&](const constraints::Segment& g) {
         const Point2 a = tin_.point(g.a), b = tin_.point(g.b);
@@ -456,15 +492,13 @@ class Simplifier {
     if (!set_.ids.empty()) throw Error("internal error: simplify: adopt() on a subset");
     grow();
     const std::size_t slots = tin_.triangle_slots();
-    // The marks become each vertex's id (all kept points are vertices now): the triangle of
-    // three points, if this TIN has it, is found around the first one's vertex.
-    for (VertexId v = 0; v < tin_.vertex_count(); ++v)
-      if (point_of_vertex_[v] != kNoId) ids_[point_of_vertex_[v]] = v;
+    // The triangle of three points, if this TIN has it, is found around the first one's vertex.
+    const VertexMap vertex_of(point_of_vertex_);
     const auto find = [&](const Simplifier& r, TriangleId t) {
       VertexId v[3];
       for (int i = 0; i < 3; ++i) {
         const std::uint32_t q = r.point_of_vertex_[r.tin_.origin(3 * t + static_cast<EdgeId>(i))];
-        v[i] = q == kNoId ? kNoId : ids_[q];
+        v[i] = q == kNoId ? kNoId : vertex_of.find(q);
         if (v[i] == kNoId) return kNoId;
       }
       const EdgeId first = tin_.edge_from(v[0]);
@@ -480,7 +514,7 @@ class Simplifier {
     std::vector<std::pair<std::uint32_t, TriangleId>> source(slots, {kNoId, kNoId});
     std::vector<std::uint32_t> loose;
     const auto add_loose = [&](std::uint32_t q) {
-      if (ids_[q] == kNoId) loose.push_back(q);  // not a vertex
+      if (vertex_of.find(q) == kNoId) loose.push_back(q);  // not a vertex
     };
     for (std::uint32_t k = 0; k < parts.size(); ++k) {
       const Simplifier* r = parts[k].run;
@@ -502,9 +536,9 @@ class Simplifier {
         if (q != kNoId) add_loose(q);
     }
 
-    // The loose points located (ids_[q] their triangle), on all threads, in the order of their
-    // ids: the points' own order is spatial (a grid, or the Delaunay stage's Hilbert order), so
-    // the walks are short.
+    // The loose points located (ids_[q], q < m, their triangle), on all threads, in the order of
+    // their ids: the points' own order is spatial (a grid, or the Delaunay stage's Hilbert order),
+    // so the walks are short.
     std::sort(loose.begin(), loose.end());
     TriangleId first_real = 0;
     while (tin_.is_ghost(first_real)) ++first_real;
@@ -562,7 +596,8 @@ class Simplifier {
 
   // Every other point into the range of the triangle holding it, its error measured: on all
   // threads, each walking from the triangle of its previous point. ids_[j] holds the triangle
-  // of the j-th point until a counting sort makes the ranges, in [m, m + candidates).
+  // of the j-th point (kKept for a vertex) until a counting sort makes the ranges, in
+  // [m, m + candidates).
   void assign_points() {
     const std::size_t n = set_.size();
     const std::size_t slots = tin_.triangle_slots();
@@ -570,12 +605,19 @@ class Simplifier {
     TriangleId first_real = 0;
     while (tin_.is_ghost(first_real)) ++first_real;
 
-    // Where each point is, in chunks of consecutive points.
+    // Where each point is, in chunks of consecutive points (every entry written: the arena
+    // holds whatever its memory held).
     auto locate_chunk = [&](std::size_t c, std::size_t chunks) {
       std::uint64_t random = 0x9e3779b97f4a7c15ULL ^ c;
       TriangleId t = first_real;
-      for (std::size_t i = n * c / chunks, end = n * (c + 1) / chunks; i < end; ++i) {
-        if (ids_[i] == kKept) continue;
+      const std::size_t begin = n * c / chunks, end = n * (c + 1) / chunks;
+      auto vertex = std::lower_bound(vertex_places_.begin(), vertex_places_.end(), begin);
+      for (std::size_t i = begin; i < end; ++i) {
+        if (vertex != vertex_places_.end() && *vertex == i) {
+          ids_[i] = kKept;
+          ++vertex;
+          continue;
+        }
         t = locate(xy_[set_[i]], t, random);
         ids_[i] = t;
       }
@@ -1007,6 +1049,7 @@ class Simplifier {
   std::vector<double> sum_sq_;  // of the errors of its points, as last measured
   WorstQueue queue_;            // the triangles with a point beyond the tolerance
   std::size_t first_greedy_vertex_ = 0;
+  std::vector<std::uint32_t> vertex_places_;    // of the points start() made vertices, ascending
   std::uint64_t candidates_ = 0, settled_ = 0;  // points, and those in triangles within max_error
 
   // Scratch of insert().
@@ -1065,8 +1108,8 @@ std::uint64_t xy_hash(Point2 p) {
 // third or so of its insertions, as the vertex count needed goes about as the inverse of the
 // tolerance), and all its insertions start the full run, which then refines as before.
 // (Recursively: a large subset is itself seeded.) Within 1.5% in vertex count either way on the
-// benchmark grids (3 rather than 4: 4-6% faster, and no more vertices). Not with a vertex budget: there the greedy order alone decides which vertices
-// are in.
+// benchmark grids (3 rather than 4: 4-6% faster, and no more vertices). Not with a vertex budget:
+// there the greedy order alone decides which vertices are in.
 std::vector<std::uint32_t> coarse_seeds(const PointSet& set, std::span<const std::uint32_t> kept,
                                         std::span<const constraints::Segment> segments,
                                         const SimplifyOptions& options, int depth) {
