@@ -511,22 +511,24 @@ class Simplifier {
     };
 
     // Per slot of this TIN: the part and slot it takes as it is, if any; the rest is loose.
+    // A part at a time, on all threads (no two parts share a triangle of this TIN).
     std::vector<std::pair<std::uint32_t, TriangleId>> source(slots, {kNoId, kNoId});
-    std::vector<std::uint32_t> loose;
-    const auto add_loose = [&](std::uint32_t q) {
-      if (vertex_of.find(q) == kNoId) loose.push_back(q);  // not a vertex
-    };
-    for (std::uint32_t k = 0; k < parts.size(); ++k) {
+    std::vector<std::vector<std::uint32_t>> loose_of(parts.size());
+    auto match_part = [&](std::size_t k, std::size_t) {
+      std::vector<std::uint32_t>& loose = loose_of[k];
+      const auto add_loose = [&](std::uint32_t q) {
+        if (vertex_of.find(q) == kNoId) loose.push_back(q);  // not a vertex
+      };
       const Simplifier* r = parts[k].run;
       if (!r) {
         for (std::uint32_t q : parts[k].points) add_loose(q);
-        continue;
+        return;
       }
       for (TriangleId t = 0; t < r->count_.size(); ++t) {
         if (r->count_[t] == 0) continue;
         const TriangleId u = find(*r, static_cast<TriangleId>(t));
         if (u != kNoId) {
-          source[u] = {k, t};
+          source[u] = {static_cast<std::uint32_t>(k), t};
         } else {
           for (std::size_t j = r->begin_[t]; j < r->begin_[t] + r->count_[t]; ++j)
             add_loose(r->ids_[j]);
@@ -534,7 +536,11 @@ class Simplifier {
       }
       for (std::uint32_t q : r->point_of_vertex_)
         if (q != kNoId) add_loose(q);
-    }
+    };
+    pool_.run(match_part, parts.size());
+    std::vector<std::uint32_t> loose;
+    for (const auto& l : loose_of) loose.insert(loose.end(), l.begin(), l.end());
+    release(loose_of);
 
     // The loose points located (ids_[q], q < m, their triangle), on all threads, in the order of
     // their ids: the points' own order is spatial (a grid, or the Delaunay stage's Hilbert order),
@@ -556,20 +562,27 @@ class Simplifier {
     for (std::uint32_t q : loose) ++count_[ids_[q]];
     std::vector<std::size_t> cursor(slots);
     std::size_t at = set_.size();
+    const auto adopted = [&](std::size_t u) {
+      return source[u].first == kNoId ? std::uint32_t{0}
+                                      : parts[source[u].first].run->count_[source[u].second];
+    };
     for (std::size_t u = 0; u < slots; ++u) {
       begin_[u] = at;
-      if (source[u].first != kNoId) {
-        const Simplifier& r = *parts[source[u].first].run;
-        const TriangleId t = source[u].second;
-        std::copy_n(r.ids_.get() + r.begin_[t], r.count_[t], ids_.get() + at);
-        at += r.count_[t];
-      }
-      cursor[u] = at;
-      at += count_[u];
+      cursor[u] = at + adopted(u);
+      at = cursor[u] + count_[u];
     }
     arena_end_ = at;
     if (at - set_.size() != candidates_)  // each point once: in a triangle, or a vertex
       throw Error("internal error: simplify: the regions' triangles do not hold every point once");
+    auto copy_chunk = [&](std::size_t c, std::size_t chunks) {
+      for (std::size_t u = slots * c / chunks; u < slots * (c + 1) / chunks; ++u) {
+        if (source[u].first == kNoId) continue;
+        const Simplifier& r = *parts[source[u].first].run;
+        const TriangleId t = source[u].second;
+        std::copy_n(r.ids_.get() + r.begin_[t], r.count_[t], ids_.get() + begin_[u]);
+      }
+    };
+    pool_.run(copy_chunk, std::clamp<std::size_t>(candidates_ / kChunkPoints, 1, kMaxChunks));
     for (std::uint32_t q : loose) ids_[cursor[ids_[q]]++] = q;
     release(cursor);
     release(loose);
