@@ -468,10 +468,11 @@ TEST(HullCorners, MatchesJarvisMarchOnRandomAndDegenerateSets) {
 }
 
 // The pipeline's form: the constrained TIN of all points in, every vertex of it within the
-// tolerance of the result and every constrained edge of it an edge of the result.
+// tolerance of the result and every constrained edge of it an edge of the result. The last one
+// is large enough for regions, whose edges the ring and the line cross.
 TEST(SimplifyTin, KeepsEveryConstrainedEdgeOfTheFullTin) {
-  for (std::uint32_t seed : {31u, 32u, 33u}) {
-    const Input in = random_input(seed, 5000, true);
+  for (std::uint32_t seed : {31u, 32u, 33u, 34u}) {
+    const Input in = random_input(seed, seed == 34 ? 300000 : 5000, true);
     std::vector<Point3> pts;
     for (std::size_t i = 0; i < in.xy.size(); ++i) pts.push_back({in.xy[i].x, in.xy[i].y, in.z[i]});
     delaunay::DelaunayResult d = delaunay::triangulate(std::move(pts), {.keep_point_map = true});
@@ -484,6 +485,7 @@ TEST(SimplifyTin, KeepsEveryConstrainedEdgeOfTheFullTin) {
     SimplifyOptions options;
     options.max_error = 0.2;
     const SimplifyResult r = simplify_tin(full, options);
+    EXPECT_EQ(r.report.regions, seed == 34 ? 4u : 0u);
     EXPECT_EQ(r.tin.validate({.delaunay = true}), "");
     EXPECT_LT(r.tin.vertex_count(), full.vertex_count());
     std::vector<VertexId> vertex_of(full.vertex_count(), kNoId);
