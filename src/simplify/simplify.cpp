@@ -28,6 +28,8 @@ using predicates::orient2d;
 
 // ids_[j] before the ranges are made: the j-th point is a vertex (kept). Never a triangle slot.
 constexpr std::uint32_t kKept = kNoId - 1;
+// The most points a run takes: its arena (2 per point) has 32-bit places.
+constexpr std::size_t kMaxPoints = (std::size_t{UINT32_MAX} - 1024) / 2;
 
 unsigned thread_count(unsigned requested) {
   return requested ? requested : std::max(1u, std::thread::hardware_concurrency());
@@ -230,7 +232,7 @@ struct Fan {
         left = right;
       }
     }
-    throw Error("internal error: simplify: a point of a replaced triangle is in none of the new");
+    throw InternalError("simplify: a point of a replaced triangle is in none of the new");
   }
 };
 
@@ -390,16 +392,15 @@ struct PointSet {
 
 class Simplifier {
  public:
-  Simplifier(const PointSet& set, const SimplifyOptions& options, const ProgressFn* progress)
+  explicit Simplifier(const PointSet& set, const SimplifyOptions& options)
       : set_(set),
         xy_(set.xy),
         z_(set.z),
         options_(options),
-        progress_(progress),
         pool_(thread_count(options.threads)),
         queue_(set.xy.data()) {
     if (xy_.size() != z_.size()) throw Error("simplify: x, y and z counts differ");
-    if (xy_.size() >= kKept || set.size() > (UINT32_MAX - 1024) / 2)  // the arena's too
+    if (xy_.size() >= kKept || set.size() > kMaxPoints)
       throw GeometryError("simplify: too many points for 32-bit ids");
     if (!(options.max_error >= 0))
       throw Error("simplify: the maximum error must be a number >= 0, not " +
@@ -422,14 +423,28 @@ class Simplifier {
       if (j == m) throw Error("simplify: a kept point or segment end is not one of the points");
       return static_cast<std::uint32_t>(j);
     };
+    // The kept points and segment ends, then the seeds that are none of them (a region may
+    // insert the end of a segment it was not given).
+    const auto sort_unique = [](std::vector<std::uint32_t>& v) {
+      std::sort(v.begin(), v.end());
+      v.erase(std::unique(v.begin(), v.end()), v.end());
+    };
     std::vector<std::uint32_t>& places = vertex_places_;
     places.clear();
     for (std::uint32_t i : kept) places.push_back(member(i));
-    for (std::uint32_t i : seeds) places.push_back(member(i));
     for (const constraints::Segment& s : segments)
       places.insert(places.end(), {member(s.a), member(s.b)});
-    std::sort(places.begin(), places.end());
-    places.erase(std::unique(places.begin(), places.end()), places.end());
+    sort_unique(places);
+    std::vector<std::uint32_t> seed_places;
+    for (std::uint32_t i : seeds) {
+      const std::uint32_t j = member(i);
+      if (!std::binary_search(places.begin(), places.end(), j)) seed_places.push_back(j);
+    }
+    sort_unique(seed_places);
+    const std::size_t kept_places = places.size();
+    places.insert(places.end(), seed_places.begin(), seed_places.end());
+    std::inplace_merge(places.begin(), places.begin() + static_cast<std::ptrdiff_t>(kept_places),
+                       places.end());
     std::vector<Point3> points;
     points.reserve(places.size());
     for (std::uint32_t j : places) {
@@ -437,8 +452,8 @@ class Simplifier {
       points.push_back({xy_[i].x, xy_[i].y, z_[i]});
     }
     report_.points = m;
-    report_.kept_vertices = places.size() - seeds.size();
-    report_.inserted = seeds.size();
+    report_.kept_vertices = kept_places;
+    report_.inserted = seed_places.size();
     candidates_ = m - places.size();
     delaunay::DelaunayOptions d;
     d.keep_point_map = true;
@@ -489,7 +504,7 @@ class Simplifier {
   // same plane. Only the other points are located and measured. The parts hold every point of
   // the set (all of xy) once.
   void adopt(std::span<const Part> parts) {
-    if (!set_.ids.empty()) throw Error("internal error: simplify: adopt() on a subset");
+    if (!set_.ids.empty()) throw InternalError("simplify: adopt() on a subset");
     grow();
     const std::size_t slots = tin_.triangle_slots();
     // The triangle of three points, if this TIN has it, is found around the first one's vertex.
@@ -573,7 +588,7 @@ class Simplifier {
     }
     arena_end_ = at;
     if (at - set_.size() != candidates_)  // each point once: in a triangle, or a vertex
-      throw Error("internal error: simplify: the regions' triangles do not hold every point once");
+      throw InternalError("simplify: the regions' triangles do not hold every point once");
     auto copy_chunk = [&](std::size_t c, std::size_t chunks) {
       for (std::size_t u = slots * c / chunks; u < slots * (c + 1) / chunks; ++u) {
         if (source[u].first == kNoId) continue;
@@ -680,8 +695,8 @@ class Simplifier {
 
   // The greedy loop: the worst point in, the points of the triangles it replaced measured
   // again, until all are within the tolerance or the vertex budget is spent.
-  void run() {
-    Progress report(progress_, "simplify", candidates_ ? candidates_ : 1);
+  void run(const ProgressFn* progress) {
+    Progress report(progress, "simplify", candidates_ ? candidates_ : 1);
     mesh::PointInserter inserter(tin_);
     while (!queue_.empty()) {
       const Entry top = queue_.top();  // insert() updates its slot
@@ -828,7 +843,7 @@ class Simplifier {
       from = tin_.twin(crossed);
       t = triangle_of(from);
       if (tin_.apex(from) == kInfinite)
-        throw Error("internal error: simplify: a point lies outside the hull of the kept points");
+        throw InternalError("simplify: a point lies outside the hull of the kept points");
     }
   }
 
@@ -1042,7 +1057,6 @@ class Simplifier {
   std::span<const Point2> xy_;
   std::span<const double> z_;
   SimplifyOptions options_;
-  const ProgressFn* progress_;
   Triangulation tin_;
   std::vector<std::uint32_t> point_of_vertex_;
   SimplifyReport report_;
@@ -1194,10 +1208,10 @@ Unfinished run_greedy(const PointSet& set, std::span<const std::uint32_t> kept,
     own = coarse_seeds(set, kept, segments, options, depth);
     seeds = own;
   }
-  Unfinished u{std::make_unique<Simplifier>(set, options, progress), {}};
+  Unfinished u{std::make_unique<Simplifier>(set, options), {}};
   u.run->start(kept, segments, seeds);
   u.run->assign_points();
-  u.run->run();
+  u.run->run(progress);
   u.order.assign(seeds.begin(), seeds.end());
   const std::vector<std::uint32_t> order = u.run->greedy_order();
   u.order.insert(u.order.end(), order.begin(), order.end());
@@ -1233,8 +1247,9 @@ constexpr double kSeamShare = 1.0 / 128;
 constexpr double kRegionProgress = 0.9;
 
 // The regions' runs on `threads` threads, the calling one included: only the calling thread
-// reports progress; a request to stop reaches the others through stop_. A region whose run
-// meets a GeometryError (its points all collinear, say) seeds nothing: the last run decides.
+// calls the progress callback; its request to stop (or its exception) reaches the others through
+// stop_. An error in a region's run does not stop the others, so that which one is reported
+// (the first region's) does not depend on timing.
 class RegionRuns {
  public:
   RegionRuns(std::vector<std::function<Unfinished(const ProgressFn*)>> runs,
@@ -1249,9 +1264,14 @@ class RegionRuns {
   std::vector<Unfinished> run(unsigned threads) {
     const auto n = static_cast<unsigned>(runs_.size());
     left_ = n;
-    std::vector<std::thread> workers;
-    for (unsigned i = 1; i < std::min(threads, n); ++i)
-      workers.emplace_back([this] { work(false); });
+    std::vector<std::jthread> workers;  // joined however this ends
+    try {
+      for (unsigned i = 1; i < std::min(threads, n); ++i)
+        workers.emplace_back([this] { work(false); });
+    } catch (...) {  // no thread to be had: the others stop at their next report
+      stop_ = true;
+      throw;
+    }
     work(true);
     if (progress_) {
       std::unique_lock lock(mutex_);
@@ -1263,7 +1283,8 @@ class RegionRuns {
         }
       }
     }
-    for (std::thread& t : workers) t.join();
+    for (std::jthread& t : workers) t.join();
+    if (callback_error_) std::rethrow_exception(callback_error_);
     for (const std::exception_ptr& e : errors_)
       if (e) std::rethrow_exception(e);
     if (stop_) throw Cancelled();
@@ -1283,25 +1304,28 @@ class RegionRuns {
         if (!stop_) done_runs_[r] = runs_[r](&fn);
       } catch (const Cancelled&) {
         stop_ = true;
-      } catch (const GeometryError&) {
-        done_runs_[r] = {};
       } catch (...) {
         errors_[r] = std::current_exception();
-        stop_ = true;
       }
       const std::lock_guard lock(mutex_);
       if (--left_ == 0) finished_.notify_all();
     }
   }
 
-  // The regions' fractions, weighted, to the caller's callback; false when it asks to stop.
+  // The regions' fractions, weighted, to the caller's callback; false when it asks to stop or
+  // throws (rethrown once every thread is joined).
   bool report() {
     if (stop_) return false;
     if (!progress_) return true;
     double sum = 0;
     for (std::size_t r = 0; r < runs_.size(); ++r)
       sum += weights_[r] * done_[r].load(std::memory_order_relaxed);
-    if (!(*progress_)("simplify", kRegionProgress * sum)) stop_ = true;
+    try {
+      if (!(*progress_)("simplify", kRegionProgress * sum)) stop_ = true;
+    } catch (...) {
+      callback_error_ = std::current_exception();
+      stop_ = true;
+    }
     return !stop_;
   }
 
@@ -1311,6 +1335,7 @@ class RegionRuns {
   std::vector<std::atomic<double>> done_;  // each region's fraction
   std::vector<Unfinished> done_runs_;      // a region's run, or none
   std::vector<std::exception_ptr> errors_;
+  std::exception_ptr callback_error_;  // only the calling thread sets it
   std::atomic<unsigned> next_{0};
   std::atomic<bool> stop_{false};
   std::mutex mutex_;
@@ -1392,8 +1417,16 @@ Regions run_regions(const PointSet& set, std::span<const std::uint32_t> kept,
     pool.run(place_chunk, chunks);
   }
   for (std::uint32_t i : kept) region_kept[region(i)].push_back(i);
-  for (const constraints::Segment& s : segments)
-    if (region(s.a) == region(s.b)) region_segments[region(s.a)].push_back(s);
+  // A segment across regions is in neither (its ends are in two), but its ends are kept where
+  // they are: they are vertices of the last run, whatever the regions make of their surface.
+  for (const constraints::Segment& s : segments) {
+    if (region(s.a) == region(s.b)) {
+      region_segments[region(s.a)].push_back(s);
+    } else {
+      region_kept[region(s.a)].push_back(s.a);
+      region_kept[region(s.b)].push_back(s.b);
+    }
+  }
   // Near a shared edge, a region's run inserted points for its own hull's sake.
   const auto near_seam = [&](std::uint32_t i, std::size_t r) {
     const Point2 p = place(i);
@@ -1410,8 +1443,9 @@ Regions run_regions(const PointSet& set, std::span<const std::uint32_t> kept,
     const std::span<const std::uint32_t> members = out.members[r];
     weights.push_back(static_cast<double>(members.size()) / static_cast<double>(n));
     runs.emplace_back([&, r, members](const ProgressFn* fn) {
+      if (members.empty()) return Unfinished{};  // (an empty PointSet would be all points)
       std::vector<std::uint32_t> own_kept = hull_corners(set.xy, members);
-      if (own_kept.size() < 3) return Unfinished{};  // collinear or empty
+      if (own_kept.size() < 3) return Unfinished{};  // collinear
       own_kept.insert(own_kept.end(), region_kept[r].begin(), region_kept[r].end());
       return run_greedy({set.xy, set.z, members}, own_kept, region_segments[r], region_options, fn,
                         {}, 0);
@@ -1430,29 +1464,34 @@ Regions run_regions(const PointSet& set, std::span<const std::uint32_t> kept,
 GreedyRun simplify_all(const PointSet& set, std::span<const std::uint32_t> kept,
                        std::span<const constraints::Segment> segments,
                        const SimplifyOptions& options, const ProgressFn* progress) {
+  if (set.size() > kMaxPoints)  // before any work, and before ids are narrowed to 32 bits
+    throw GeometryError("simplify: too many points for 32-bit ids");
   Regions regions = run_regions(set, kept, segments, options, progress);
-  if (regions.seeds.empty()) return greedy(set, kept, segments, options, progress);
+  if (regions.runs.empty()) return greedy(set, kept, segments, options, progress);
   ProgressFn rest;
   if (progress && *progress)
     rest = [progress](std::string_view stage, double fraction) {
       return (*progress)(stage, kRegionProgress + (1 - kRegionProgress) * fraction);
     };
-  Simplifier s(set, options, progress ? &rest : nullptr);
+  Simplifier s(set, options);
   s.start(kept, segments, regions.seeds);
+  std::uint32_t ran = 0;
   {
     std::vector<Simplifier::Part> parts;
-    for (std::size_t r = 0; r < regions.runs.size(); ++r)
+    for (std::size_t r = 0; r < regions.runs.size(); ++r) {
       parts.push_back({regions.runs[r].run.get(), regions.members[r]});
+      ran += parts.back().run != nullptr;
+    }
     s.adopt(parts);
   }
   GreedyRun out;
   out.order = std::move(regions.seeds);
   regions = {};  // their memory, before the run needs more
-  s.run();
+  s.run(progress ? &rest : nullptr);
   const std::vector<std::uint32_t> order = s.greedy_order();
   out.order.insert(out.order.end(), order.begin(), order.end());
   out.result = s.finish();
-  out.result.report.regions = kRegionsPerSide * kRegionsPerSide;
+  out.result.report.regions = ran;
   return out;
 }
 
@@ -1482,7 +1521,7 @@ SimplifyResult simplify_tin(const mesh::Triangulation& full, const SimplifyOptio
   while (first < slots && !full.is_ghost(first)) ++first;
   TriangleId t = first;
   for (std::size_t steps = 0; first < slots; ++steps) {
-    if (steps == slots) throw Error("internal error: simplify: the ghosts are not one ring");
+    if (steps == slots) throw InternalError("simplify: the ghosts are not one ring");
     const auto tri = full.triangle(t);
     int k = 0;
     while (k < 3 && tri[k] != kInfinite) ++k;

@@ -5,9 +5,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numeric>
 #include <random>
 #include <set>
+#include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
@@ -215,13 +217,32 @@ TEST(Simplify, SeededLargeInputDoesNotDependOnOrder) {
 // count and input order, and about as few vertices as one greedy run (a vertex budget turns
 // both the regions and the coarse seeds off).
 TEST(Simplify, RegionsDoNotChangeWithThreadsOrOrder) {
-  const Input in = random_input(21, 300000, true);
+  Input in = random_input(21, 300000, true);
+  // Short lines across the regions' shared edge x = 100, their ends on spikes: each region
+  // gets the end on its side as a plain point, and inserts it.
+  for (int k = 0; k < 20; ++k) {
+    const auto first = static_cast<std::uint32_t>(in.xy.size());
+    for (double x : {90.0, 110.0}) {
+      const double y = 5 + 9.5 * k;
+      in.xy.push_back({kX0 + x, kY0 + y});
+      in.z.push_back(terrain(x, y) + 3);
+    }
+    in.segments.push_back({first, first + 1, 3});
+  }
   SimplifyOptions options;
   options.max_error = 0.5;
   options.threads = 1;
   const SimplifyResult a = run(in, options);
   EXPECT_EQ(a.report.regions, 4u);
   check(in, options, a);
+  // Those ends count once, as kept: the hull corners, the kept points and the segments' ends.
+  std::set<std::uint32_t> kept(in.kept.begin(), in.kept.end());
+  for (std::uint32_t i : hull_corners(in.xy)) kept.insert(i);
+  for (const Segment& g : in.segments) kept.insert({g.a, g.b});
+  EXPECT_EQ(a.report.kept_vertices, kept.size());
+  const auto crossings = static_cast<std::uint64_t>(
+      std::count(a.point_of_vertex.begin(), a.point_of_vertex.end(), kNoId));
+  EXPECT_EQ(a.report.vertices, a.report.kept_vertices + crossings + a.report.inserted);
   options.threads = 2;
   const SimplifyResult b = run(in, options);
   EXPECT_EQ(test::triangle_set(a.tin), test::triangle_set(b.tin));
@@ -237,10 +258,14 @@ TEST(Simplify, RegionsDoNotChangeWithThreadsOrOrder) {
   EXPECT_EQ(one.report.regions, 0u);
   EXPECT_LE(static_cast<double>(a.report.vertices),
             1.02 * static_cast<double>(one.report.vertices));
+  std::printf("regions: %llu vertices, one greedy run: %llu\n",
+              static_cast<unsigned long long>(a.report.vertices),
+              static_cast<unsigned long long>(one.report.vertices));
 }
 
 // The regions' progress reaches the caller from its own thread only, never goes back, and a
-// request to stop during the regions stops them all.
+// request to stop during the regions (or an exception from the callback) ends the run: the
+// callback is not called again, and its exception is the one that comes out.
 TEST(Simplify, RegionsReportProgressAndCanCancel) {
   const Input in = random_input(23, 300000, false);
   SimplifyOptions options;
@@ -262,11 +287,23 @@ TEST(Simplify, RegionsReportProgressAndCanCancel) {
   ASSERT_FALSE(seen.empty());
   EXPECT_EQ(seen.back(), 1.0);
   EXPECT_GT(std::count_if(seen.begin(), seen.end(), [](double f) { return f > 0 && f < 0.5; }), 0);
-  ProgressFn cancel = [](std::string_view, double f) { return f < 0.3; };
+  bool asked_to_stop = false, called_after = false;
+  ProgressFn cancel = [&](std::string_view, double f) {
+    called_after |= asked_to_stop;
+    asked_to_stop |= f >= 0.3;
+    return !asked_to_stop;
+  };
   EXPECT_THROW(simplify(in.xy, in.z, {}, {}, options, &cancel), Cancelled);
+  EXPECT_TRUE(asked_to_stop);
+  EXPECT_FALSE(called_after);
+  ProgressFn throws = [](std::string_view, double f) {
+    if (f > 0.3) throw std::runtime_error("from the callback");
+    return true;
+  };
+  EXPECT_THROW(simplify(in.xy, in.z, {}, {}, options, &throws), std::runtime_error);
 }
 
-// Regions whose points are all on one line (or none) seed nothing; bad input found inside a
+// Regions whose points are all on one line, or none, seed nothing; bad input found inside a
 // region is reported as the run on all points reports it.
 TEST(Simplify, DegenerateRegionsAreLeftToTheLastRun) {
   Input in = random_input(25, 300000, false);
@@ -278,8 +315,16 @@ TEST(Simplify, DegenerateRegionsAreLeftToTheLastRun) {
   SimplifyOptions options;
   options.max_error = 0.5;
   const SimplifyResult r = run(in, options);
-  EXPECT_EQ(r.report.regions, 4u);
+  EXPECT_EQ(r.report.regions, 2u);  // the two on the right hold only the line
   check(in, options, r);
+
+  // An L: the top right cell holds no point at all (an empty set of points is not all points).
+  Input l = random_input(26, 300000, false);
+  for (Point2& p : l.xy)
+    if (p.x > kX0 + 100 && p.y > kY0 + 100) p.x -= 100;
+  const SimplifyResult r2 = run(l, options);
+  EXPECT_EQ(r2.report.regions, 3u);
+  check(l, options, r2);
 
   in.xy.push_back(in.xy[10]);
   in.z.push_back(in.z[10] + 1);
