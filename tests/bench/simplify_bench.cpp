@@ -10,9 +10,9 @@
 // Usage: simplify_bench GRID.f32 WIDTH HEIGHT MAX_ERROR [THREADS [MODE]]
 #include <algorithm>
 #include <chrono>
-#include <ctime>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <fstream>
 #include <string>
 #include <vector>
