@@ -5,6 +5,7 @@
 #include <string>
 #include <tuple>
 
+#include "core/id_map.hpp"
 #include "mesh/geometry.hpp"
 #include "mesh/point_insertion.hpp"
 #include "predicates/predicates.hpp"
@@ -31,43 +32,6 @@ struct VertexPair {
 std::uint64_t edge_key(VertexId u, VertexId v) {
   return u < v ? (std::uint64_t{u} << 32 | v) : (std::uint64_t{v} << 32 | u);
 }
-
-// Constrained edge -> its first piece (open addressing). Only crossings look pieces up.
-class PieceIndex {
- public:
-  void insert(std::uint64_t key, std::uint32_t piece) {
-    if (2 * (count_ + 1) > slots_.size()) grow();
-    std::size_t i = slot_of(key);
-    while (slots_[i].piece != kNoId && slots_[i].key != key) i = (i + 1) & (slots_.size() - 1);
-    if (slots_[i].piece == kNoId) ++count_;
-    slots_[i] = {key, piece};
-  }
-  std::uint32_t find(std::uint64_t key) const {
-    if (slots_.empty()) return kNoId;
-    for (std::size_t i = slot_of(key);; i = (i + 1) & (slots_.size() - 1)) {
-      if (slots_[i].piece == kNoId) return kNoId;
-      if (slots_[i].key == key) return slots_[i].piece;
-    }
-  }
-
- private:
-  struct Slot {
-    std::uint64_t key = 0;
-    std::uint32_t piece = kNoId;
-  };
-  std::size_t slot_of(std::uint64_t key) const {
-    return static_cast<std::size_t>((key * 0x9e3779b97f4a7c15ULL) >> 20) & (slots_.size() - 1);
-  }
-  void grow() {
-    std::vector<Slot> old = std::move(slots_);
-    slots_.assign(std::max<std::size_t>(1024, old.size() * 2), Slot{});
-    count_ = 0;
-    for (const Slot& s : old)
-      if (s.piece != kNoId) insert(s.key, s.piece);
-  }
-  std::vector<Slot> slots_;
-  std::size_t count_ = 0;
-};
 
 // Circumradius over inradius, the paper's triangle quality R(T): abc * s / (4 A^2).
 double aspect_ratio(Point2 p, Point2 q, Point2 r) {
@@ -398,7 +362,7 @@ class ConstraintInserter {
   std::uint64_t crossings_met_ = 0;
   // Twice the most crossings there can be (insert_constraints()): room for rounding.
   std::uint64_t crossing_bound_;
-  PieceIndex index_;                       // edge -> its latest piece
+  IdMap index_;                            // edge -> its latest piece (only crossings look)
   std::vector<std::uint32_t> next_piece_;  // piece -> the previous piece on the same edge
   std::vector<Segment> work_;
   std::vector<VertexPair> crossed_;

@@ -16,6 +16,7 @@
 #include <utility>
 
 #include "core/error.hpp"
+#include "core/id_map.hpp"
 #include "core/memory.hpp"
 #include "mesh/point_insertion.hpp"
 #include "predicates/predicates.hpp"
@@ -339,38 +340,6 @@ class Pool {
   std::exception_ptr error_;
 };
 
-// Points to the vertices they are (kNoId: none), in open addressing: for the few vertices of a
-// simplified TIN, not an array over all points.
-class VertexMap {
- public:
-  explicit VertexMap(const std::vector<std::uint32_t>& point_of_vertex) {
-    std::size_t size = 16;
-    while (size < 2 * point_of_vertex.size()) size *= 2;
-    mask_ = size - 1;
-    slots_.assign(size, {kNoId, kNoId});
-    for (VertexId v = 0; v < point_of_vertex.size(); ++v) {
-      const std::uint32_t q = point_of_vertex[v];
-      if (q == kNoId) continue;  // a crossing
-      std::size_t i = slot(q);
-      while (slots_[i].first != kNoId) i = (i + 1) & mask_;
-      slots_[i] = {q, v};
-    }
-  }
-  VertexId find(std::uint32_t q) const {
-    for (std::size_t i = slot(q);; i = (i + 1) & mask_) {
-      if (slots_[i].first == q) return slots_[i].second;
-      if (slots_[i].first == kNoId) return kNoId;
-    }
-  }
-
- private:
-  std::size_t slot(std::uint32_t q) const {
-    return static_cast<std::size_t>((q * 0x9e3779b97f4a7c15ULL) >> 32) & mask_;
-  }
-  std::vector<std::pair<std::uint32_t, VertexId>> slots_;
-  std::size_t mask_ = 0;
-};
-
 // The points a run simplifies: all of xy, z, or those named by `ids` (ascending).
 struct PointSet {
   std::span<const Point2> xy;
@@ -508,7 +477,9 @@ class Simplifier {
     grow();
     const std::size_t slots = tin_.triangle_slots();
     // The triangle of three points, if this TIN has it, is found around the first one's vertex.
-    const VertexMap vertex_of(point_of_vertex_);
+    IdMap vertex_of;  // of a point (the vertices are few next to the points)
+    for (VertexId v = 0; v < point_of_vertex_.size(); ++v)
+      if (point_of_vertex_[v] != kNoId) vertex_of.insert(point_of_vertex_[v], v);  // not a crossing
     const auto find = [&](const Simplifier& r, TriangleId t) {
       VertexId v[3];
       for (int i = 0; i < 3; ++i) {
