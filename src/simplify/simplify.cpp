@@ -1073,14 +1073,15 @@ constexpr std::size_t kSeedMinPoints = std::size_t{1} << 16;
 constexpr int kThinningBits = 4;
 constexpr double kSeedTolerance = 3;
 
-struct GreedyRun {
-  SimplifyResult result;
-  std::vector<std::uint32_t> order;  // the inserted points, seeds first, in insertion order
+// A greedy run before finish(): its state, and the points it inserted, seeds first, in order.
+struct Unfinished {
+  std::unique_ptr<Simplifier> run;
+  std::vector<std::uint32_t> order;
 };
 
-GreedyRun greedy(const PointSet& set, std::span<const std::uint32_t> kept,
-                 std::span<const constraints::Segment> segments, const SimplifyOptions& options,
-                 const ProgressFn* progress, int depth = 0);
+Unfinished run_greedy(const PointSet& set, std::span<const std::uint32_t> kept,
+                      std::span<const constraints::Segment> segments,
+                      const SimplifyOptions& options, const ProgressFn* progress, int depth);
 
 // A hash of a point's x, y bits: which points the coarse run sees depends on nothing else.
 std::uint64_t xy_hash(Point2 p) {
@@ -1154,31 +1155,20 @@ std::vector<std::uint32_t> coarse_seeds(const PointSet& set, std::span<const std
     if (in_set(s.a) && in_set(s.b)) sub_segments.push_back({sub_of(s.a), sub_of(s.b), s.source});
   SimplifyOptions coarse_options = options;
   coarse_options.max_error *= kSeedTolerance;
-  const GreedyRun coarse =
-      greedy({sub_xy, sub_z, {}}, sub_kept, sub_segments, coarse_options, nullptr, depth + 1);
+  const Unfinished coarse =
+      run_greedy({sub_xy, sub_z, {}}, sub_kept, sub_segments, coarse_options, nullptr, depth + 1);
   std::vector<std::uint32_t> seeds;
   seeds.reserve(coarse.order.size());
   for (const std::uint32_t k : coarse.order) seeds.push_back(point_of_sub[k]);
   return seeds;
 }
 
-// A greedy run before finish(): its state, and the points it inserted, seeds first.
-struct Unfinished {
-  std::unique_ptr<Simplifier> run;
-  std::vector<std::uint32_t> order;
-};
-
-// The greedy run on the points of `set`, from the seeds (inserted up front) or, if there are
-// none, from seeds of its own (coarse_seeds).
+// The greedy run on the points of `set`, from the seeds coarse_seeds() finds (depth: of coarse
+// runs).
 Unfinished run_greedy(const PointSet& set, std::span<const std::uint32_t> kept,
                       std::span<const constraints::Segment> segments,
-                      const SimplifyOptions& options, const ProgressFn* progress,
-                      std::span<const std::uint32_t> seeds, int depth) {
-  std::vector<std::uint32_t> own;
-  if (seeds.empty()) {
-    own = coarse_seeds(set, kept, segments, options, depth);
-    seeds = own;
-  }
+                      const SimplifyOptions& options, const ProgressFn* progress, int depth) {
+  const std::vector<std::uint32_t> seeds = coarse_seeds(set, kept, segments, options, depth);
   Unfinished u{std::make_unique<Simplifier>(set, options), {}};
   u.run->start(kept, segments, seeds);
   u.run->assign_points();
@@ -1187,19 +1177,6 @@ Unfinished run_greedy(const PointSet& set, std::span<const std::uint32_t> kept,
   const std::vector<std::uint32_t> order = u.run->greedy_order();
   u.order.insert(u.order.end(), order.begin(), order.end());
   return u;
-}
-
-GreedyRun greedy(const PointSet& set, std::span<const std::uint32_t> kept,
-                 std::span<const constraints::Segment> segments, const SimplifyOptions& options,
-                 const ProgressFn* progress, std::span<const std::uint32_t> seeds, int depth) {
-  Unfinished u = run_greedy(set, kept, segments, options, progress, seeds, depth);
-  return {u.run->finish(), std::move(u.order)};
-}
-
-GreedyRun greedy(const PointSet& set, std::span<const std::uint32_t> kept,
-                 std::span<const constraints::Segment> segments, const SimplifyOptions& options,
-                 const ProgressFn* progress, int depth) {
-  return greedy(set, kept, segments, options, progress, {}, depth);
 }
 
 // Inputs this large are split into kRegionsPerSide^2 regions, the cells of a grid over the
@@ -1419,7 +1396,7 @@ Regions run_regions(const PointSet& set, std::span<const std::uint32_t> kept,
       if (own_kept.size() < 3) return Unfinished{};  // collinear
       own_kept.insert(own_kept.end(), region_kept[r].begin(), region_kept[r].end());
       return run_greedy({set.xy, set.z, members}, own_kept, region_segments[r], region_options, fn,
-                        {}, 0);
+                        0);
     });
   }
   out.runs =
@@ -1432,13 +1409,14 @@ Regions run_regions(const PointSet& set, std::span<const std::uint32_t> kept,
 
 // The whole simplification: the regions' runs when they apply, then the run on all points,
 // seeded by them, which adopts the triangles it shares with them.
-GreedyRun simplify_all(const PointSet& set, std::span<const std::uint32_t> kept,
-                       std::span<const constraints::Segment> segments,
-                       const SimplifyOptions& options, const ProgressFn* progress) {
+SimplifyResult simplify_all(const PointSet& set, std::span<const std::uint32_t> kept,
+                            std::span<const constraints::Segment> segments,
+                            const SimplifyOptions& options, const ProgressFn* progress) {
   if (set.size() > kMaxPoints)  // before any work, and before ids are narrowed to 32 bits
     throw GeometryError("simplify: too many points for 32-bit ids");
   Regions regions = run_regions(set, kept, segments, options, progress);
-  if (regions.runs.empty()) return greedy(set, kept, segments, options, progress);
+  if (regions.runs.empty())
+    return run_greedy(set, kept, segments, options, progress, 0).run->finish();
   ProgressFn rest;
   if (progress && *progress)
     rest = [progress](std::string_view stage, double fraction) {
@@ -1455,14 +1433,10 @@ GreedyRun simplify_all(const PointSet& set, std::span<const std::uint32_t> kept,
     }
     s.adopt(parts);
   }
-  GreedyRun out;
-  out.order = std::move(regions.seeds);
   regions = {};  // their memory, before the run needs more
   s.run(progress ? &rest : nullptr);
-  const std::vector<std::uint32_t> order = s.greedy_order();
-  out.order.insert(out.order.end(), order.begin(), order.end());
-  out.result = s.finish();
-  out.result.report.regions = ran;
+  SimplifyResult out = s.finish();
+  out.report.regions = ran;
   return out;
 }
 
@@ -1474,7 +1448,7 @@ SimplifyResult simplify(std::span<const Point2> xy, std::span<const double> z,
                         const SimplifyOptions& options, const ProgressFn* progress) {
   std::vector<std::uint32_t> all = hull_corners(xy);
   all.insert(all.end(), kept.begin(), kept.end());
-  return simplify_all({xy, z, {}}, all, segments, options, progress).result;
+  return simplify_all({xy, z, {}}, all, segments, options, progress);
 }
 
 SimplifyResult simplify_tin(const mesh::Triangulation& full, const SimplifyOptions& options,
@@ -1503,8 +1477,7 @@ SimplifyResult simplify_tin(const mesh::Triangulation& full, const SimplifyOptio
     t = triangle_of(inf_v);
     if (t == first) break;
   }
-  return simplify_all({full.points(), full.heights(), {}}, kept, segments, options, progress)
-      .result;
+  return simplify_all({full.points(), full.heights(), {}}, kept, segments, options, progress);
 }
 
 }  // namespace tincdt::simplify
