@@ -532,11 +532,9 @@ class Simplifier {
     // their ids: the points' own order is spatial (a grid, or the Delaunay stage's Hilbert order),
     // so the walks are short.
     std::sort(loose.begin(), loose.end());
-    TriangleId first_real = 0;
-    while (tin_.is_ghost(first_real)) ++first_real;
     auto locate_chunk = [&](std::size_t c, std::size_t chunks) {
       std::uint64_t random = 0x9e3779b97f4a7c15ULL ^ c;
-      TriangleId t = first_real;
+      TriangleId t = first_real();
       for (std::size_t i = loose.size() * c / chunks; i < loose.size() * (c + 1) / chunks; ++i) {
         t = locate(xy_[loose[i]], t, random);
         ids_[loose[i]] = t;
@@ -572,23 +570,20 @@ class Simplifier {
     for (std::uint32_t q : loose) ids_[cursor[ids_[q]]++] = q;
     release(cursor);
     release(loose);
+    std::vector<std::uint8_t> measured(slots, 0);  // else adopted as it was
     for (std::size_t u = 0; u < slots; ++u) {
-      if (source[u].first == kNoId) continue;
+      if (source[u].first == kNoId) {
+        measured[u] = 1;
+        continue;
+      }
       const Simplifier& r = *parts[source[u].first].run;
       const TriangleId t = source[u].second;
-      if (count_[u] == 0) {  // as it was: no need to measure again
-        worst_[u] = r.worst_[t];
-        worst_error_[u] = r.worst_error_[t];
-        sum_sq_[u] = r.sum_sq_[t];
-      }
+      measured[u] = count_[u] > 0;  // loose points joined it
       count_[u] += r.count_[t];
+      if (!measured[u]) set_tally(u, r.tally_of(t));
     }
     for_each_range([&](std::size_t u) {
-      if (source[u].first != kNoId && worst_[u] != kNoId) return;  // adopted as it was
-      const Tally tally = measure(u);
-      worst_[u] = tally.worst;
-      worst_error_[u] = tally.worst_error;
-      sum_sq_[u] = tally.sum_sq;
+      if (measured[u]) set_tally(u, measure(u));
     });
     queue_ranges();
   }
@@ -601,14 +596,12 @@ class Simplifier {
     const std::size_t n = set_.size();
     const std::size_t slots = tin_.triangle_slots();
     grow();
-    TriangleId first_real = 0;
-    while (tin_.is_ghost(first_real)) ++first_real;
 
     // Where each point is, in chunks of consecutive points (every entry written: the arena
     // holds whatever its memory held).
     auto locate_chunk = [&](std::size_t c, std::size_t chunks) {
       std::uint64_t random = 0x9e3779b97f4a7c15ULL ^ c;
-      TriangleId t = first_real;
+      TriangleId t = first_real();
       const std::size_t begin = n * c / chunks, end = n * (c + 1) / chunks;
       auto vertex = std::lower_bound(vertex_places_.begin(), vertex_places_.end(), begin);
       for (std::size_t i = begin; i < end; ++i) {
@@ -639,12 +632,7 @@ class Simplifier {
     release(cursor);
 
     // Each triangle's worst point.
-    for_each_range([&](std::size_t t) {
-      const Tally tally = measure(t);
-      worst_[t] = tally.worst;
-      worst_error_[t] = tally.worst_error;
-      sum_sq_[t] = tally.sum_sq;
-    });
+    for_each_range([&](std::size_t t) { set_tally(t, measure(t)); });
 
     queue_ranges();
   }
@@ -720,6 +708,22 @@ class Simplifier {
   static constexpr std::size_t kPrefetch = 16;  // points ahead
 
   Point2 pt(VertexId v) const { return tin_.point(v); }
+
+  TriangleId first_real() const {
+    TriangleId t = 0;
+    while (tin_.is_ghost(t)) ++t;
+    return t;
+  }
+
+  // What slot t holds, as a tally, and a tally (its count aside) as what slot t holds.
+  Tally tally_of(std::size_t t) const {
+    return {worst_error_[t], sum_sq_[t], worst_[t], count_[t]};
+  }
+  void set_tally(std::size_t t, const Tally& tally) {
+    worst_[t] = tally.worst;
+    worst_error_[t] = tally.worst_error;
+    sum_sq_[t] = tally.sum_sq;
+  }
 
   // The points of triangle slot t measured against its plane.
   Tally measure(std::size_t t) const {
