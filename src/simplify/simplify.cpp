@@ -32,6 +32,11 @@ constexpr std::uint32_t kKept = kNoId - 1;
 // The most points a run takes: its arena (2 per point) has 32-bit places.
 constexpr std::size_t kMaxPoints = (std::size_t{UINT32_MAX} - 1024) / 2;
 
+// The size of the arena of a run on `points` points (see Simplifier::ids_).
+constexpr std::size_t arena_slots(std::size_t points) {
+  return 2 * points + 1024;
+}
+
 unsigned thread_count(unsigned requested) {
   return requested ? requested : std::max(1u, std::thread::hardware_concurrency());
 }
@@ -363,7 +368,10 @@ struct PointSet {
 
 class Simplifier {
  public:
-  explicit Simplifier(const PointSet& set, const SimplifyOptions& options)
+  // `arena`: where the run keeps its points' ids (see ids_), at least arena_slots() of them;
+  // empty: an arena of its own.
+  Simplifier(const PointSet& set, const SimplifyOptions& options,
+             std::span<std::uint32_t> arena = {})
       : set_(set),
         xy_(set.xy),
         z_(set.z),
@@ -379,8 +387,14 @@ class Simplifier {
     // Left unwritten: every entry is written before it is read, and fresh pages cost more than
     // the writes. (Huge pages were no faster here, and asking for them cost 0.2 s a 16M-point
     // run when memory was fragmented.)
-    arena_size_ = 2 * set.size() + 1024;
-    ids_ = std::make_unique_for_overwrite<std::uint32_t[]>(arena_size_);
+    if (arena.empty()) {
+      own_ids_ = std::make_unique_for_overwrite<std::uint32_t[]>(arena_slots(set.size()));
+      arena = {own_ids_.get(), arena_slots(set.size())};
+    }
+    if (arena.size() < arena_slots(set.size()))
+      throw InternalError("simplify: an arena too small for its run");
+    ids_ = arena.data();
+    arena_size_ = arena.size();
   }
 
   // The constrained Delaunay triangulation of the kept points, the segments' ends and the
@@ -499,8 +513,11 @@ class Simplifier {
     };
 
     // Per slot of this TIN: the part and slot it takes as it is, if any; the rest is loose.
-    // A part at a time, on all threads (no two parts share a triangle of this TIN).
+    // A part at a time, on all threads (no two parts share a triangle of this TIN). Each part's
+    // loose points in the order of their ids, which is spatial (a grid, or the Delaunay stage's
+    // Hilbert order), so that the walks that locate them are short and stay in cache.
     std::vector<std::pair<std::uint32_t, TriangleId>> source(slots, {kNoId, kNoId});
+    std::vector<std::vector<TriangleId>> target_of(parts.size());  // the other way round
     std::vector<std::vector<std::uint32_t>> loose_of(parts.size());
     auto match_part = [&](std::size_t k, std::size_t) {
       std::vector<std::uint32_t>& loose = loose_of[k];
@@ -508,86 +525,116 @@ class Simplifier {
         if (vertex_of.find(q) == kNoId) loose.push_back(q);  // not a vertex
       };
       const Simplifier* r = parts[k].run;
-      if (!r) {
+      if (!r) {  // (ascending already)
         for (std::uint32_t q : parts[k].points) add_loose(q);
         return;
       }
+      target_of[k].assign(r->count_.size(), kNoId);
       for (TriangleId t = 0; t < r->count_.size(); ++t) {
         if (r->count_[t] == 0) continue;
         const TriangleId u = find(*r, static_cast<TriangleId>(t));
         if (u != kNoId) {
           source[u] = {static_cast<std::uint32_t>(k), t};
-        } else {
-          for (std::size_t j = r->begin_[t]; j < r->begin_[t] + r->count_[t]; ++j)
-            add_loose(r->ids_[j]);
+          target_of[k][t] = u;
+          continue;
         }
+        for (std::size_t j = r->begin_[t]; j < r->begin_[t] + r->count_[t]; ++j)
+          add_loose(r->ids_[j]);
       }
       for (std::uint32_t q : r->point_of_vertex_)
         if (q != kNoId) add_loose(q);
+      std::sort(loose.begin(), loose.end());
     };
     pool_.run(match_part, parts.size());
     std::vector<std::uint32_t> loose;
     for (const auto& l : loose_of) loose.insert(loose.end(), l.begin(), l.end());
     release(loose_of);
 
-    // The loose points located (ids_[q], q < m, their triangle), on all threads, in the order of
-    // their ids: the points' own order is spatial (a grid, or the Delaunay stage's Hilbert order),
-    // so the walks are short.
-    std::sort(loose.begin(), loose.end());
+    // The loose points located, on all threads.
+    std::vector<TriangleId> loose_triangle(loose.size());
     auto locate_chunk = [&](std::size_t c, std::size_t chunks) {
       std::uint64_t random = 0x9e3779b97f4a7c15ULL ^ c;
       TriangleId t = first_real();
       for (std::size_t i = loose.size() * c / chunks; i < loose.size() * (c + 1) / chunks; ++i) {
         t = locate(xy_[loose[i]], t, random);
-        ids_[loose[i]] = t;
+        loose_triangle[i] = t;
       }
     };
     pool_.run(locate_chunk, std::clamp<std::size_t>(loose.size() / kChunkPoints, 1, kMaxChunks));
 
-    // The ranges, in slot order: the adopted points, then the loose ones, each in their order.
-    for (std::uint32_t q : loose) ++count_[ids_[q]];
-    std::vector<std::size_t> cursor(slots);
-    std::size_t at = set_.size();
-    const auto adopted = [&](std::size_t u) {
-      return source[u].first == kNoId ? std::uint32_t{0}
-                                      : parts[source[u].first].run->count_[source[u].second];
-    };
-    for (std::size_t u = 0; u < slots; ++u) {
-      begin_[u] = at;
-      cursor[u] = at + adopted(u);
-      at = cursor[u] + count_[u];
+    // The parts' runs kept their ranges in this run's arena (see run_regions): an adopted
+    // triangle keeps its range where it is. A triangle with loose points gets a new one past
+    // the parts' arenas (where their point lists were, now read): its adopted points, then its
+    // loose ones, each in their order.
+    std::size_t at = 0;  // past the parts' arenas
+    for (const Part& part : parts) {
+      if (!part.run) continue;
+      if (part.run->ids_ < ids_ || part.run->ids_ + part.run->arena_size_ > ids_ + arena_size_)
+        throw InternalError("simplify: a part's arena is not in the adopting run's");
+      at = std::max(at, static_cast<std::size_t>(part.run->ids_ - ids_) + part.run->arena_size_);
     }
-    arena_end_ = at;
-    if (at - set_.size() != candidates_)  // each point once: in a triangle, or a vertex
-      throw InternalError("simplify: the regions' triangles do not hold every point once");
-    auto copy_chunk = [&](std::size_t c, std::size_t chunks) {
-      for (std::size_t u = slots * c / chunks; u < slots * (c + 1) / chunks; ++u) {
-        if (source[u].first == kNoId) continue;
+    for (const TriangleId t : loose_triangle) ++count_[t];
+    std::vector<std::size_t> cursor(slots);
+    std::vector<std::uint8_t> measured(slots, 1);  // else adopted as it was
+    std::uint64_t points = 0;
+    for (std::size_t u = 0; u < slots; ++u) {
+      const std::uint32_t loose_count = count_[u];
+      if (source[u].first != kNoId) {
         const Simplifier& r = *parts[source[u].first].run;
         const TriangleId t = source[u].second;
-        std::copy_n(r.ids_.get() + r.begin_[t], r.count_[t], ids_.get() + begin_[u]);
+        count_[u] += r.count_[t];
+        if (loose_count == 0) {
+          begin_[u] = static_cast<std::size_t>(r.ids_ - ids_) + r.begin_[t];
+          set_tally(u, r.tally_of(t));
+          measured[u] = 0;
+          points += count_[u];
+          continue;
+        }
       }
-    };
-    pool_.run(copy_chunk, std::clamp<std::size_t>(candidates_ / kChunkPoints, 1, kMaxChunks));
-    for (std::uint32_t q : loose) ids_[cursor[ids_[q]]++] = q;
+      if (count_[u] == 0) continue;
+      if (at + count_[u] > arena_size_)
+        throw InternalError("simplify: the adopted ranges overflow the arena");
+      begin_[u] = at;
+      cursor[u] = at + count_[u] - loose_count;
+      if (source[u].first != kNoId) {
+        const Simplifier& r = *parts[source[u].first].run;
+        std::copy_n(r.ids_ + r.begin_[source[u].second], count_[u] - loose_count, ids_ + at);
+      }
+      at += count_[u];
+      points += count_[u];
+    }
+    arena_end_ = at;
+    if (points != candidates_)  // each point once: in a triangle, or a vertex
+      throw InternalError("simplify: the regions' triangles do not hold every point once");
+    for (std::size_t i = 0; i < loose.size(); ++i) ids_[cursor[loose_triangle[i]]++] = loose[i];
     release(cursor);
     release(loose);
-    std::vector<std::uint8_t> measured(slots, 0);  // else adopted as it was
-    for (std::size_t u = 0; u < slots; ++u) {
-      if (source[u].first == kNoId) {
-        measured[u] = 1;
-        continue;
-      }
-      const Simplifier& r = *parts[source[u].first].run;
-      const TriangleId t = source[u].second;
-      measured[u] = count_[u] > 0;  // loose points joined it
-      count_[u] += r.count_[t];
-      if (!measured[u]) set_tally(u, r.tally_of(t));
-    }
+    release(loose_triangle);
     for_each_range([&](std::size_t u) {
       if (measured[u]) set_tally(u, measure(u));
     });
     queue_ranges();
+    // The log of ranges in arena order, as compact() needs it: the ranges kept in place as
+    // their runs' logs list them (the parts' arenas in the order they lie), then the new ones.
+    ranges_.clear();
+    std::vector<std::size_t> by_place;
+    for (std::size_t k = 0; k < parts.size(); ++k)
+      if (parts[k].run) by_place.push_back(k);
+    std::sort(by_place.begin(), by_place.end(), [&](std::size_t a, std::size_t b) {
+      return parts[a].run->ids_ < parts[b].run->ids_;
+    });
+    for (const std::size_t k : by_place) {
+      const Simplifier& r = *parts[k].run;
+      const auto offset = static_cast<std::uint32_t>(r.ids_ - ids_);
+      for (const auto& [begin, t] : r.ranges_) {
+        if (r.count_[t] == 0 || r.begin_[t] != begin) continue;  // not live
+        const TriangleId u = target_of[k][t];
+        if (u != kNoId && !measured[u]) ranges_.push_back({offset + begin, u});
+      }
+    }
+    for (std::size_t u = 0; u < slots; ++u)
+      if (count_[u] > 0 && measured[u])
+        ranges_.push_back({static_cast<std::uint32_t>(begin_[u]), static_cast<TriangleId>(u)});
   }
 
   // Every other point into the range of the triangle holding it, its error measured: on all
@@ -640,7 +687,7 @@ class Simplifier {
   }
 
   // Every triangle beyond the tolerance into the queue; the others' points counted as settled.
-  // The ranges are in slot order: the log of ranges starts so.
+  // The log of ranges starts in slot order.
   void queue_ranges() {
     ranges_.clear();
     for (std::size_t t = 0; t < count_.size(); ++t) {
@@ -931,7 +978,7 @@ class Simplifier {
     if (chunks == 1 && old_.size() > 1) {
       gathered_.clear();
       for (const Range& r : old_)
-        gathered_.insert(gathered_.end(), ids_.get() + r.begin, ids_.get() + r.begin + r.count);
+        gathered_.insert(gathered_.end(), ids_ + r.begin, ids_ + r.begin + r.count);
       gathered = gathered_.data();
     }
     // Calls f(ids, count, j) on the slices of the old ranges that hold points [lo, hi) of their
@@ -944,7 +991,7 @@ class Simplifier {
       std::size_t j = 0;
       for (const Range& r : old_) {
         const std::size_t from = std::max(lo, j), to = std::min(hi, j + r.count);
-        if (from < to) f(ids_.get() + r.begin + (from - j), to - from, from);
+        if (from < to) f(ids_ + r.begin + (from - j), to - from, from);
         j += r.count;
       }
     };
@@ -972,7 +1019,7 @@ class Simplifier {
       }
       if (count_[u] > 0) ranges_.push_back({static_cast<std::uint32_t>(begin_[u]), u});
     }
-    std::uint32_t* out = ids_.get() + arena_end_;
+    std::uint32_t* out = ids_ + arena_end_;
     arena_end_ = at;
     auto move_chunk = [&](std::size_t c, std::size_t n_chunks) {
       Tally* cursor = tallies_.data() + c * m;
@@ -1021,7 +1068,7 @@ class Simplifier {
     std::size_t at = 0, live = 0;
     for (const auto& [begin, t] : ranges_) {
       if (count_[t] == 0 || begin_[t] != begin) continue;
-      std::copy_n(ids_.get() + begin, count_[t], ids_.get() + at);  // at <= begin
+      std::copy_n(ids_ + begin, count_[t], ids_ + at);  // at <= begin
       begin_[t] = at;
       ranges_[live++] = {static_cast<std::uint32_t>(at), t};
       at += count_[t];
@@ -1041,8 +1088,9 @@ class Simplifier {
 
   // The points of each triangle are one range of ids_, an arena: new ranges are appended, old
   // ones abandoned, and compact() closes the gaps when the end is reached.
-  std::unique_ptr<std::uint32_t[]> ids_;
+  std::uint32_t* ids_;
   std::size_t arena_size_ = 0, arena_end_ = 0;
+  std::unique_ptr<std::uint32_t[]> own_ids_;  // the arena, when the run has its own
   // The ranges with points as they were appended: (begin, slot), in arena order.
   std::vector<std::pair<std::uint32_t, TriangleId>> ranges_;
   // Per triangle slot: its range and what it holds.
@@ -1087,7 +1135,8 @@ struct Unfinished {
 
 Unfinished run_greedy(const PointSet& set, std::span<const std::uint32_t> kept,
                       std::span<const constraints::Segment> segments,
-                      const SimplifyOptions& options, const ProgressFn* progress, int depth);
+                      const SimplifyOptions& options, const ProgressFn* progress, int depth,
+                      std::span<std::uint32_t> arena = {});
 
 // A hash of a point's x, y bits: which points the coarse run sees depends on nothing else.
 std::uint64_t xy_hash(Point2 p) {
@@ -1170,12 +1219,13 @@ std::vector<std::uint32_t> coarse_seeds(const PointSet& set, std::span<const std
 }
 
 // The greedy run on the points of `set`, from the seeds coarse_seeds() finds (depth: of coarse
-// runs).
+// runs), in `arena` (empty: its own).
 Unfinished run_greedy(const PointSet& set, std::span<const std::uint32_t> kept,
                       std::span<const constraints::Segment> segments,
-                      const SimplifyOptions& options, const ProgressFn* progress, int depth) {
+                      const SimplifyOptions& options, const ProgressFn* progress, int depth,
+                      std::span<std::uint32_t> arena) {
   const std::vector<std::uint32_t> seeds = coarse_seeds(set, kept, segments, options, depth);
-  Unfinished u{std::make_unique<Simplifier>(set, options), {}};
+  Unfinished u{std::make_unique<Simplifier>(set, options, arena), {}};
   u.run->start(kept, segments, seeds);
   u.run->assign_points();
   u.run->run(progress);
@@ -1196,6 +1246,7 @@ Unfinished run_greedy(const PointSet& set, std::span<const std::uint32_t> kept,
 // Not with a vertex budget (see coarse_seeds).
 constexpr std::size_t kRegionMinPoints = std::size_t{1} << 18;
 constexpr int kRegionsPerSide = 2;
+constexpr std::size_t kRegions = kRegionsPerSide * kRegionsPerSide;
 constexpr double kSeamShare = 1.0 / 128;
 // The share of the stage's progress the regions take (the last run has the rest).
 constexpr double kRegionProgress = 0.9;
@@ -1297,10 +1348,15 @@ class RegionRuns {
   unsigned left_ = 0;  // regions not finished; under mutex_
 };
 
-// The regions' runs (see kRegionsPerSide) and what they hand on to the last run.
+// The regions' runs (see kRegionsPerSide) and what they hand on to the last run. The regions'
+// runs and the last run share one arena, so that the last run takes the triangles it adopts as
+// they are, in memory already written (fresh pages cost more than their use): each region's
+// arena (arena_slots() of its points) in turn, then the regions' point lists, which the last
+// run's new ranges overwrite once adopt() has read them.
 struct Regions {
-  std::unique_ptr<std::uint32_t[]> points;              // by region, each ascending
-  std::vector<std::span<const std::uint32_t>> members;  // each region's, in points
+  std::unique_ptr<std::uint32_t[]> arena;
+  std::size_t arena_size = 0;
+  std::vector<std::span<const std::uint32_t>> members;  // each region's points, ascending
   std::vector<Unfinished> runs;                         // each region's, or none
   std::vector<std::uint32_t> seeds;                     // all they inserted but near the seams
 };
@@ -1311,7 +1367,10 @@ Regions run_regions(const PointSet& set, std::span<const std::uint32_t> kept,
                     std::span<const constraints::Segment> segments, const SimplifyOptions& options,
                     const ProgressFn* progress) {
   const std::size_t n = set.size();
-  if (n < kRegionMinPoints || options.max_vertices || !set.ids.empty()) return {};
+  const std::size_t shared_arena = arena_slots(n) + (kRegions - 1) * arena_slots(0) + n;
+  if (n < kRegionMinPoints || options.max_vertices || !set.ids.empty() ||
+      shared_arena > UINT32_MAX)  // its places are 32-bit
+    return {};
   for (std::uint32_t i : kept)
     if (i >= n) return {};  // the last run reports it
   for (const constraints::Segment& s : segments)
@@ -1334,8 +1393,11 @@ Regions run_regions(const PointSet& set, std::span<const std::uint32_t> kept,
     const Point2 p = place(i);
     return static_cast<std::size_t>(cell(p.x) + side * cell(p.y));
   };
-  constexpr std::size_t regions = side * side;
+  constexpr std::size_t regions = kRegions;
   Regions out;
+  out.arena = std::make_unique_for_overwrite<std::uint32_t[]>(shared_arena);
+  out.arena_size = shared_arena;
+  std::uint32_t* const points = out.arena.get() + (shared_arena - n);
   out.members.resize(regions);
   std::vector<std::vector<std::uint32_t>> region_kept(regions);
   std::vector<std::vector<constraints::Segment>> region_segments(regions);
@@ -1346,27 +1408,26 @@ Regions run_regions(const PointSet& set, std::span<const std::uint32_t> kept,
     static_assert(regions <= 256);
     const auto region_of = std::make_unique_for_overwrite<std::uint8_t[]>(n);
     std::vector<std::size_t> at(chunks * regions, 0);  // chunk c's first place in region r
-    const auto points = [&](std::size_t c) {
+    const auto chunk_points = [&](std::size_t c) {
       return std::pair{n * c / chunks, n * (c + 1) / chunks};
     };
     auto count = [&](std::size_t c, std::size_t) {
-      for (auto [i, end] = points(c); i < end; ++i) {
+      for (auto [i, end] = chunk_points(c); i < end; ++i) {
         const std::size_t r = region(static_cast<std::uint32_t>(i));
         region_of[i] = static_cast<std::uint8_t>(r);
         ++at[c * regions + r];
       }
     };
     pool.run(count, chunks);
-    out.points = std::make_unique_for_overwrite<std::uint32_t[]>(n);
     std::size_t total = 0;
     for (std::size_t r = 0; r < regions; ++r) {
       const std::size_t first = total;
       for (std::size_t c = 0; c < chunks; ++c) total += std::exchange(at[c * regions + r], total);
-      out.members[r] = {out.points.get() + first, total - first};
+      out.members[r] = {points + first, total - first};
     }
     auto place_chunk = [&](std::size_t c, std::size_t) {
-      for (auto [i, end] = points(c); i < end; ++i)
-        out.points[at[c * regions + region_of[i]]++] = static_cast<std::uint32_t>(i);
+      for (auto [i, end] = chunk_points(c); i < end; ++i)
+        points[at[c * regions + region_of[i]]++] = static_cast<std::uint32_t>(i);
     };
     pool.run(place_chunk, chunks);
   }
@@ -1393,16 +1454,18 @@ Regions run_regions(const PointSet& set, std::span<const std::uint32_t> kept,
   region_options.threads = 1;
   std::vector<std::function<Unfinished(const ProgressFn*)>> runs;
   std::vector<double> weights;
-  for (std::size_t r = 0; r < regions; ++r) {
+  for (std::size_t r = 0, arena_at = 0; r < regions; ++r) {
     const std::span<const std::uint32_t> members = out.members[r];
+    const std::span<std::uint32_t> arena{out.arena.get() + arena_at, arena_slots(members.size())};
+    arena_at += arena.size();
     weights.push_back(static_cast<double>(members.size()) / static_cast<double>(n));
-    runs.emplace_back([&, r, members](const ProgressFn* fn) {
+    runs.emplace_back([&, r, members, arena](const ProgressFn* fn) {
       if (members.empty()) return Unfinished{};  // (an empty PointSet would be all points)
       std::vector<std::uint32_t> own_kept = hull_corners(set.xy, members);
       if (own_kept.size() < 3) return Unfinished{};  // collinear
       own_kept.insert(own_kept.end(), region_kept[r].begin(), region_kept[r].end());
       return run_greedy({set.xy, set.z, members}, own_kept, region_segments[r], region_options, fn,
-                        0);
+                        0, arena);
     });
   }
   out.runs =
@@ -1428,7 +1491,8 @@ SimplifyResult simplify_all(const PointSet& set, std::span<const std::uint32_t> 
     rest = [progress](std::string_view stage, double fraction) {
       return (*progress)(stage, kRegionProgress + (1 - kRegionProgress) * fraction);
     };
-  Simplifier s(set, options);
+  const std::unique_ptr<std::uint32_t[]> arena = std::move(regions.arena);
+  Simplifier s(set, options, {arena.get(), regions.arena_size});
   s.start(kept, segments, regions.seeds);
   std::uint32_t ran = 0;
   {
