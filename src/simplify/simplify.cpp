@@ -2,6 +2,7 @@
 #include "core/xorshift.hpp"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -1411,12 +1412,16 @@ Regions run_regions(const PointSet& set, std::span<const std::uint32_t> kept,
     const auto chunk_points = [&](std::size_t c) {
       return std::pair{n * c / chunks, n * (c + 1) / chunks};
     };
+    // (Each chunk counts in an array of its own: the chunks' counts share cache lines.)
     auto count = [&](std::size_t c, std::size_t) {
+      std::array<std::size_t, regions> counts{};
       for (auto [i, end] = chunk_points(c); i < end; ++i) {
         const std::size_t r = region(static_cast<std::uint32_t>(i));
         region_of[i] = static_cast<std::uint8_t>(r);
-        ++at[c * regions + r];
+        ++counts[r];
       }
+      std::copy(counts.begin(), counts.end(),
+                at.begin() + static_cast<std::ptrdiff_t>(c * regions));
     };
     pool.run(count, chunks);
     std::size_t total = 0;
@@ -1426,8 +1431,10 @@ Regions run_regions(const PointSet& set, std::span<const std::uint32_t> kept,
       out.members[r] = {points + first, total - first};
     }
     auto place_chunk = [&](std::size_t c, std::size_t) {
+      std::array<std::size_t, regions> cursor;
+      std::copy_n(at.begin() + static_cast<std::ptrdiff_t>(c * regions), regions, cursor.begin());
       for (auto [i, end] = chunk_points(c); i < end; ++i)
-        points[at[c * regions + region_of[i]]++] = static_cast<std::uint32_t>(i);
+        points[cursor[region_of[i]]++] = static_cast<std::uint32_t>(i);
     };
     pool.run(place_chunk, chunks);
   }
