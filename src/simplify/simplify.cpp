@@ -20,12 +20,14 @@
 #include "core/id_map.hpp"
 #include "core/memory.hpp"
 #include "mesh/point_insertion.hpp"
+#include "predicates/interior_filter.hpp"
 #include "predicates/predicates.hpp"
 
 namespace tincdt::simplify {
 namespace {
 
 using namespace mesh;  // the half-edge vocabulary: next_edge, triangle_of, kInfinite, ...
+using predicates::InteriorFilter;
 using predicates::orient2d;
 
 // ids_[j] before the ranges are made: the j-th point is a vertex (kept). Never a triangle slot.
@@ -556,8 +558,14 @@ class Simplifier {
     auto locate_chunk = [&](std::size_t c, std::size_t chunks) {
       std::uint64_t random = 0x9e3779b97f4a7c15ULL ^ c;
       TriangleId t = first_real();
+      InteriorFilter inside = interior_filter(t);
       for (std::size_t i = loose.size() * c / chunks; i < loose.size() * (c + 1) / chunks; ++i) {
-        t = locate(xy_[loose[i]], t, random);
+        const Point2 q = xy_[loose[i]];
+        if (!inside.surely_inside(q)) {
+          const TriangleId u = locate(q, t, random);
+          if (u != t) inside = interior_filter(u);
+          t = u;
+        }
         loose_triangle[i] = t;
       }
     };
@@ -652,6 +660,7 @@ class Simplifier {
     auto locate_chunk = [&](std::size_t c, std::size_t chunks) {
       std::uint64_t random = 0x9e3779b97f4a7c15ULL ^ c;
       TriangleId t = first_real();
+      InteriorFilter inside = interior_filter(t);
       const std::size_t begin = n * c / chunks, end = n * (c + 1) / chunks;
       auto vertex = std::lower_bound(vertex_places_.begin(), vertex_places_.end(), begin);
       for (std::size_t i = begin; i < end; ++i) {
@@ -660,7 +669,13 @@ class Simplifier {
           ++vertex;
           continue;
         }
-        t = locate(xy_[set_[i]], t, random);
+        const Point2 q = xy_[set_[i]];
+        if (!inside.surely_inside(
+                q)) {  // (most points are in the triangle of the point before them)
+          const TriangleId u = locate(q, t, random);
+          if (u != t) inside = interior_filter(u);
+          t = u;
+        }
         ids_[i] = t;
       }
     };
@@ -758,6 +773,11 @@ class Simplifier {
   static constexpr std::size_t kPrefetch = 16;  // points ahead
 
   Point2 pt(VertexId v) const { return tin_.point(v); }
+
+  InteriorFilter interior_filter(TriangleId t) const {
+    const EdgeId e = 3 * t;
+    return {pt(tin_.origin(e)), pt(tin_.origin(e + 1)), pt(tin_.origin(e + 2))};
+  }
 
   TriangleId first_real() const {
     TriangleId t = 0;
