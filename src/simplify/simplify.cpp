@@ -62,6 +62,17 @@ struct Gradient {
   }
 };
 
+// The plane through a triangle, from its corner a.
+struct Plane {
+  Point2 a{};
+  double za = 0, gx = 0, gy = 0;
+
+  // The vertical distance from the plane to point (p, z).
+  double error(Point2 p, double z) const {
+    return std::fabs(z - (za + gx * (p.x - a.x) + gy * (p.y - a.y)));
+  }
+};
+
 // Whether point p with error e is worse than the worst so far, w with error we (w = kNoId:
 // none yet). Equal errors go by x, then y, so that input order never decides.
 bool worse(double e, std::uint32_t p, double we, std::uint32_t w, const Point2* xy) {
@@ -690,14 +701,24 @@ class Simplifier {
       at += count_[t];
     }
     arena_end_ = at;
+    // Each point measured as it is placed: in point order, the order of its range (the
+    // points' arrays are read in order, and the triangles' planes and tallies are few).
     std::vector<std::size_t> cursor(begin_.begin(),
                                     begin_.begin() + static_cast<std::ptrdiff_t>(slots));
-    for (std::size_t i = 0; i < n; ++i)
-      if (ids_[i] != kKept) ids_[cursor[ids_[i]]++] = set_[i];
+    std::vector<Plane> planes(slots);
+    for (std::size_t t = 0; t < slots; ++t)
+      if (count_[t] > 0) planes[t] = plane_of(static_cast<TriangleId>(t));
+    std::vector<Tally> tallies(slots);
+    for (std::size_t i = 0; i < n; ++i) {
+      const TriangleId t = ids_[i];
+      if (t == kKept) continue;
+      const std::uint32_t q = set_[i];
+      ids_[cursor[t]++] = q;
+      tallies[t].add(planes[t].error(xy_[q], z_[q]), q, xy_.data());
+    }
     release(cursor);
-
-    // Each triangle's worst point.
-    for_each_range([&](std::size_t t) { set_tally(t, measure(t)); });
+    for (std::size_t t = 0; t < slots; ++t)
+      if (count_[t] > 0) set_tally(t, tallies[t]);
 
     queue_ranges();
   }
@@ -797,18 +818,21 @@ class Simplifier {
 
   // The points of triangle slot t measured against its plane.
   Tally measure(std::size_t t) const {
-    const EdgeId e = 3 * static_cast<EdgeId>(t);
-    const VertexId a = tin_.origin(e), b = tin_.origin(e + 1), d = tin_.origin(e + 2);
-    const Point2 pa = pt(a);
-    const double za = tin_.z(a);
-    const Gradient g(pa, za, pt(b), tin_.z(b), pt(d), tin_.z(d));
+    const Plane plane = plane_of(static_cast<TriangleId>(t));
     Tally tally;
     for (std::size_t k = begin_[t]; k < begin_[t] + count_[t]; ++k) {
       const std::uint32_t q = ids_[k];
-      const Point2 p = xy_[q];
-      tally.add(std::fabs(z_[q] - (za + g.gx * (p.x - pa.x) + g.gy * (p.y - pa.y))), q, xy_.data());
+      tally.add(plane.error(xy_[q], z_[q]), q, xy_.data());
     }
     return tally;
+  }
+
+  // The plane of triangle slot t.
+  Plane plane_of(TriangleId t) const {
+    const EdgeId e = 3 * t;
+    const VertexId a = tin_.origin(e), b = tin_.origin(e + 1), d = tin_.origin(e + 2);
+    const Gradient g(pt(a), tin_.z(a), pt(b), tin_.z(b), pt(d), tin_.z(d));
+    return {pt(a), tin_.z(a), g.gx, g.gy};
   }
 
   // Calls f(t) for every triangle slot t holding points, on all threads, in chunks of slots
