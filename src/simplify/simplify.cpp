@@ -510,11 +510,11 @@ class Simplifier {
     IdMap vertex_of;  // of a point (the vertices are few next to the points)
     for (VertexId v = 0; v < point_of_vertex_.size(); ++v)
       if (point_of_vertex_[v] != kNoId) vertex_of.insert(point_of_vertex_[v], v);  // not a crossing
-    const auto find = [&](const Simplifier& r, TriangleId t) {
+    // (`here`: this TIN's vertex of each of r's vertices, or kNoId.)
+    const auto find = [&](const Simplifier& r, const std::vector<VertexId>& here, TriangleId t) {
       VertexId v[3];
       for (int i = 0; i < 3; ++i) {
-        const std::uint32_t q = r.point_of_vertex_[r.tin_.origin(3 * t + static_cast<EdgeId>(i))];
-        v[i] = q == kNoId ? kNoId : vertex_of.find(q);
+        v[i] = here[r.tin_.origin(3 * t + static_cast<EdgeId>(i))];
         if (v[i] == kNoId) return kNoId;
       }
       const EdgeId first = tin_.edge_from(v[0]);
@@ -544,9 +544,14 @@ class Simplifier {
         return;
       }
       target_of[k].assign(r->count_.size(), kNoId);
+      std::vector<VertexId> here(r->point_of_vertex_.size());  // (a lookup per vertex, not corner)
+      for (VertexId w = 0; w < here.size(); ++w) {
+        const std::uint32_t q = r->point_of_vertex_[w];
+        here[w] = q == kNoId ? kNoId : vertex_of.find(q);
+      }
       for (TriangleId t = 0; t < r->count_.size(); ++t) {
         if (r->count_[t] == 0) continue;
-        const TriangleId u = find(*r, static_cast<TriangleId>(t));
+        const TriangleId u = find(*r, here, static_cast<TriangleId>(t));
         if (u != kNoId) {
           source[u] = {static_cast<std::uint32_t>(k), t};
           target_of[k][t] = u;
@@ -555,8 +560,9 @@ class Simplifier {
         for (std::size_t j = r->begin_[t]; j < r->begin_[t] + r->count_[t]; ++j)
           add_loose(r->ids_[j]);
       }
-      for (std::uint32_t q : r->point_of_vertex_)
-        if (q != kNoId) add_loose(q);
+      for (VertexId w = 0; w < here.size(); ++w)
+        if (r->point_of_vertex_[w] != kNoId && here[w] == kNoId)
+          loose.push_back(r->point_of_vertex_[w]);
       std::sort(loose.begin(), loose.end());
     };
     pool_.run(match_part, parts.size());
