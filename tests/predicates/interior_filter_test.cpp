@@ -63,7 +63,15 @@ void random_cases(double centre, double size, unsigned seed, bool useful = true)
     const double longest =
         std::max({std::hypot(ub.x - ua.x, ub.y - ua.y), std::hypot(uc.x - ub.x, uc.y - ub.y),
                   std::hypot(ua.x - uc.x, ua.y - uc.y)});
-    if (area > 0.01 * longest * longest) {
+    // (And, so that rounding the centroid cannot matter, all points 4 ulps around it inside.)
+    const auto ulps = [](double v, int k) {
+      for (int j = 0; j < std::abs(k); ++j) v = std::nextafter(v, k > 0 ? INFINITY : -INFINITY);
+      return v;
+    };
+    bool around = true;
+    for (int k : {-4, 4})
+      for (int l : {-4, 4}) around &= exactly_inside(a, b, c, {ulps(g.x, k), ulps(g.y, l)});
+    if (area > 0.01 * longest * longest && around) {
       ++well_inside;
       held_there += filter.surely_inside(g);
     }
@@ -118,6 +126,34 @@ TEST(InteriorFilter, LatticePointsOnEdges) {
       for (int y = -2; y <= 50; ++y) held += check(filter, a, b, c, {origin + x, origin + y});
     EXPECT_GT(held, 1000);
   }
+}
+
+// Flat triangles (exactly: small integers times a power of two, so every sum is exact): no
+// point is inside, in either order.
+TEST(InteriorFilter, CollinearTrianglesNeverHold) {
+  std::mt19937_64 rng(8);
+  std::uniform_int_distribution<int> coordinate(-1000000, 1000000), offset(-64, 64);
+  for (double scale : {1.0, 0x1p-20, 0x1p20}) {
+    for (int i = 0; i < 500; ++i) {
+      const Point2 a{scale * coordinate(rng), scale * coordinate(rng)};
+      const Point2 step{scale * offset(rng), scale * offset(rng)};
+      const Point2 b{a.x + step.x, a.y + step.y}, c{a.x + 3 * step.x, a.y + 3 * step.y};
+      const Point2 mid{a.x + 1.5 * step.x, a.y + 1.5 * step.y};
+      EXPECT_EQ(check(InteriorFilter(a, b, c), a, b, c, mid), 0);
+      EXPECT_EQ(check(InteriorFilter(a, c, b), a, c, b, mid), 0);
+      EXPECT_EQ(check(InteriorFilter(a, c, b), a, c, b, b), 0);
+    }
+  }
+}
+
+// Past 2^500 a product could overflow, and one infinite product passes any finite bound: the
+// filter then never answers.
+TEST(InteriorFilter, NeverSureWhereProductsCouldOverflow) {
+  EXPECT_TRUE(InteriorFilter({0, 0}, {0x1p499, 0}, {0, 0x1p499}).surely_inside({0x1p497, 0x1p497}));
+  EXPECT_FALSE(
+      InteriorFilter({0, 0}, {0x1p501, 0}, {0, 0x1p501}).surely_inside({0x1p499, 0x1p499}));
+  EXPECT_TRUE(std::isinf(cross_bound({1, 1}, 0x1p500)));
+  EXPECT_TRUE(std::isinf(cross_bound({1, 1}, std::nan(""))));
 }
 
 TEST(InteriorFilter, OverflowAndNaNNeverHold) {
