@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <exception>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -219,12 +220,9 @@ struct Fan {
   bool cyclic;  // the apex is inside the hull (else the cones stop at the hull)
 
   // orient2d(apex, ring[i], q), given d = q - apex (rounded), by a filter with one bound per
-  // spoke. With S = ring[i] - apex and D = q - apex exact, the computed det differs from
-  // S.x D.y - S.y D.x by at most (1 + u)^4 - 1 < 4.01u times |S.x D.y| + |S.y D.x| (two rounded
-  // differences, a product and the subtraction), which is at most (|S.x| + |S.y|) M, M the
-  // largest |coordinate| of a spoke: every point of the fan lies in the box of its corners.
-  // bound[i] = 2^-50 (|s.x| + |s.y|) M + 2^-1000 covers that, its own rounding and underflow;
-  // an uncertain sign (and overflow: NaN fails both tests) goes to the exact predicate.
+  // spoke: predicates::cross_bound(spoke[i], M), M the largest |coordinate| of a spoke (every
+  // point of the fan lies in the box of its corners). An uncertain sign (and NaN, which fails
+  // both tests) goes to the exact predicate.
   int side(int i, Point2 d, Point2 q) const {
     const double det = spoke[i].x * d.y - spoke[i].y * d.x;
     if (det > bound[i]) return 1;
@@ -590,12 +588,14 @@ class Simplifier {
 
     // The parts' runs kept their ranges in this run's arena (see run_regions): an adopted
     // triangle keeps its range where it is. A triangle with loose points gets a new one past
-    // the parts' arenas (where their point lists were, now read): its adopted points, then its
-    // loose ones, each in their order.
-    std::size_t at = 0;  // past the parts' arenas
+    // the arenas of the parts that ran (over the parts' point lists, now read): its adopted
+    // points, then its loose ones, each in their order.
+    std::size_t at = 0;                            // past the parts' arenas
+    const std::less<const std::uint32_t*> before;  // (a total order on any pointers)
     for (const Part& part : parts) {
       if (!part.run) continue;
-      if (part.run->ids_ < ids_ || part.run->ids_ + part.run->arena_size_ > ids_ + arena_size_)
+      if (before(part.run->ids_, ids_) ||
+          before(ids_ + arena_size_, part.run->ids_ + part.run->arena_size_))
         throw InternalError("simplify: a part's arena is not in the adopting run's");
       at = std::max(at, static_cast<std::size_t>(part.run->ids_ - ids_) + part.run->arena_size_);
     }
@@ -647,7 +647,7 @@ class Simplifier {
     for (std::size_t k = 0; k < parts.size(); ++k)
       if (parts[k].run) by_place.push_back(k);
     std::sort(by_place.begin(), by_place.end(), [&](std::size_t a, std::size_t b) {
-      return parts[a].run->ids_ < parts[b].run->ids_;
+      return before(parts[a].run->ids_, parts[b].run->ids_);
     });
     for (const std::size_t k : by_place) {
       const Simplifier& r = *parts[k].run;
@@ -727,15 +727,17 @@ class Simplifier {
       if (count_[t] > 0) set_tally(t, tallies[t]);
 
     queue_ranges();
+    // The log of ranges, in slot order, which is arena order here.
+    ranges_.clear();
+    for (std::size_t t = 0; t < slots; ++t)
+      if (count_[t] > 0)
+        ranges_.push_back({static_cast<std::uint32_t>(begin_[t]), static_cast<TriangleId>(t)});
   }
 
   // Every triangle beyond the tolerance into the queue; the others' points counted as settled.
-  // The log of ranges starts in slot order.
   void queue_ranges() {
-    ranges_.clear();
     for (std::size_t t = 0; t < count_.size(); ++t) {
       if (count_[t] == 0) continue;
-      ranges_.push_back({static_cast<std::uint32_t>(begin_[t]), static_cast<TriangleId>(t)});
       if (worst_error_[t] <= options_.max_error)
         settled_ += count_[t];
       else
@@ -962,8 +964,7 @@ class Simplifier {
       reach = std::max({reach, std::fabs(spokes_.back().x), std::fabs(spokes_.back().y)});
     }
     bounds_.clear();
-    for (const Point2& d : spokes_)
-      bounds_.push_back(0x1p-50 * (std::fabs(d.x) + std::fabs(d.y)) * reach + 0x1p-1000);
+    for (const Point2& d : spokes_) bounds_.push_back(predicates::cross_bound(d, reach));
     for (std::size_t i = 0; i < (cyclic ? k : k - 2); ++i) {
       const EdgeId s = star_[(first + i) % k];
       const VertexId a = tin_.dest(s), b = tin_.apex(s);
@@ -1420,7 +1421,7 @@ Regions run_regions(const PointSet& set, std::span<const std::uint32_t> kept,
   const std::size_t n = set.size();
   const std::size_t shared_arena = arena_slots(n) + (kRegions - 1) * arena_slots(0) + n;
   if (n < kRegionMinPoints || options.max_vertices || !set.ids.empty() ||
-      shared_arena > UINT32_MAX)  // its places are 32-bit
+      shared_arena > UINT32_MAX)  // its places are 32-bit (regions to about 1.4e9 points)
     return {};
   for (std::uint32_t i : kept)
     if (i >= n) return {};  // the last run reports it
