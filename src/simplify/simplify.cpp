@@ -423,7 +423,7 @@ class Simplifier {
     // The kept points and segment ends, then the seeds that are none of them (a region may
     // insert the end of a segment it was not given).
     const auto sort_unique = [](std::vector<std::uint32_t>& v) {
-      std::sort(v.begin(), v.end());
+      if (!std::is_sorted(v.begin(), v.end())) std::sort(v.begin(), v.end());
       v.erase(std::unique(v.begin(), v.end()), v.end());
     };
     std::vector<std::uint32_t>& places = vertex_places_;
@@ -1410,7 +1410,7 @@ struct Regions {
   std::size_t arena_size = 0;
   std::vector<std::span<const std::uint32_t>> members;  // each region's points, ascending
   std::vector<Unfinished> runs;                         // each region's, or none
-  std::vector<std::uint32_t> seeds;                     // all they inserted but near the seams
+  std::vector<std::uint32_t> seeds;  // all they inserted but near the seams, ascending
 };
 
 // The regions' runs, or none when the input is too small or the regions do not apply. `kept`
@@ -1512,6 +1512,7 @@ Regions run_regions(const PointSet& set, std::span<const std::uint32_t> kept,
   region_options.threads = 1;
   std::vector<std::function<Unfinished(const ProgressFn*)>> runs;
   std::vector<double> weights;
+  std::vector<std::vector<std::uint32_t>> seeds(regions);  // each region's, ascending
   for (std::size_t r = 0, arena_at = 0; r < regions; ++r) {
     const std::span<const std::uint32_t> members = out.members[r];
     const std::span<std::uint32_t> arena{out.arena.get() + arena_at, arena_slots(members.size())};
@@ -1522,15 +1523,22 @@ Regions run_regions(const PointSet& set, std::span<const std::uint32_t> kept,
       std::vector<std::uint32_t> own_kept = hull_corners(set.xy, members);
       if (own_kept.size() < 3) return Unfinished{};  // collinear
       own_kept.insert(own_kept.end(), region_kept[r].begin(), region_kept[r].end());
-      return run_greedy({set.xy, set.z, members}, own_kept, region_segments[r], region_options, fn,
-                        0, arena);
+      Unfinished u = run_greedy({set.xy, set.z, members}, own_kept, region_segments[r],
+                                region_options, fn, 0, arena);
+      // Sorted here, on the region's thread, for the last run, which needs them so.
+      for (std::uint32_t i : u.order)
+        if (!near_seam(i, r)) seeds[r].push_back(i);
+      std::sort(seeds[r].begin(), seeds[r].end());
+      return u;
     });
   }
   out.runs =
       RegionRuns(std::move(runs), std::move(weights), progress).run(thread_count(options.threads));
-  for (std::size_t r = 0; r < regions; ++r)
-    for (std::uint32_t i : out.runs[r].order)
-      if (!near_seam(i, r)) out.seeds.push_back(i);
+  for (const std::vector<std::uint32_t>& region_seeds : seeds) {
+    const auto middle = static_cast<std::ptrdiff_t>(out.seeds.size());
+    out.seeds.insert(out.seeds.end(), region_seeds.begin(), region_seeds.end());
+    std::inplace_merge(out.seeds.begin(), out.seeds.begin() + middle, out.seeds.end());
+  }
   return out;
 }
 
