@@ -571,18 +571,9 @@ class Simplifier {
     // The loose points located, on all threads.
     std::vector<TriangleId> loose_triangle(loose.size());
     auto locate_chunk = [&](std::size_t c, std::size_t chunks) {
-      std::uint64_t random = 0x9e3779b97f4a7c15ULL ^ c;
-      TriangleId t = first_real();
-      InteriorFilter inside = interior_filter(t);
-      for (std::size_t i = loose.size() * c / chunks; i < loose.size() * (c + 1) / chunks; ++i) {
-        const Point2 q = xy_[loose[i]];
-        if (!inside.surely_inside(q)) {
-          const TriangleId u = locate(q, t, random);
-          if (u != t) inside = interior_filter(u);
-          t = u;
-        }
-        loose_triangle[i] = t;
-      }
+      Walk walk(*this, c);
+      for (std::size_t i = loose.size() * c / chunks; i < loose.size() * (c + 1) / chunks; ++i)
+        loose_triangle[i] = walk.to(xy_[loose[i]]);
     };
     pool_.run(locate_chunk, std::clamp<std::size_t>(loose.size() / kChunkPoints, 1, kMaxChunks));
 
@@ -675,9 +666,7 @@ class Simplifier {
     // Where each point is, in chunks of consecutive points (every entry written: the arena
     // holds whatever its memory held).
     auto locate_chunk = [&](std::size_t c, std::size_t chunks) {
-      std::uint64_t random = 0x9e3779b97f4a7c15ULL ^ c;
-      TriangleId t = first_real();
-      InteriorFilter inside = interior_filter(t);
+      Walk walk(*this, c);
       const std::size_t begin = n * c / chunks, end = n * (c + 1) / chunks;
       auto vertex = std::lower_bound(vertex_places_.begin(), vertex_places_.end(), begin);
       for (std::size_t i = begin; i < end; ++i) {
@@ -686,14 +675,7 @@ class Simplifier {
           ++vertex;
           continue;
         }
-        const Point2 q = xy_[set_[i]];
-        if (!inside.surely_inside(
-                q)) {  // (most points are in the triangle of the point before them)
-          const TriangleId u = locate(q, t, random);
-          if (u != t) inside = interior_filter(u);
-          t = u;
-        }
-        ids_[i] = t;
+        ids_[i] = walk.to(xy_[set_[i]]);
       }
     };
     pool_.run(locate_chunk, std::clamp<std::size_t>(n / kChunkPoints, 1, kMaxChunks));
@@ -803,10 +785,32 @@ class Simplifier {
 
   Point2 pt(VertexId v) const { return tin_.point(v); }
 
-  InteriorFilter interior_filter(TriangleId t) const {
-    const EdgeId e = 3 * t;
-    return {pt(tin_.origin(e)), pt(tin_.origin(e + 1)), pt(tin_.origin(e + 2))};
-  }
+  // Locates points one after another, each from the triangle of the one before: most are
+  // strictly inside it, which InteriorFilter tells without locate()'s walk. (`seed`: of the
+  // walk's random edge order; the triangle found does not depend on it.)
+  class Walk {
+   public:
+    Walk(const Simplifier& s, std::uint64_t seed)
+        : s_(s), random_(0x9e3779b97f4a7c15ULL ^ seed), t_(s.first_real()), inside_(filter(t_)) {}
+
+    TriangleId to(Point2 q) {
+      if (inside_.surely_inside(q)) return t_;
+      const TriangleId u = s_.locate(q, t_, random_);
+      if (u != t_) inside_ = filter(u);
+      return t_ = u;
+    }
+
+   private:
+    InteriorFilter filter(TriangleId t) const {
+      const EdgeId e = 3 * t;
+      return {s_.pt(s_.tin_.origin(e)), s_.pt(s_.tin_.origin(e + 1)), s_.pt(s_.tin_.origin(e + 2))};
+    }
+
+    const Simplifier& s_;
+    std::uint64_t random_;
+    TriangleId t_;
+    InteriorFilter inside_;
+  };
 
   TriangleId first_real() const {
     TriangleId t = 0;
