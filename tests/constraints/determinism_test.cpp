@@ -21,6 +21,7 @@
 #include "io/vector/line_reader.hpp"
 #include "support/determinism.hpp"
 #include "support/perturbed_delaunay.hpp"
+#include "support/shared_data.hpp"
 
 namespace tincdt::constraints {
 namespace {
@@ -348,7 +349,7 @@ TEST(DeterministicCdt, AspectAndNoRestorationDependOnTheSegmentsOnly) {
 // ---- real data: the pair_topography cloud and its contours -----------------------------------
 
 TEST(DeterministicCdt, PairTopographyWithItsContours) {
-  const fs::path data = fs::path(TINCDT_SHARED_DATA);
+  const fs::path data = fs::path(::tincdt::test::shared_data());
   const fs::path cloud = data / "las" / "Topography.las";
   const fs::path contours = data / "pair_topography" / "Topography_contours_1m_3d.shp";
   if (!fs::exists(cloud) || !fs::exists(contours)) GTEST_SKIP() << "no shared data at " << data;

@@ -39,7 +39,7 @@ using ::testing::AllOf;
 using ::testing::HasSubstr;
 using ::testing::Not;
 
-const fs::path kData = TINCDT_SHARED_DATA;
+const fs::path kData = ::tincdt::test::shared_data();
 
 std::string original(const std::string& name) {
   return test::slurp(kData / "laz" / (name + ".laz"));

@@ -30,7 +30,7 @@ namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 using ::testing::StartsWith;
 
-const fs::path kData = TINCDT_SHARED_DATA;
+const fs::path kData = ::tincdt::test::shared_data();
 
 std::string laz_path(const std::string& name) {
   return (kData / "laz" / (name + ".laz")).string();

@@ -27,7 +27,7 @@ namespace fs = std::filesystem;
 using ::testing::AllOf;
 using ::testing::HasSubstr;
 
-const fs::path kData = TINCDT_SHARED_DATA;
+const fs::path kData = ::tincdt::test::shared_data();
 
 const fs::path kTmp = fs::path(TINCDT_TEST_TMP) / "line_reader";
 

@@ -37,7 +37,7 @@ using test::put;
 using ::testing::HasSubstr;
 using ::testing::Not;
 
-const fs::path kData = TINCDT_SHARED_DATA;
+const fs::path kData = ::tincdt::test::shared_data();
 
 // Own subfolder: the writers test shares TINCDT_TEST_TMP.
 const fs::path kTmp = fs::path(TINCDT_TEST_TMP) / "readers";
@@ -830,7 +830,7 @@ TEST(Crs, SameCrs) {
 TEST(Crs, EsriWktFromLasMatchesItsContoursPrj) {
   // autzen_trim.las carries ESRI WKT whose false easting is 399999.9999984 ft for 400000 m; the
   // contours derived from it carry EPSG:2994. Strict OSR comparison calls them different.
-  const std::string data = TINCDT_SHARED_DATA;
+  const std::string data = ::tincdt::test::shared_data();
   if (!std::filesystem::exists(data)) GTEST_SKIP() << "no shared data at " << data;
   std::vector<Point3> points;
   const PointReadStats stats = read_las(data + "/las/autzen_trim.las", {}, points);

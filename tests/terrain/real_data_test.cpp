@@ -13,6 +13,7 @@
 #include "constraints/constraints.hpp"
 #include "delaunay/delaunay.hpp"
 #include "io/vector/line_reader.hpp"
+#include "support/shared_data.hpp"
 #include "terrain/flats.hpp"
 #include "terrain/interpolate.hpp"
 #include "terrain/polygons.hpp"
@@ -22,7 +23,7 @@
 namespace tincdt::terrain {
 namespace {
 
-const std::string kData = TINCDT_SHARED_DATA;
+const std::string kData = ::tincdt::test::shared_data();
 const std::string kContours = kData + "/contours/Topography_lidR2016_contours_2m_3d.shp";
 const std::string kDem = kData + "/dem/Topography_lidR2016_dtm.tif";
 
