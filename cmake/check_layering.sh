@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
-# Checks the module layering of src/ (docs: ../shared/docs/DESIGN.md, "Layout").
+# Checks the module layering of src/ (docs/design.md, "One-way data flow").
 #
 # Every #include "X/..." in src/M/ must name a module X upstream of M or M itself, in the order
 #   core < predicates < mesh < delaunay < constraints < terrain < simplify < products < io < pipeline
 # except that io may include only core, mesh and products (and io). apps/ and tests/ may
 # include anything.
-# Also from DESIGN.md: GDAL headers only in src/io, no CLI11 anywhere in src/ (only apps/ sees
-# it), no spdlog in core or the algorithm modules, and no "../" includes that dodge the rules.
+# Also from docs/design.md: GDAL headers only in src/io, no CLI11 anywhere in src/ (only apps/
+# sees it), no spdlog in core or the algorithm modules, and no "../" includes that dodge the rules.
 # Prints every offending line as FILE:LINE: ... and fails if there is one.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."

@@ -1,7 +1,9 @@
 // The README is what users copy and what CI runs: its quick-start block must hold the two
 // commands, and cmake/readme_commands.sh must refuse every way a formatter or an edit has broken
-// it (each broken copy below is made from the real README). It must also document every option
-// of `tincdt --help`.
+// it (each broken copy below is made from the real README). The README stays a front door of at
+// most 300 lines; the manual behind it is docs/, whose options.md must document every option of
+// `tincdt --help`, `tincdt plan --help` and `tincdt merge --help`. Neither may link outside the
+// clone, nor to a file that is not there.
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -177,9 +179,9 @@ INSTANTIATE_TEST_SUITE_P(Formatter, BrokenReadme, ::testing::ValuesIn(kBreakages
 
 // ---- the options ----
 
-// Every long option `tincdt --help` lists ("--stats", "--z-from-m", ...).
-std::set<std::string> help_options() {
-  const Outcome r = run(quoted(TINCDT_EXE) + " --help");
+// Every long option the help of COMMAND lists ("--stats", "--z-from-m", ...), examples left out.
+std::set<std::string> help_options(const std::string& command) {
+  const Outcome r = run(quoted(TINCDT_EXE) + command + " --help");
   EXPECT_EQ(r.exit_code, 0) << r.output;
   std::set<std::string> options;
   const std::regex option(R"((^|[\s,])(--[a-z][a-z0-9-]*))");
@@ -191,14 +193,111 @@ std::set<std::string> help_options() {
   return options;
 }
 
-TEST(ReadmeOptions, DocumentsEveryOptionOfHelp) {
-  const std::set<std::string> options = help_options();
-  ASSERT_GT(options.size(), 20u);
-  const std::string readme = test::slurp(kSource / "README.md");
+// The section of docs/options.md under the heading "## TITLE", up to the next "## ".
+std::string options_section(const std::string& title) {
+  const std::string text = test::slurp(kSource / "docs" / "options.md");
+  const std::string heading = "\n## " + title + "\n";
+  const std::size_t start = text.find(heading);
+  if (start == std::string::npos) {
+    ADD_FAILURE() << "docs/options.md has no heading '## " << title << "'";
+    return {};
+  }
+  const std::size_t end = text.find("\n## ", start + heading.size());
+  return text.substr(start, end == std::string::npos ? std::string::npos : end - start);
+}
+
+struct HelpPage {
+  std::string command;  // after "tincdt": "", " plan", " merge"
+  std::string section;  // its heading in docs/options.md
+};
+
+std::ostream& operator<<(std::ostream& os, const HelpPage& page) {
+  return os << "tincdt" << page.command << " --help";
+}
+
+class OptionsDoc : public ::testing::TestWithParam<HelpPage> {};
+
+TEST_P(OptionsDoc, DocumentsEveryOptionOfTheHelp) {
+  const HelpPage& page = GetParam();
+  const std::set<std::string> options = help_options(page.command);
+  ASSERT_GT(options.size(), 5u);
+  const std::string doc = options_section(page.section);
+  ASSERT_FALSE(doc.empty());
   for (const std::string& o : options) {
     const std::regex documented("`" + o + "[ `]");
-    EXPECT_TRUE(std::regex_search(readme, documented)) << o << " is not in README.md";
+    EXPECT_TRUE(std::regex_search(doc, documented))
+        << o << " is not under '## " << page.section << "' in docs/options.md";
   }
+}
+
+INSTANTIATE_TEST_SUITE_P(Help, OptionsDoc,
+                         ::testing::Values(HelpPage{"", "tincdt"}, HelpPage{" plan", "tincdt plan"},
+                                           HelpPage{" merge", "tincdt merge"}),
+                         [](const ::testing::TestParamInfo<HelpPage>& p) {
+                           return p.param.command.empty() ? std::string("tincdt")
+                                                          : p.param.command.substr(1);
+                         });
+
+// The check above is only as good as help_options(): it must see the options of every group.
+TEST(HelpOptions, SeesTheOptionsOfEveryGroup) {
+  const std::set<std::string> options = help_options("");
+  EXPECT_GT(options.size(), 40u);
+  for (const char* o : {"--a-srs", "--contours", "--max-error", "--dem-co", "--plan", "--threads"})
+    EXPECT_TRUE(options.count(o)) << o;
+}
+
+// ---- the README and docs/ as documents ----
+
+// README.md and every Markdown file under docs/.
+std::vector<fs::path> documents() {
+  std::vector<fs::path> files = {kSource / "README.md"};
+  for (const auto& entry : fs::recursive_directory_iterator(kSource / "docs"))
+    if (entry.is_regular_file() && entry.path().extension() == ".md") files.push_back(entry.path());
+  return files;
+}
+
+TEST(ReadmeDocuments, TheReadmeIsAFrontDoorOfAtMost300Lines) {
+  const std::vector<std::string> lines = lines_of(test::slurp(kSource / "README.md"));
+  EXPECT_LE(lines.size(), 300u) << "move the long parts of README.md into docs/";
+}
+
+TEST(ReadmeDocuments, DocsHoldsTheManual) {
+  for (const char* page : {"manual.md", "options.md", "formats.md", "products.md", "tiling.md",
+                           "benchmarks.md", "design.md", "algorithm.md", "development.md"})
+    EXPECT_TRUE(fs::is_regular_file(kSource / "docs" / page)) << "docs/" << page;
+}
+
+// The shared test data lies beside a developer's clone, not in a user's: no document may point
+// into it.
+TEST(ReadmeDocuments, NoDocumentLinksOutsideTheClone) {
+  for (const fs::path& file : documents()) {
+    const std::vector<std::string> lines = lines_of(test::slurp(file));
+    for (std::size_t i = 0; i < lines.size(); ++i)
+      EXPECT_EQ(lines[i].find("../shared"), std::string::npos)
+          << file.string() << ":" << i + 1 << ": " << lines[i];
+  }
+}
+
+// Every relative link, [text](target) with no scheme, names a file or folder of the clone.
+TEST(ReadmeDocuments, EveryRelativeLinkNamesAFileThatIsThere) {
+  const std::regex link(R"(\]\(([^)\s]+)\))");
+  std::size_t checked = 0;
+  for (const fs::path& file : documents()) {
+    const std::string text = test::slurp(file);
+    for (std::sregex_iterator it(text.begin(), text.end(), link), end; it != end; ++it) {
+      std::string target = (*it)[1];
+      if (target.find("://") != std::string::npos || target.rfind("mailto:", 0) == 0) continue;
+      target = target.substr(0, target.find('#'));
+      if (target.empty()) continue;  // a heading of the same page
+      const fs::path resolved = (file.parent_path() / target).lexically_normal();
+      EXPECT_TRUE(fs::exists(resolved)) << file.string() << " links to " << target;
+      const fs::path inside = resolved.lexically_relative(kSource.lexically_normal());
+      EXPECT_TRUE(!inside.empty() && *inside.begin() != "..")
+          << file.string() << " links outside the clone: " << target;
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 10u);
 }
 
 }  // namespace
