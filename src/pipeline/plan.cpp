@@ -1,24 +1,24 @@
 #include "pipeline/plan.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
-#include <sstream>
 #include <string>
 #include <string_view>
 #include <utility>
 
 #include "core/error.hpp"
+#include "core/json.hpp"
 #include "core/parallel.hpp"
 #include "io/output_set.hpp"
 #include "io/points/point_summary.hpp"
 #include "io/vector/line_reader.hpp"
 #include "io/vector/vector_extent.hpp"
-#include "pipeline/plan_json.hpp"
 #include "pipeline/plan_rim.hpp"
 #include "pipeline/tile_rules.hpp"
 
@@ -26,13 +26,16 @@ namespace tincdt::pipeline {
 namespace {
 
 namespace fs = std::filesystem;
-using detail::json_number;
-using detail::json_string;
-using detail::JsonValue;
+using JsonValue = json::Value;
 
 constexpr int kPlanVersion = 1;
 constexpr std::uint64_t kMaxTiles = 10'000'000;
 constexpr std::size_t kFingerprintBytes = 64 * 1024;
+
+// Plan numbers have 17 significant digits: tile boxes and bounds read back are the ones written.
+std::string json_number(double v) {
+  return json::number(v, json::Numbers::digits17);
+}
 
 // The plan's folder, absolute.
 fs::path plan_folder(const std::string& plan_path) {
@@ -84,14 +87,11 @@ PlanInput point_input(const std::string& path, const std::string& plan_path) {
   return in;
 }
 
-std::string box_json(const BBox& b) {
-  if (tiles::empty(b)) return "null";
-  std::string s = "[";
-  for (const double v : {b.min_x, b.min_y, b.max_x, b.max_y}) {
-    if (s.size() > 1) s += ", ";
-    s += json_number(v);
-  }
-  return s + "]";
+void put_box(json::Writer& j, const BBox& b) {
+  if (tiles::empty(b))
+    j.null();
+  else
+    j.array(std::array{b.min_x, b.min_y, b.max_x, b.max_y}, json::Layout::spaced);
 }
 
 // A vector source: read whole (its vertices count for the data's hull), bounds exact.
@@ -133,27 +133,11 @@ std::vector<std::size_t> outermost_first(const std::vector<PlanInput>& inputs, c
   return out;
 }
 
-std::string point_json(Point2 p) {
-  std::string s = "[";
-  s += json_number(p.x);
-  s += ", ";
-  s += json_number(p.y);
-  return s + "]";
-}
-
-std::string classes_json(const std::vector<std::uint8_t>& classes) {
-  std::string s = "[";
-  for (std::size_t i = 0; i < classes.size(); ++i)
-    s += (i ? ", " : "") + std::to_string(classes[i]);
-  return s + "]";
-}
-
-std::string input_json(const PlanInput& in) {
-  return "\"path\": " + json_string(in.path) + ", \"kind\": " + json_string(in.kind) +
-         ", \"format\": " + json_string(in.format) + ", \"bytes\": " + std::to_string(in.bytes) +
-         ", \"fingerprint\": " + json_string(in.fingerprint) +
-         ", \"count\": " + std::to_string(in.count) + ", \"bounds\": " + box_json(in.bounds) +
-         ", \"tolerance\": " + json_number(in.tolerance);
+void put_input(json::Writer& j, const PlanInput& in) {
+  j.field("path", in.path).field("kind", in.kind).field("format", in.format);
+  j.field("bytes", in.bytes).field("fingerprint", in.fingerprint).field("count", in.count);
+  put_box(j.key("bounds"), in.bounds);
+  j.field("tolerance", in.tolerance);
 }
 
 // ---- reading ----------------------------------------------------------------------------------
@@ -495,47 +479,41 @@ void write_plan(TilePlan& plan, const std::vector<Point3>& rim, const std::strin
     for (const Point3& p : rim) plan.rim.bounds.add(p.x, p.y);
   }
 
-  std::ostringstream j;
-  j << "{\n  \"tincdt_plan\": " << kPlanVersion << ",\n";
-  j << "  \"tile_size\": " << json_number(plan.tile_size) << ",\n";
-  j << "  \"buffer\": " << json_number(plan.buffer) << ",\n";
+  // One line per input and per tile, so that a script can pick a tile's line with grep.
+  json::Writer j(json::Numbers::digits17, NonUtf8::keep);
+  j.begin_object().field("tincdt_plan", kPlanVersion);
+  j.field("tile_size", plan.tile_size).field("buffer", plan.buffer);
   const io::PointFilter& f = plan.filter;
-  j << "  \"filter\": {\"keep_classes\": " << classes_json(f.keep_classes)
-    << ", \"drop_classes\": " << classes_json(f.drop_classes)
-    << ", \"first_only\": " << (f.first_return_only ? "true" : "false")
-    << ", \"last_only\": " << (f.last_return_only ? "true" : "false") << "},\n";
-  j << "  \"lines\": {\"layer\": " << json_string(plan.lines.layer)
-    << ", \"z_field\": " << json_string(plan.lines.z_field)
-    << ", \"z_from_m\": " << (plan.lines.z_from_m ? "true" : "false") << "},\n";
-  j << "  \"extent\": " << box_json(plan.extent) << ",\n";
-  j << "  \"inputs\": [";
-  for (std::size_t i = 0; i < plan.inputs.size(); ++i)
-    j << (i ? ",\n" : "\n") << "    {\"index\": " << i << ", " << input_json(plan.inputs[i]) << "}";
-  j << "\n  ],\n";
-  j << "  \"hull\": [";
-  for (std::size_t i = 0; i < plan.hull.size(); ++i)
-    j << (i ? ", " : "") << point_json(plan.hull[i]);
-  j << "],\n";
-  j << "  \"rim\": ";
-  if (plan.rim_width > 0)
-    j << "{\"width\": " << json_number(plan.rim_width) << ", " << input_json(plan.rim) << "}";
-  else
-    j << "null";
-  j << ",\n";
-  // One line per tile, so that a script can pick a tile's line with grep.
-  j << "  \"tile_count\": " << plan.tiles.size() << ",\n";
-  j << "  \"tiles\": [";
-  const tiles::TileGrid grid{plan.tile_size};
-  for (std::size_t t = 0; t < plan.tiles.size(); ++t) {
-    const PlanTile& tile = plan.tiles[t];
-    j << (t ? ",\n" : "\n") << "    {\"index\": " << tile.index << ", \"col\": " << tile.col
-      << ", \"row\": " << tile.row << ", \"box\": " << box_json(grid.box(tile.col, tile.row))
-      << ", \"inputs\": [";
-    for (std::size_t k = 0; k < tile.inputs.size(); ++k) j << (k ? ", " : "") << tile.inputs[k];
-    j << "]}";
+  j.key("filter").begin_object(json::Layout::spaced);
+  j.key("keep_classes").array(f.keep_classes).key("drop_classes").array(f.drop_classes);
+  j.field("first_only", f.first_return_only).field("last_only", f.last_return_only).end_object();
+  j.key("lines").begin_object(json::Layout::spaced).field("layer", plan.lines.layer);
+  j.field("z_field", plan.lines.z_field).field("z_from_m", plan.lines.z_from_m).end_object();
+  put_box(j.key("extent"), plan.extent);
+  j.key("inputs").begin_array();
+  for (std::size_t i = 0; i < plan.inputs.size(); ++i) {
+    put_input(j.begin_object(json::Layout::spaced).field("index", i), plan.inputs[i]);
+    j.end_object();
   }
-  j << "\n  ]\n}\n";
-  set.add(path, "plan").write(j.str());
+  j.end_array().key("hull").begin_array(json::Layout::spaced);
+  for (const Point2& p : plan.hull) j.array(std::array{p.x, p.y});
+  j.end_array().key("rim");
+  if (plan.rim_width > 0) {
+    put_input(j.begin_object(json::Layout::spaced).field("width", plan.rim_width), plan.rim);
+    j.end_object();
+  } else {
+    j.null();
+  }
+  j.field("tile_count", plan.tiles.size()).key("tiles").begin_array();
+  const tiles::TileGrid grid{plan.tile_size};
+  for (const PlanTile& tile : plan.tiles) {
+    j.begin_object(json::Layout::spaced).field("index", tile.index);
+    put_box(j.field("col", tile.col).field("row", tile.row).key("box"),
+            grid.box(tile.col, tile.row));
+    j.key("inputs").array(tile.inputs).end_object();
+  }
+  j.end_array().end_object();
+  set.add(path, "plan").write(j.str() + "\n");
   set.commit();
 }
 
@@ -547,11 +525,7 @@ JsonValue parse_plan_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, "", fs::exists(path) ? "cannot open the plan" : "no such file");
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  try {
-    return JsonValue::parse(text);
-  } catch (const detail::JsonError& e) {
-    throw InputError(path, "byte " + std::to_string(e.offset), "not JSON: " + e.what);
-  }
+  return json::parse(text, path);
 }
 
 void check_plan_version(const JsonValue& doc, const PlanReader& r, const std::string& path) {

@@ -3,10 +3,10 @@
 #include <algorithm>
 #include <atomic>
 #include <bit>
-#include <charconv>
 #include <cmath>
 #include <numbers>
 
+#include "core/json.hpp"
 #include "core/parallel.hpp"
 
 namespace tincdt::terrain {
@@ -18,41 +18,6 @@ constexpr int kBinsPerDecade = 4;
 // Bin edge k of the length grid: 10^(k / 4).
 double grid_edge(int k) {
   return std::pow(10.0, static_cast<double>(k) / kBinsPerDecade);
-}
-
-void put_number(std::string& out, double v) {
-  if (!std::isfinite(v)) {
-    out += "null";
-    return;
-  }
-  char buf[32];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v);  // shortest round-trip form
-  out.append(buf, r.ptr);
-}
-void put_number(std::string& out, std::uint64_t v) {
-  out += std::to_string(v);
-}
-template <class T>
-void put_field(std::string& out, const char* key, T v) {
-  if (out.size() > 1) out += ',';
-  out += '"';
-  out += key;
-  out += "\":";
-  put_number(out, v);
-}
-template <class Range>
-void put_array(std::string& out, const char* key, const Range& values) {
-  if (out.size() > 1) out += ',';
-  out += '"';
-  out += key;
-  out += "\":[";
-  bool first = true;
-  for (const auto& v : values) {
-    if (!first) out += ',';
-    first = false;
-    put_number(out, v);
-  }
-  out += ']';
 }
 
 // Edge lengths are counted as they come (tens of millions of edges: no list of them), on the
@@ -410,30 +375,22 @@ QualityReport measure_quality(const mesh::Triangulation& tin,
 }
 
 std::string QualityReport::to_json() const {
-  std::string out = "{";
-  put_field(out, "triangles", triangles);
-  put_field(out, "vertices", vertices);
-  const std::pair<const char*, double> shape[] = {{"area_2d", area_2d},
-                                                  {"area_3d", area_3d},
-                                                  {"min_angle_deg", min_angle_deg},
-                                                  {"max_angle_deg", max_angle_deg}};
-  for (const auto& [key, v] : shape) put_field(out, key, v);
-  put_field(out, "angle_bin_width_deg", std::uint64_t{10});
-  put_array(out, "angle_histogram", angle_histogram);
-  put_field(out, "triangles_below_20deg", triangles_below_20deg);
-  put_field(out, "max_circumradius_to_inradius", max_radius_ratio);
-  put_field(out, "flat_triangles", flat_triangles);
-  out += ",\"flat_rule\":";
-  out += flats_need_contours ? "\"equal z, all corners on contours\"" : "\"equal z\"";
-  put_field(out, "edges", edges);
-  const std::pair<const char*, double> lengths[] = {{"min_edge_length", min_edge_length},
-                                                    {"mean_edge_length", mean_edge_length},
-                                                    {"max_edge_length", max_edge_length}};
-  for (const auto& [key, v] : lengths) put_field(out, key, v);
-  put_array(out, "edge_length_bin_edges", edge_length_bin_edges);
-  put_array(out, "edge_length_histogram", edge_length_histogram);
-  out += '}';
-  return out;
+  json::Writer j(json::Numbers::shortest);
+  j.begin_object(json::Layout::compact);
+  j.field("triangles", triangles).field("vertices", vertices);
+  j.field("area_2d", area_2d).field("area_3d", area_3d);
+  j.field("min_angle_deg", min_angle_deg).field("max_angle_deg", max_angle_deg);
+  j.field("angle_bin_width_deg", 10).key("angle_histogram").array(angle_histogram);
+  j.field("triangles_below_20deg", triangles_below_20deg);
+  j.field("max_circumradius_to_inradius", max_radius_ratio);
+  j.field("flat_triangles", flat_triangles);
+  j.field("flat_rule", flats_need_contours ? "equal z, all corners on contours" : "equal z");
+  j.field("edges", edges).field("min_edge_length", min_edge_length);
+  j.field("mean_edge_length", mean_edge_length).field("max_edge_length", max_edge_length);
+  j.key("edge_length_bin_edges").array(edge_length_bin_edges);
+  j.key("edge_length_histogram").array(edge_length_histogram);
+  j.end_object();
+  return j.str();
 }
 
 }  // namespace tincdt::terrain
