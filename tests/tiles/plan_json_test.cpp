@@ -6,14 +6,14 @@
 #include <random>
 #include <string>
 
-#include "pipeline/plan_json.hpp"
+#include "tiles/plan_json.hpp"
 
 namespace {
 
-using tincdt::pipeline::detail::json_number;
-using tincdt::pipeline::detail::json_string;
-using tincdt::pipeline::detail::JsonError;
-using tincdt::pipeline::detail::JsonValue;
+using tincdt::tiles::detail::json_number;
+using tincdt::tiles::detail::json_string;
+using tincdt::tiles::detail::JsonError;
+using tincdt::tiles::detail::JsonValue;
 using Kind = JsonValue::Kind;
 
 TEST(PlanJson, ReadsEveryKind) {

@@ -11,13 +11,13 @@
 #include <random>
 #include <vector>
 
-#include "pipeline/tile_rules.hpp"
 #include "predicates/predicates.hpp"
+#include "tiles/tile_rules.hpp"
 
 namespace {
 
 using namespace tincdt;
-using namespace tincdt::pipeline::tiles;
+using namespace tincdt::tiles;
 
 TEST(TileGrid, EveryValueInExactlyOneCell) {
   std::mt19937_64 rng(7);

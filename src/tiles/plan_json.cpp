@@ -1,4 +1,4 @@
-#include "pipeline/plan_json.hpp"
+#include "tiles/plan_json.hpp"
 
 #include <charconv>
 #include <cmath>
@@ -7,7 +7,7 @@
 
 #include "core/json_text.hpp"
 
-namespace tincdt::pipeline::detail {
+namespace tincdt::tiles::detail {
 
 class JsonParser {
  public:
@@ -242,4 +242,4 @@ std::string json_number(double v) {
   return buf;
 }
 
-}  // namespace tincdt::pipeline::detail
+}  // namespace tincdt::tiles::detail

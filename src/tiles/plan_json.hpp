@@ -9,7 +9,7 @@
 #include <string_view>
 #include <vector>
 
-namespace tincdt::pipeline::detail {
+namespace tincdt::tiles::detail {
 
 class JsonValue {
  public:
@@ -48,4 +48,4 @@ std::string json_string(std::string_view text);
 // V with 17 significant digits (integers without an exponent up to 2^53); V must be finite.
 std::string json_number(double v);
 
-}  // namespace tincdt::pipeline::detail
+}  // namespace tincdt::tiles::detail
