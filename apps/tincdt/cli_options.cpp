@@ -414,16 +414,16 @@ void product_options(CLI::App& app, BuildOptions& o) {
       ->default_str("0");
 }
 
-void tile_options(CLI::App& app, BuildOptions& o) {
+void tile_options(CLI::App& app, tiles::TileOptions& o) {
   Group g(app, "Tiled jobs (one tile of a plan made by 'tincdt plan')");
   g.option("--plan", o.plan, "The plan; the inputs and how to read them come from it", "PLAN.json");
   g.checked("--tile", o.tile, "The tile to build: its index in the plan (0, 1, ...)", "N",
             CLI::NonNegativeNumber);
-  g.checked("--buffer", o.tile_buffer,
+  g.checked("--buffer", o.buffer,
             "Read this far around the tile instead of the plan's buffer\n"
             "(the tiles already built stay valid)",
             "LENGTH", CLI::NonNegativeNumber);
-  g.option("--outline", o.tile_outline,
+  g.option("--outline", o.outline,
            "Also write the tile's outline, for 'tincdt merge --check'\n"
            "when the tiles are too many to keep or to merge",
            "FILE.ply");
@@ -471,7 +471,8 @@ std::optional<std::string> append_class_codes(const std::string& text,
   }
 }
 
-void define_options(CLI::App& app, BuildOptions& options, Verbosity& verbosity) {
+void define_options(CLI::App& app, BuildOptions& options, tiles::TileOptions& tiling,
+                    Verbosity& verbosity) {
   app.formatter(std::make_shared<UsageFormatter>());
   app.get_formatter()->column_width(26);
   app.footer(kFooter);
@@ -483,7 +484,7 @@ void define_options(CLI::App& app, BuildOptions& options, Verbosity& verbosity) 
   terrain_options(app, options);
   output_options(app, options);
   product_options(app, options);
-  tile_options(app, options);
+  tile_options(app, tiling);
   run_options(app, options, verbosity);
 }
 

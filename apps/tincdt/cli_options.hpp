@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "pipeline/build.hpp"
+#include "tiles/tile_job.hpp"
 
 namespace tincdt::cli {
 
@@ -19,10 +20,11 @@ struct Verbosity {
   bool verbose = false;
 };
 
-// Defines every option of APP, each writing its value into OPTIONS (or VERBOSITY) as it is
-// parsed. Values that a single option can check are checked here (CLI11 reports them as usage
-// errors); rules between options are pipeline::check_options()'s.
-void define_options(CLI::App& app, pipeline::BuildOptions& options, Verbosity& verbosity);
+// Defines every option of APP, each writing its value into OPTIONS (TILING for a tile job's, or
+// VERBOSITY) as it is parsed. Values that a single option can check are checked here (CLI11
+// reports them as usage errors); rules between options are tiles::check_options()'s.
+void define_options(CLI::App& app, pipeline::BuildOptions& options, tiles::TileOptions& tiling,
+                    Verbosity& verbosity);
 
 // Appends the LAS classification codes of TEXT ("2,8") to CLASSES, for the build's and the tile
 // commands' class filters; returns the first item that is not a code (0-255), if any.

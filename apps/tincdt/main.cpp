@@ -1,4 +1,5 @@
-// tincdt: the command line over pipeline::build. Options -> BuildOptions (cli_options.cpp),
+// tincdt: the command line over pipeline::build (tiles::build_tile for a tile of a plan).
+// Options -> BuildOptions and TileOptions (cli_options.cpp),
 // spdlog on stderr, tincdt::Error -> one-line message and exit code (0 ok, 1 error, 2 usage,
 // 3 internal error), Ctrl-C -> the job stops and leaves every file as it was.
 #include <signal.h>
@@ -22,6 +23,7 @@
 #include "summary.hpp"
 #include "terminal.hpp"
 #include "tile_commands.hpp"
+#include "tiles/tile_job.hpp"
 
 #ifndef TINCDT_VERSION
 #error "TINCDT_VERSION must be defined by the build (the CMake project version)"
@@ -112,8 +114,8 @@ void log_line(int level, const std::string& message) {
   }
 }
 
-// Runs the job; the exit code.
-int build(const pipeline::BuildOptions& options, bool quiet) {
+// Runs the job, a tile of a plan when TILING names one; the exit code.
+int build(const pipeline::BuildOptions& options, const tiles::TileOptions& tiling, bool quiet) {
   cli::Terminal::get().enable_progress(!quiet && ::isatty(STDERR_FILENO) == 1);
   SignalHook hook = SignalHook::from_environment();
   std::string stage_now = "read";  // the stage last heard of, for "out of memory"
@@ -129,7 +131,9 @@ int build(const pipeline::BuildOptions& options, bool quiet) {
     spdlog::info("reading x y z lines from the terminal; end with Ctrl-D");
   install_signal_handlers();
   try {
-    const pipeline::BuildReport report = pipeline::build(options, &progress, log_line);
+    const pipeline::BuildReport report =
+        tiling.plan.empty() ? pipeline::build(options, &progress, log_line)
+                            : tiles::build_tile(tiling, options, &progress, log_line);
     cli::Terminal::get().erase_progress();
     cli::log_summary(options, report);
     return kExitOk;
@@ -163,8 +167,9 @@ int run(int argc, char** argv) {
                "contour lines.",
                "tincdt");
   pipeline::BuildOptions options;
+  tiles::TileOptions tiling;
   cli::Verbosity verbosity;
-  cli::define_options(app, options, verbosity);
+  cli::define_options(app, options, tiling, verbosity);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -181,11 +186,11 @@ int run(int argc, char** argv) {
   if (verbosity.quiet) spdlog::set_level(spdlog::level::warn);
   if (verbosity.verbose) spdlog::set_level(spdlog::level::debug);
   try {
-    pipeline::check_options(options);  // build() checks again; this tells usage from failure
+    tiles::check_options(tiling, options);  // build() checks again; this tells usage from failure
   } catch (const UsageError& e) {
     return usage_error(e.what());
   }
-  return build(options, verbosity.quiet);
+  return build(options, tiling, verbosity.quiet);
 }
 
 }  // namespace

@@ -13,9 +13,9 @@
 
 #include "cli_options.hpp"
 #include "core/error.hpp"
-#include "pipeline/merge.hpp"
-#include "pipeline/plan.hpp"
 #include "terminal.hpp"
+#include "tiles/merge.hpp"
+#include "tiles/plan.hpp"
 
 namespace tincdt::cli {
 namespace {
@@ -59,10 +59,10 @@ std::vector<std::uint8_t> parse_classes(const std::vector<std::string>& values,
   return classes;
 }
 
-const pipeline::LogFn kLog = [](int level, const std::string& message) {
-  if (level == pipeline::log_debug)
+const tiles::LogFn kLog = [](int level, const std::string& message) {
+  if (level == tiles::log_debug)
     spdlog::debug(message);
-  else if (level == pipeline::log_info)
+  else if (level == tiles::log_info)
     spdlog::info(message);
   else
     spdlog::warn(message);
@@ -96,7 +96,7 @@ int run_plan(int argc, char** argv) {
       "each tile with 'tincdt --plan PLAN --tile N -o tile_N.ply' (any job engine: GNU parallel, "
       "Slurm, Kubernetes; see examples/tiles/) and join them with 'tincdt merge'.",
       "tincdt plan");
-  pipeline::PlanOptions o;
+  tiles::PlanOptions o;
   std::vector<std::string> hard_lines;
   bool quiet = false, verbose = false;
   app.add_option("INPUT", o.inputs, "Point files: LAS, LAZ (header only) or XYZ (read whole)")
@@ -157,10 +157,10 @@ int run_plan(int argc, char** argv) {
     if (o.filter.first_return_only && o.filter.last_return_only)
       throw UsageError("--first-only and --last-only exclude each other");
     std::vector<Point3> rim;
-    pipeline::TilePlan plan = pipeline::make_plan(o, rim, kLog);
-    pipeline::write_plan(plan, rim, o.output, o.overwrite);
+    tiles::TilePlan plan = tiles::make_plan(o, rim, kLog);
+    tiles::write_plan(plan, rim, o.output, o.overwrite);
     std::size_t most = 0;
-    for (const pipeline::PlanTile& t : plan.tiles) most = std::max(most, t.inputs.size());
+    for (const tiles::PlanTile& t : plan.tiles) most = std::max(most, t.inputs.size());
     spdlog::info("wrote {}: {} tiles of {} (buffer {}) over {} inputs; a tile reads at most {}",
                  o.output, plan.tiles.size(), o.tile_size, o.buffer, plan.inputs.size(), most);
   });
@@ -174,7 +174,7 @@ int run_merge(int argc, char** argv) {
       "overlap is an error naming the tiles. With --check, only checks (memory: the tiles' "
       "outlines), writing nothing.",
       "tincdt merge");
-  pipeline::MergeOptions o;
+  tiles::MergeOptions o;
   bool quiet = false, verbose = false;
   app.add_option("TILE", o.inputs, "Tile TINs written by tile jobs (PLY), or outlines (--outline)")
       ->type_name("FILE")
@@ -199,7 +199,7 @@ int run_merge(int argc, char** argv) {
   if (o.check_only && o.outline)
     return usage_error("merge", "--check and --outline exclude each other");
   return guarded("merge", [&] {
-    const pipeline::MergeReport r = pipeline::merge_tiles(o, kLog);
+    const tiles::MergeReport r = tiles::merge_tiles(o, kLog);
     spdlog::info("{} {} tiles: {} vertices, {} triangles, {} seam edges matched, {} hull edges{}",
                  o.check_only ? "checked" : "merged", r.tiles, r.vertices, r.triangles,
                  r.seam_edges, r.hull_edges, o.check_only ? "" : "; wrote " + o.output);

@@ -8,7 +8,6 @@
 #include "pipeline/file_checks.hpp"
 #include "pipeline/job.hpp"
 #include "pipeline/stage.hpp"
-#include "pipeline/tile_job.hpp"
 
 namespace tincdt::pipeline {
 
@@ -29,15 +28,9 @@ std::uint64_t peak_rss_bytes() {
   return 0;
 }
 
-namespace {
-
-BuildReport run_job(const BuildOptions& options, const CheckedOptions& checked,
-                    const TileSetup* tile, const ProgressFn* progress, const LogFn& log) {
-  Job job(options, checked, progress, log);
-  job.tile = tile;
-  for (const std::string& warning : checked.warnings) job.warn(warning);
-  detail::check_files(options, plan_files(options, stages()));
-  run_stages(job, stages());
+BuildReport run_job(Job& job, std::span<const Stage* const> list, const FilePlan& files) {
+  detail::check_files(job.options, files);
+  run_stages(job, list);
   job.enter_stage("commit");
   job.outputs.commit([&job] {
     job.progress(0.0);
@@ -48,14 +41,11 @@ BuildReport run_job(const BuildOptions& options, const CheckedOptions& checked,
   return std::move(job.report);
 }
 
-}  // namespace
-
 BuildReport build(const BuildOptions& options, const ProgressFn* progress, const LogFn& log) {
   const CheckedOptions checked = check_options(options);
-  if (options.plan.empty()) return run_job(options, checked, nullptr, progress, log);
-  TileSetup tile;
-  const BuildOptions tile_job = tile_options(options, tile);
-  return run_job(tile_job, checked, &tile, progress, log);
+  Job job(options, checked, progress, log);
+  for (const std::string& warning : checked.warnings) job.warn(warning);
+  return run_job(job, stages(), plan_files(options, stages()));
 }
 
 }  // namespace tincdt::pipeline

@@ -5,8 +5,10 @@
 
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <future>
 #include <map>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -20,11 +22,10 @@
 #include "io/vector/line_reader.hpp"
 #include "pipeline/build.hpp"
 #include "pipeline/surface.hpp"
+#include "products/grid.hpp"
 #include "terrain/quality.hpp"
 
 namespace tincdt::pipeline {
-
-struct TileSetup;
 
 // CRS labels for messages, each distinct WKT identified once (identification can search the
 // whole EPSG database, a noticeable fraction of a second).
@@ -47,8 +48,6 @@ struct Job {
 
   const BuildOptions& options;
   BuildReport report;
-  // In a tiled job (--plan), the tile: its boxes and the plan's bounds (tile_job.hpp).
-  const TileSetup* tile = nullptr;
 
   // ---- inputs (read) --------------------------------------------------------------------------
   const std::string assign_crs_wkt;  // --a-srs as WKT, "" when not given
@@ -83,11 +82,8 @@ struct Job {
   std::vector<constraints::Segment> given_segments;
   // flats: 1 per vertex on a contour (also for the quality stage's flat count).
   std::vector<std::uint8_t> on_contour;
-  // tile: the triangles proven final that other tiles own (removed from the TIN, for the mesh
-  // outputs); the tile's DEM takes the cells of its box from them too (stage_dem.cpp).
-  std::vector<TriangleId> tile_final_unowned;
   // quality: the --stats measurement of the final TIN, running beside the output stages, which
-  // only read the TIN (a tile's DEM, which keeps tile_final_unowned for a while, waits first).
+  // only read the TIN (a DEM that puts dem_extra_triangles back for a while waits first).
   // Declared after the mesh, so that a failed job waits for it before the mesh goes.
   struct MeasuredQuality {
     terrain::QualityReport quality;
@@ -96,6 +92,21 @@ struct Job {
   std::future<MeasuredQuality> quality_pass;
   // Joins quality_pass, if running, and files its result in the report.
   void wait_for_quality();
+
+  // ---- set by the caller of a job over part of its data (empty: none) ------------------------
+  // read: called after point file INPUT is read (EXTENT: its points'), after every point file
+  // (may append points), and after every contour and hard-line source, before their vertices
+  // join `points` (may drop segments and vertices of `lines`). Each may throw InputError.
+  struct ReadHooks {
+    std::function<void(const Job& job, std::size_t input, const BBox& extent)> point_file_read;
+    std::function<void(Job& job)> point_files_read;
+    std::function<void(Job& job)> line_sources_read;
+  } read_hooks;
+  // dem: the grid of the DEM, instead of one over the kept triangles and the DEM options.
+  std::optional<products::Grid> dem_grid;
+  // dem: removed triangles the DEM fills cells from all the same (removed for the mesh outputs
+  // only); a stage after the polygon stages sets them.
+  std::vector<TriangleId> dem_extra_triangles;
 
   // ---- outputs --------------------------------------------------------------------------------
   // The TIN's write options: from the options, crs_wkt (read), the automatic offset (write);

@@ -7,7 +7,6 @@
 #include "core/error.hpp"
 #include "io/crs.hpp"
 #include "pipeline/build.hpp"
-#include "pipeline/tile_job.hpp"
 
 namespace tincdt::pipeline {
 namespace {
@@ -28,7 +27,7 @@ std::string srs_option(const std::string& text, const char* option) {
 }
 
 void check_inputs(const BuildOptions& o) {
-  if (o.plan.empty() && o.inputs.empty() && o.contours.empty() && o.breaklines.empty())
+  if (o.inputs.empty() && o.contours.empty() && o.breaklines.empty())
     throw UsageError(
         "no input: give point files (INPUT), --contours or --hard-lines (--breaklines)");
   if (std::count(o.inputs.begin(), o.inputs.end(), std::string("-")) > 1)
@@ -130,7 +129,6 @@ void check_products(const BuildOptions& o) {
 CheckedOptions check_options(const BuildOptions& options) {
   check_inputs(options);
   check_simplify(options);
-  check_tile_options(options);
   check_terrain(options);
   check_products(options);
   CheckedOptions checked;

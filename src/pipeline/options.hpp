@@ -22,15 +22,6 @@ struct BuildOptions {
   // Threads for the parallel work (reading XYZ, Delaunay, quality); 0 = every core.
   unsigned threads = 0;
 
-  // ---- tiled jobs (tile_job.hpp) ----------------------------------------------------------
-  // Build tile `tile` of the plan at `plan` (made by make_plan()); the inputs, and how they
-  // are read, then come from the plan. tile_buffer >= 0 replaces the plan's buffer;
-  // tile_outline: also write the tile's outline there (for `tincdt merge --check`).
-  std::string plan;
-  std::int64_t tile = -1;
-  double tile_buffer = -1;
-  std::string tile_outline;
-
   // ---- read: points ----------------------------------------------------------------------
   std::vector<std::string> inputs;  // point files (LAS, XYZ, "-" = XYZ from standard input)
   io::PointFilter filter;           // --keep-class, --drop-class, --first-only, --last-only

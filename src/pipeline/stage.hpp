@@ -45,4 +45,9 @@ void run_stages(Job& job, std::span<const Stage* const> list);
 // The files the wanted stages of LIST will read and write.
 FilePlan plan_files(const BuildOptions& options, std::span<const Stage* const> list);
 
+// A whole job on LIST: the checks on FILES (plan_files() of LIST, and any file the caller adds),
+// the stages (run_stages), then every output moved into place; returns the report. build() is
+// this on stages(); a caller with stages of its own runs its own list.
+BuildReport run_job(Job& job, std::span<const Stage* const> list, const FilePlan& files);
+
 }  // namespace tincdt::pipeline

@@ -1,12 +1,8 @@
 // dem: --dem, the final TIN rasterized (products::rasterize) and written as a Cloud-Optimized
 // GeoTIFF with the TIN's CRS: Float32 cells, or Float64 with --dem-type Float64.
 //
-// In a tiled job (--plan) the DEM covers exactly the tile's box [min, max): the tile size is a
-// multiple of the resolution (tile_options() checks it), so the cell edges are min + i * res, on
-// one lattice for every tile, and gdalbuildvrt joins the tiles with whole-cell offsets. Its cells
-// are filled from every triangle the tile stage proved final, owned by this tile or a neighbour:
-// each cell centre in the box then gets the value the whole job gives it (products::rasterize
-// interpolates a triangle the same way in any TIN that holds it).
+// The job's caller may fix the grid (Job::dem_grid) and have the cells filled from removed
+// triangles too (Job::dem_extra_triangles, put back while the DEM is rasterized).
 #include <unistd.h>
 
 #include <cmath>
@@ -16,7 +12,6 @@
 #include "core/error.hpp"
 #include "io/raster/dem_writer.hpp"
 #include "pipeline/stage.hpp"
-#include "pipeline/tile_job.hpp"
 #include "products/rasterize.hpp"
 
 namespace tincdt::pipeline {
@@ -51,23 +46,23 @@ void rasterize_and_write(Job& job, const products::Grid& grid, io::OutputFile& o
                           "or a smaller --dem-extent)");
   auto t0 = std::chrono::steady_clock::now();
   std::vector<T> cells(grid.cells());
-  // A tile's neighbours' final triangles are kept while it rasterizes (the outputs after this
-  // stage see the tile's own triangles again).
-  if (!job.tile_final_unowned.empty()) job.wait_for_quality();  // it reads the removed flags
+  // The extra triangles are back while the DEM rasterizes (the outputs after this stage see them
+  // removed again).
+  if (!job.dem_extra_triangles.empty()) job.wait_for_quality();  // it reads the removed flags
   mesh::Triangulation& tin = job.tin();
-  struct KeepFinal {
+  struct PutBack {
     mesh::Triangulation& tin;
     const std::vector<TriangleId>& triangles;
-    explicit KeepFinal(mesh::Triangulation& m, const std::vector<TriangleId>& t)
+    explicit PutBack(mesh::Triangulation& m, const std::vector<TriangleId>& t)
         : tin(m), triangles(t) {
       for (const TriangleId id : triangles) tin.set_removed(id, false);
     }
-    ~KeepFinal() {
+    ~PutBack() {
       for (const TriangleId id : triangles) tin.set_removed(id, true);
     }
-    KeepFinal(const KeepFinal&) = delete;
-    KeepFinal& operator=(const KeepFinal&) = delete;
-  } keep_final(tin, job.tile_final_unowned);
+    PutBack(const PutBack&) = delete;
+    PutBack& operator=(const PutBack&) = delete;
+  } put_back(tin, job.dem_extra_triangles);
   const products::RasterizeStats stats =
       products::rasterize<T>(tin, grid, static_cast<T>(o.nodata), cells,
                              {.threads = job.options.threads, .progress = job.stage_progress()});
@@ -88,8 +83,8 @@ void rasterize_and_write(Job& job, const products::Grid& grid, io::OutputFile& o
 void run(Job& job) {
   const BuildOptions::Dem& o = job.options.dem;
   products::Grid grid;
-  if (job.tile) {
-    grid = tile_grid(job.tile->box, o.resolution);
+  if (job.dem_grid) {
+    grid = *job.dem_grid;
   } else {
     const BBox extent = o.extent ? *o.extent : products::kept_extent(job.tin());
     try {

@@ -19,7 +19,6 @@
 #include "io/vector/polygon_reader.hpp"
 #include "pipeline/file_checks.hpp"
 #include "pipeline/stage.hpp"
-#include "pipeline/tile_job.hpp"
 
 namespace tincdt::pipeline {
 namespace {
@@ -113,7 +112,7 @@ void read_point_files(Job& job, CrsAgreement& crs) {
     const std::string& path = inputs[i];
     const io::PointReadStats s =
         io::read_points(path, job.options.filter, job.points, job.options.threads);
-    if (job.tile) detail::check_tile_points(job, i, s.extent);
+    if (job.read_hooks.point_file_read) job.read_hooks.point_file_read(job, i, s.extent);
     for (const std::string& w : s.warnings) job.warn(w);
     BuildReport::Input in;
     in.path = path;
@@ -138,7 +137,7 @@ void read_point_files(Job& job, CrsAgreement& crs) {
     job.progress(total_bytes ? static_cast<double>(bytes_done) / static_cast<double>(total_bytes)
                              : static_cast<double>(i + 1) / static_cast<double>(inputs.size()));
   }
-  if (job.tile) detail::add_tile_rim(job);
+  if (job.read_hooks.point_files_read) job.read_hooks.point_files_read(job);
   job.point_count = job.points.size();
 }
 
@@ -175,7 +174,7 @@ void read_line_sources(Job& job, CrsAgreement& crs) {
     in.skipped_segments = s.zero_length_segments;
     job.report.inputs.push_back(std::move(in));
   }
-  if (job.tile) detail::keep_tile_lines(job);
+  if (job.read_hooks.line_sources_read) job.read_hooks.line_sources_read(job);
   job.report.line_vertices = lines.vertices.size();
   job.report.constraint_segments = lines.segments.size();
   job.points.insert(job.points.end(), lines.vertices.begin(), lines.vertices.end());

@@ -17,7 +17,6 @@ extern const Stage replace_stage;      // --replace: vertices inside get the pol
 extern const Stage trim_stage;         // --max-edge: long boundary triangles removed
 extern const Stage clip_stage;         // --clip: triangles outside removed
 extern const Stage erase_stage;        // --erase: triangles inside removed
-extern const Stage tile_stage;         // --plan: only the tile's own triangles, each proven final
 extern const Stage validate_stage;     // --validate
 extern const Stage quality_stage;      // the quality block of --stats
 extern const Stage write_stage;        // the TIN (-o) and its .prj
@@ -30,25 +29,11 @@ extern const Stage stats_stage;             // --stats, last: it reports on all 
 namespace {
 
 const Stage* const kStages[] = {
-    &read_stage,
-    &delaunay_stage,
-    &constraints_stage,
-    &surface_stage,
-    &simplify_stage,
-    &flats_stage,
-    &replace_stage,
-    &trim_stage,
-    &clip_stage,
-    &erase_stage,
-    &tile_stage,
-    &validate_stage,
-    &quality_stage,
-    &write_stage,
-    &dem_stage,
-    &contour_lines_stage,
-    &constraint_lines_stage,
-    &diagnostics_stage,
-    &stats_stage,
+    &read_stage,        &delaunay_stage, &constraints_stage,   &surface_stage,
+    &simplify_stage,    &flats_stage,    &replace_stage,       &trim_stage,
+    &clip_stage,        &erase_stage,    &validate_stage,      &quality_stage,
+    &write_stage,       &dem_stage,      &contour_lines_stage, &constraint_lines_stage,
+    &diagnostics_stage, &stats_stage,
 };
 
 }  // namespace

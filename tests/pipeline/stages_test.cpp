@@ -30,7 +30,7 @@ TEST(Stages, OneTableInTheDocumentedOrder) {
   }
   EXPECT_EQ(names, (std::vector<std::string>{
                        "read", "delaunay", "constraints", "surface", "simplify", "flats", "replace",
-                       "trim", "clip", "erase", "tile", "validate", "quality", "write", "dem",
+                       "trim", "clip", "erase", "validate", "quality", "write", "dem",
                        "contour_lines", "constraint_lines", "diagnostics", "stats"}));
 }
 

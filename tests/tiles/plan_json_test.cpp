@@ -1,4 +1,4 @@
-// The plan as a JSON file (pipeline/plan.hpp): the layout scripts grep, numbers that read back bit
+// The plan as a JSON file (tiles/plan.hpp): the layout scripts grep, numbers that read back bit
 // for bit, file names kept as their bytes, and errors that say where the text is not JSON.
 #include <gtest/gtest.h>
 
@@ -6,16 +6,16 @@
 #include <string>
 
 #include "core/error.hpp"
-#include "pipeline/plan.hpp"
+#include "tiles/plan.hpp"
 #include "support/files.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 using tincdt::InputError;
-using tincdt::pipeline::PlanInput;
-using tincdt::pipeline::PlanTile;
-using tincdt::pipeline::TilePlan;
+using tincdt::tiles::PlanInput;
+using tincdt::tiles::PlanTile;
+using tincdt::tiles::TilePlan;
 
 TilePlan small_plan() {
   TilePlan p;
@@ -68,7 +68,7 @@ TEST(PlanJson, WrittenAsScriptsReadIt) {
   const fs::path dir = tincdt::test::scratch_dir("plan_json");
   const std::string path = (dir / "plan.json").string();
   TilePlan plan = small_plan();
-  tincdt::pipeline::write_plan(plan, {}, path, false);
+  tincdt::tiles::write_plan(plan, {}, path, false);
   EXPECT_EQ(tincdt::test::slurp(path), kSmallPlan);
 }
 
@@ -76,7 +76,7 @@ TEST(PlanJson, ReadBackAsWritten) {
   const fs::path dir = tincdt::test::scratch_dir("plan_json");
   const std::string path = (dir / "plan.json").string();
   tincdt::test::spit(path, kSmallPlan);
-  TilePlan read = tincdt::pipeline::read_plan(path);
+  TilePlan read = tincdt::tiles::read_plan(path);
   const TilePlan expected = small_plan();
   ASSERT_EQ(read.inputs.size(), 1u);
   EXPECT_EQ(read.inputs[0].path, expected.inputs[0].path);
@@ -87,7 +87,7 @@ TEST(PlanJson, ReadBackAsWritten) {
   ASSERT_EQ(read.tiles.size(), 1u);
   EXPECT_EQ(read.tiles[0].row, 80000);
   EXPECT_EQ(read.hull.size(), 3u);
-  tincdt::pipeline::write_plan(read, {}, path, true);
+  tincdt::tiles::write_plan(read, {}, path, true);
   EXPECT_EQ(tincdt::test::slurp(path), kSmallPlan);
 }
 
@@ -96,7 +96,7 @@ TEST(PlanJson, TextThatIsNotJsonIsRefusedWithWhere) {
   const std::string path = (dir / "plan.json").string();
   tincdt::test::spit(path, "{\n  \"tincdt_plan\": 1,\n  \"tile_size\": 50,,\n}\n");
   try {
-    tincdt::pipeline::read_plan(path);
+    tincdt::tiles::read_plan(path);
     FAIL() << "no error";
   } catch (const InputError& e) {
     EXPECT_EQ(std::string(e.what()),

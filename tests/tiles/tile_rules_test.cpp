@@ -1,4 +1,4 @@
-// The geometry of tiled jobs (pipeline/tile_rules.hpp) against independent references: the tile
+// The geometry of tiled jobs (tiles/tile_rules.hpp) against independent references: the tile
 // lattice on its edges, the owner point's independence of corner order, the circumdisk bound
 // against a long-double circumcircle, the conservative polygon tests against sampled points,
 // and the rim against an exact point-in-polygon test.
@@ -11,13 +11,13 @@
 #include <random>
 #include <vector>
 
-#include "pipeline/tile_rules.hpp"
 #include "predicates/predicates.hpp"
+#include "tiles/tile_rules.hpp"
 
 namespace {
 
 using namespace tincdt;
-using namespace tincdt::pipeline::tiles;
+using namespace tincdt::tiles;
 
 TEST(TileGrid, EveryValueInExactlyOneCell) {
   std::mt19937_64 rng(7);

@@ -18,10 +18,11 @@
 #include "core/error.hpp"
 #include "io/mesh/ply_reader.hpp"
 #include "pipeline/build.hpp"
-#include "pipeline/merge.hpp"
-#include "pipeline/plan.hpp"
 #include "support/files.hpp"
 #include "support/vector_files.hpp"
+#include "tiles/merge.hpp"
+#include "tiles/plan.hpp"
+#include "tiles/tile_job.hpp"
 
 namespace {
 
@@ -134,7 +135,7 @@ std::string whole(const Inputs& in, const fs::path& dir) {
 
 std::string plan(const Inputs& in, const fs::path& dir, double size, double buffer,
                  double rim = -1) {
-  pipeline::PlanOptions po;
+  tiles::PlanOptions po;
   po.inputs = in.points;
   po.contours = in.contours;
   po.tile_size = size;
@@ -143,17 +144,18 @@ std::string plan(const Inputs& in, const fs::path& dir, double size, double buff
   po.output = (dir / "plan.json").string();
   po.overwrite = true;
   std::vector<Point3> rim_points;
-  pipeline::TilePlan p = pipeline::make_plan(po, rim_points);
-  pipeline::write_plan(p, rim_points, po.output, true);
+  tiles::TilePlan p = tiles::make_plan(po, rim_points);
+  tiles::write_plan(p, rim_points, po.output, true);
   return po.output;
 }
 
 // Tile TILE of the plan; with RESOLUTION > 0 also its DEM, tile_TILE.tif.
 std::string build_tile(const std::string& plan_path, std::int64_t tile, const fs::path& dir,
                        double resolution = 0) {
+  tiles::TileOptions t;
+  t.plan = plan_path;
+  t.tile = tile;
   pipeline::BuildOptions o;
-  o.plan = plan_path;
-  o.tile = tile;
   o.output = (dir / ("tile_" + std::to_string(tile) + ".ply")).string();
   if (resolution > 0) {
     o.dem.path = (dir / ("tile_" + std::to_string(tile) + ".tif")).string();
@@ -162,10 +164,10 @@ std::string build_tile(const std::string& plan_path, std::int64_t tile, const fs
     // triangles while it rasterizes, waits for it (stage_quality.cpp).
     o.stats_path = (dir / ("tile_" + std::to_string(tile) + ".json")).string();
   }
-  o.tile_outline = (dir / ("tile_" + std::to_string(tile) + ".outline.ply")).string();
+  t.outline = (dir / ("tile_" + std::to_string(tile) + ".outline.ply")).string();
   o.write.overwrite = true;
   o.validate = true;
-  const pipeline::BuildReport r = pipeline::build(o);
+  const pipeline::BuildReport r = tiles::build_tile(t, o);
   if (resolution > 0) {
     EXPECT_TRUE(r.quality_measured);
     EXPECT_EQ(r.quality.triangles, r.triangles) << "tile " << tile;  // its own triangles only
@@ -178,37 +180,37 @@ std::string build_tile(const std::string& plan_path, std::int64_t tile, const fs
 std::string tiled(const Inputs& in, const fs::path& dir, double size, double buffer,
                   double rim = -1) {
   const std::string p = plan(in, dir, size, buffer, rim);
-  const std::size_t n = pipeline::read_plan(p).tiles.size();
+  const std::size_t n = tiles::read_plan(p).tiles.size();
   std::vector<std::string> tiles;
   for (std::size_t i = 0; i < n; ++i)
     tiles.push_back(build_tile(p, static_cast<std::int64_t>(i), dir));
-  pipeline::MergeOptions check;
+  tiles::MergeOptions check;
   check.check_only = true;
   check.inputs = tiles;
-  const pipeline::MergeReport all = pipeline::merge_tiles(check);
+  const tiles::MergeReport all = tiles::merge_tiles(check);
   std::vector<std::string> outlines;
   for (std::size_t half = 0; half < 2; ++half) {
-    pipeline::MergeOptions o;
+    tiles::MergeOptions o;
     o.outline = true;
     o.overwrite = true;
     for (std::size_t i = half; i < n; i += 2) o.inputs.push_back(tiles[i]);
     o.output = (dir / ("outline_" + std::to_string(half) + ".ply")).string();
-    pipeline::merge_tiles(o);
+    tiles::merge_tiles(o);
     outlines.push_back(o.output);
   }
   check.inputs = outlines;
-  const pipeline::MergeReport r = pipeline::merge_tiles(check);
+  const tiles::MergeReport r = tiles::merge_tiles(check);
   EXPECT_GT(r.seam_edges, 0u);
   // The outlines the tile jobs wrote themselves: the same seams.
   check.inputs.clear();
   for (const std::string& t : tiles)
     check.inputs.push_back(fs::path(t).replace_extension(".outline.ply").string());
-  EXPECT_EQ(pipeline::merge_tiles(check).seam_edges, all.seam_edges);
-  pipeline::MergeOptions m;
+  EXPECT_EQ(tiles::merge_tiles(check).seam_edges, all.seam_edges);
+  tiles::MergeOptions m;
   m.inputs = tiles;
   m.output = (dir / "merged.ply").string();
   m.overwrite = true;
-  pipeline::merge_tiles(m);
+  tiles::merge_tiles(m);
   return m.output;
 }
 
@@ -258,9 +260,9 @@ Raster read_raster(const std::string& path) {
 void expect_tiles_make_the_whole_dem(const Inputs& in, const fs::path& dir, double size,
                                      double buffer, double resolution) {
   const std::string p = plan(in, dir, size, buffer);
-  const pipeline::TilePlan tp = pipeline::read_plan(p);
+  const tiles::TilePlan tp = tiles::read_plan(p);
   std::int64_t c0 = INT64_MAX, c1 = INT64_MIN, r0 = INT64_MAX, r1 = INT64_MIN;
-  for (const pipeline::PlanTile& t : tp.tiles) {
+  for (const tiles::PlanTile& t : tp.tiles) {
     c0 = std::min(c0, t.col);
     c1 = std::max(c1, t.col);
     r0 = std::min(r0, t.row);
@@ -283,7 +285,7 @@ void expect_tiles_make_the_whole_dem(const Inputs& in, const fs::path& dir, doub
 
   std::vector<int> covered(w.cells.size(), 0);
   std::size_t compared = 0, with_value = 0;
-  for (const pipeline::PlanTile& t : tp.tiles) {
+  for (const tiles::PlanTile& t : tp.tiles) {
     SCOPED_TRACE("tile " + std::to_string(t.index));
     build_tile(p, t.index, dir, resolution);
     const Raster r = read_raster((dir / ("tile_" + std::to_string(t.index) + ".tif")).string());
@@ -443,20 +445,21 @@ TEST(Tiles, OptionsThatCannotBeTiledAreRefused) {
   const fs::path dir = scratch();
   const std::string p = plan(
       {{write_xyz(dir / "p.xyz", random_points(300, 500000, 4000000, 100, 8))}, {}}, dir, 50, 20);
+  tiles::TileOptions t;
+  t.plan = p;
+  t.tile = 0;
   pipeline::BuildOptions o;
-  o.plan = p;
-  o.tile = 0;
   o.output = (dir / "t.ply").string();
   o.max_edge = 10;
-  EXPECT_NE(error_of<UsageError>([&] { pipeline::build(o); }).find("--max-edge"),
+  EXPECT_NE(error_of<UsageError>([&] { tiles::build_tile(t, o); }).find("--max-edge"),
             std::string::npos);
   o.max_edge = 0;
   o.max_error = 0.1;
-  EXPECT_NE(error_of<UsageError>([&] { pipeline::build(o); }).find("--max-error"),
+  EXPECT_NE(error_of<UsageError>([&] { tiles::build_tile(t, o); }).find("--max-error"),
             std::string::npos);
   o.max_error.reset();
   o.inputs = {"p.xyz"};
-  EXPECT_NE(error_of<UsageError>([&] { pipeline::build(o); }).find("come from the plan"),
+  EXPECT_NE(error_of<UsageError>([&] { tiles::build_tile(t, o); }).find("come from the plan"),
             std::string::npos);
 }
 
@@ -480,20 +483,20 @@ TEST(Tiles, MergeFindsAMissingTileAndAnOverlap) {
   const std::string p = plan(in, dir, 100, 40);
   std::vector<std::string> tiles;
   for (int i = 0; i < 4; ++i) tiles.push_back(build_tile(p, i, dir));
-  pipeline::MergeOptions m;
+  tiles::MergeOptions m;
   m.output = (dir / "merged.ply").string();
   m.inputs = {tiles[0], tiles[1], tiles[3]};  // tile 2 missing: a hole in the hull
-  std::string e = error_of<InputError>([&] { pipeline::merge_tiles(m); });
+  std::string e = error_of<InputError>([&] { tiles::merge_tiles(m); });
   EXPECT_NE(e.find("crack"), std::string::npos) << e;
   m.inputs = {tiles[0], tiles[1], tiles[2], tiles[3], tiles[1]};  // tile 1 twice
-  e = error_of<InputError>([&] { pipeline::merge_tiles(m); });
+  e = error_of<InputError>([&] { tiles::merge_tiles(m); });
   EXPECT_NE(e.find("overlap"), std::string::npos) << e;
   m.check_only = true;
   m.output.clear();
-  e = error_of<InputError>([&] { pipeline::merge_tiles(m); });
+  e = error_of<InputError>([&] { tiles::merge_tiles(m); });
   EXPECT_NE(e.find("overlap"), std::string::npos) << e;
   m.inputs = {tiles[0], tiles[2], tiles[3]};
-  e = error_of<InputError>([&] { pipeline::merge_tiles(m); });
+  e = error_of<InputError>([&] { tiles::merge_tiles(m); });
   EXPECT_NE(e.find("crack"), std::string::npos) << e;
   EXPECT_FALSE(fs::exists(dir / "merged.ply"));
 }
@@ -526,20 +529,34 @@ TEST(TileDems, AResolutionThatDoesNotDivideTheTileOrAnExtentIsRefused) {
   const fs::path dir = scratch();
   const std::string p = plan(
       {{write_xyz(dir / "p.xyz", random_points(300, 500000, 4000000, 100, 13))}, {}}, dir, 50, 20);
+  tiles::TileOptions t;
+  t.plan = p;
+  t.tile = 0;
   pipeline::BuildOptions o;
-  o.plan = p;
-  o.tile = 0;
   o.output = (dir / "t.ply").string();
   o.dem.path = (dir / "t.tif").string();
   o.dem.resolution = 0.7;
-  const std::string e = error_of<UsageError>([&] { pipeline::build(o); });
+  const std::string e = error_of<UsageError>([&] { tiles::build_tile(t, o); });
   EXPECT_NE(e.find("--resolution 0.7 does not divide the plan's tile size 50"), std::string::npos)
       << e;
   o.dem.resolution = 1;
   o.dem.extent = BBox{500000, 4000000, 500050, 4000050};
-  EXPECT_NE(error_of<UsageError>([&] { pipeline::build(o); }).find("--dem-extent"),
+  EXPECT_NE(error_of<UsageError>([&] { tiles::build_tile(t, o); }).find("--dem-extent"),
             std::string::npos);
   EXPECT_FALSE(fs::exists(dir / "t.tif"));
+}
+
+// A tile job runs the pipeline's stages with the tile stage after the last that removes
+// triangles; the pipeline's own table has no tile stage.
+TEST(Tiles, TheTileStageFollowsThePolygonStages) {
+  std::vector<std::string> pipeline_names, tile_names;
+  for (const pipeline::Stage* s : pipeline::stages()) pipeline_names.emplace_back(s->name);
+  for (const pipeline::Stage* s : tiles::tile_stages()) tile_names.emplace_back(s->name);
+  EXPECT_EQ(std::count(pipeline_names.begin(), pipeline_names.end(), "tile"), 0);
+  const auto erase = std::find(pipeline_names.begin(), pipeline_names.end(), "erase");
+  ASSERT_NE(erase, pipeline_names.end());
+  pipeline_names.insert(erase + 1, "tile");
+  EXPECT_EQ(tile_names, pipeline_names);
 }
 
 }  // namespace

@@ -9,7 +9,7 @@
 #include "core/types.hpp"
 #include "io/points/point_reader.hpp"
 
-namespace tincdt::pipeline::detail {
+namespace tincdt::tiles::detail {
 
 struct PointScan {
   std::uint64_t points = 0;  // kept by the filter
@@ -28,4 +28,4 @@ PointScan scan_points(const std::string& path, const io::PointFilter& filter, do
 // WIDTH from its boundary, with room for rounding.
 bool deep_inside(const BBox& b, const std::vector<Point2>& hull, double width);
 
-}  // namespace tincdt::pipeline::detail
+}  // namespace tincdt::tiles::detail

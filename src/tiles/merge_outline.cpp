@@ -1,10 +1,10 @@
-#include "pipeline/merge_outline.hpp"
+#include "tiles/merge_outline.hpp"
 
 #include <algorithm>
 #include <string>
 #include <vector>
 
-namespace tincdt::pipeline::detail {
+namespace tincdt::tiles::detail {
 
 void write_outline(io::OutputFile& file, const std::vector<Border>& edges, const std::string& crs) {
   std::vector<Point3> points;
@@ -42,4 +42,4 @@ void write_outline(io::OutputFile& file, const std::vector<Border>& edges, const
   file.write(out);
 }
 
-}  // namespace tincdt::pipeline::detail
+}  // namespace tincdt::tiles::detail

@@ -1,4 +1,4 @@
-#include "pipeline/merge.hpp"
+#include "tiles/merge.hpp"
 
 #include <algorithm>
 #include <bit>
@@ -14,10 +14,10 @@
 #include "io/output_set.hpp"
 #include "mesh/geometry.hpp"
 #include "mesh/triangulation.hpp"
-#include "pipeline/merge_outline.hpp"
 #include "predicates/predicates.hpp"
+#include "tiles/merge_outline.hpp"
 
-namespace tincdt::pipeline {
+namespace tincdt::tiles {
 namespace {
 
 std::string at(Point2 p) {
@@ -446,4 +446,4 @@ MergeReport merge_tiles(const MergeOptions& options, const LogFn& log) {
   return merge_whole(options, log);
 }
 
-}  // namespace tincdt::pipeline
+}  // namespace tincdt::tiles

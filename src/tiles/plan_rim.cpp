@@ -1,13 +1,13 @@
-#include "pipeline/plan_rim.hpp"
+#include "tiles/plan_rim.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-#include "pipeline/tile_rules.hpp"
 #include "predicates/predicates.hpp"
+#include "tiles/tile_rules.hpp"
 
-namespace tincdt::pipeline::detail {
+namespace tincdt::tiles::detail {
 namespace {
 
 constexpr double kEps = 0x1p-52;
@@ -116,4 +116,4 @@ bool deep_inside(const BBox& b, const std::vector<Point2>& hull, double width) {
   return true;
 }
 
-}  // namespace tincdt::pipeline::detail
+}  // namespace tincdt::tiles::detail

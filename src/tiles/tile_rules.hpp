@@ -18,7 +18,7 @@
 
 #include "core/types.hpp"
 
-namespace tincdt::pipeline::tiles {
+namespace tincdt::tiles {
 
 // Tile (col, row) is the half-open box [col * S, (col + 1) * S) x [row * S, (row + 1) * S); the
 // edges are the doubles col * S, computed the same way everywhere, so the boxes of neighbours
@@ -115,4 +115,4 @@ std::vector<Point2> convex_hull(std::vector<Point2> points);
 // meet: a tile that only touches the hull's boundary owns no triangle.
 bool meets_convex(const BBox& r, const std::vector<Point2>& hull);
 
-}  // namespace tincdt::pipeline::tiles
+}  // namespace tincdt::tiles

@@ -18,7 +18,13 @@
 #include "io/vector/line_reader.hpp"
 #include "pipeline/build.hpp"
 
-namespace tincdt::pipeline {
+namespace tincdt::tiles {
+
+// Log lines as pipeline::build() gives them.
+using pipeline::log_debug;
+using pipeline::log_info;
+using pipeline::log_warn;
+using pipeline::LogFn;
 
 struct PlanOptions {
   std::vector<std::string> inputs;      // point files (LAS, LAZ, XYZ)
@@ -91,4 +97,4 @@ std::string resolve_input(const PlanInput& in, const std::string& plan_path);
 // throws InputError naming FILE when it cannot be read.
 std::string file_fingerprint(const std::string& file);
 
-}  // namespace tincdt::pipeline
+}  // namespace tincdt::tiles

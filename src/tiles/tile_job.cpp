@@ -1,18 +1,25 @@
-#include "pipeline/tile_job.hpp"
+#include "tiles/tile_job.hpp"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/error.hpp"
-#include "pipeline/job.hpp"
-#include "pipeline/plan.hpp"
+#include "pipeline/stage.hpp"
 #include "predicates/predicates.hpp"
+#include "tiles/plan.hpp"
 
-namespace tincdt::pipeline {
+namespace tincdt::tiles {
+
+using pipeline::BuildOptions;
+using pipeline::Job;
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -162,7 +169,7 @@ double cells_across(double size, double resolution) {
   return whole >= 1 && std::fabs(n - whole) <= 1e-9 * whole ? whole : 0;
 }
 
-const PlanTile& tile_of_plan(const TilePlan& plan, const BuildOptions& options) {
+const PlanTile& tile_of_plan(const TilePlan& plan, const TileOptions& options) {
   const std::string& plan_path = options.plan;
   if (plan.tiles.empty()) throw InputError(plan_path, "", "the plan has no tiles");
   if (static_cast<std::uint64_t>(options.tile) >= plan.tiles.size())
@@ -174,8 +181,8 @@ const PlanTile& tile_of_plan(const TilePlan& plan, const BuildOptions& options) 
 
 // The tile's place: its cell of the grid, the box it reads, and every input's bounds.
 void place_tile(TileSetup& setup, const TilePlan& plan, const PlanTile& tile,
-                const BuildOptions& options) {
-  setup.plan_path = options.plan;
+                const TileOptions& tiling, const BuildOptions& options) {
+  setup.plan_path = tiling.plan;
   setup.index = tile.index;
   setup.col = tile.col;
   setup.row = tile.row;
@@ -185,7 +192,7 @@ void place_tile(TileSetup& setup, const TilePlan& plan, const PlanTile& tile,
                      " does not divide the plan's tile size " + number(plan.tile_size) +
                      ": a tile's DEM covers exactly its tile, in whole cells (give a resolution "
                      "that divides the tile size)");
-  setup.buffer = options.tile_buffer >= 0 ? options.tile_buffer : plan.buffer;
+  setup.buffer = tiling.buffer >= 0 ? tiling.buffer : plan.buffer;
   setup.box = setup.grid.box(tile.col, tile.row);
   setup.buffered = setup.grid.buffered(tile.col, tile.row, setup.buffer);
   for (const PlanInput& in : plan.inputs)
@@ -195,10 +202,10 @@ void place_tile(TileSetup& setup, const TilePlan& plan, const PlanTile& tile,
 
 // The inputs in reach: the plan's list, or with another buffer, those whose bounds meet it.
 std::vector<std::uint32_t> inputs_in_reach(const TilePlan& plan, const PlanTile& tile,
-                                           const TileSetup& setup, const BuildOptions& options,
+                                           const TileSetup& setup, const TileOptions& options,
                                            const std::string& where) {
   std::vector<std::uint32_t> reads = tile.inputs;
-  if (options.tile_buffer >= 0) {
+  if (options.buffer >= 0) {
     reads.clear();
     for (std::uint32_t i = 0; i < plan.inputs.size(); ++i)
       if (!tiles::empty(setup.data[i]) && tiles::intersects(setup.data[i], setup.buffered))
@@ -282,9 +289,9 @@ products::Grid tile_grid(const BBox& box, double resolution) {
   return g;
 }
 
-void check_tile_options(const BuildOptions& o) {
-  if (o.plan.empty()) {
-    if (o.tile >= 0 || o.tile_buffer >= 0 || !o.tile_outline.empty())
+void check_tile_options(const TileOptions& t, const BuildOptions& o) {
+  if (t.plan.empty()) {
+    if (t.tile >= 0 || t.buffer >= 0 || !t.outline.empty())
       throw UsageError(
           "--tile, --buffer and --outline need --plan: the plan that defines the tiles");
     return;
@@ -300,9 +307,8 @@ void check_tile_options(const BuildOptions& o) {
         "with --plan the inputs, and how they are read, come from the plan: give no "
         "INPUT, --contours, --breaklines, --layer, --z-field, --z-from-m or class and "
         "return filters (give them to 'tincdt plan')");
-  if (o.tile < 0) throw UsageError("--plan needs --tile N: the index of the tile to build");
-  if (!(o.tile_buffer >= 0) && o.tile_buffer != -1)
-    throw UsageError("--buffer must be a length >= 0");
+  if (t.tile < 0) throw UsageError("--plan needs --tile N: the index of the tile to build");
+  if (!(t.buffer >= 0) && t.buffer != -1) throw UsageError("--buffer must be a length >= 0");
   if (o.max_edge > 0)
     refuse("--max-edge", "it trims inward from the whole TIN's hull, which a tile does not see");
   if (o.fix_flats) refuse("--fix-flats", "its new vertices depend on triangles beyond the tile");
@@ -323,14 +329,15 @@ void check_tile_options(const BuildOptions& o) {
         "only the constrained Delaunay triangulation is the same whatever the tiling");
 }
 
-BuildOptions tile_options(const BuildOptions& options, TileSetup& setup) {
-  check_tile_options(options);
-  const std::string& plan_path = options.plan;
+BuildOptions tile_options(const TileOptions& tiling, const BuildOptions& options,
+                          TileSetup& setup) {
+  check_tile_options(tiling, options);
+  const std::string& plan_path = tiling.plan;
   const TilePlan plan = read_plan(plan_path);
-  const PlanTile& tile = tile_of_plan(plan, options);
-  place_tile(setup, plan, tile, options);
+  const PlanTile& tile = tile_of_plan(plan, tiling);
+  place_tile(setup, plan, tile, tiling, options);
   const std::string where = "tile " + std::to_string(tile.index);
-  const std::vector<std::uint32_t> reads = inputs_in_reach(plan, tile, setup, options, where);
+  const std::vector<std::uint32_t> reads = inputs_in_reach(plan, tile, setup, tiling, where);
   BuildOptions o = options;
   read_plan_inputs(o, setup, plan, reads, where);
 
@@ -350,10 +357,64 @@ BuildOptions tile_options(const BuildOptions& options, TileSetup& setup) {
   return o;
 }
 
+pipeline::CheckedOptions check_options(const TileOptions& tiling, const BuildOptions& options) {
+  check_tile_options(tiling, options);
+  if (tiling.plan.empty()) return pipeline::check_options(options);
+  BuildOptions with_plan = options;
+  with_plan.inputs = {tiling.plan};
+  return pipeline::check_options(with_plan);
+}
+
+TileJob::TileJob(const BuildOptions& job_options, const pipeline::CheckedOptions& checked,
+                 const TileSetup& setup, std::string outline_path, const ProgressFn* progress,
+                 pipeline::LogFn log)
+    : Job(job_options, checked, progress, std::move(log)),
+      tile(setup),
+      outline(std::move(outline_path)) {
+  read_hooks.point_file_read = [this](const Job&, std::size_t input, const BBox& extent) {
+    detail::check_tile_points(*this, input, extent);
+  };
+  read_hooks.point_files_read = [this](Job&) { detail::add_tile_rim(*this); };
+  read_hooks.line_sources_read = [this](Job&) { detail::keep_tile_lines(*this); };
+  if (!job_options.dem.path.empty()) dem_grid = tile_grid(setup.box, job_options.dem.resolution);
+}
+
+std::vector<const pipeline::Stage*> tile_stages() {
+  std::vector<const pipeline::Stage*> list;
+  for (const pipeline::Stage* stage : pipeline::stages()) {
+    list.push_back(stage);
+    if (stage->name == "erase") list.push_back(&tile_stage);
+  }
+  assert(std::count(list.begin(), list.end(), &tile_stage) == 1);
+  return list;
+}
+
+pipeline::BuildReport build_tile(const TileOptions& tiling, const BuildOptions& options,
+                                 const ProgressFn* progress, const pipeline::LogFn& log) {
+  const pipeline::CheckedOptions checked = check_options(tiling, options);
+  if (tiling.plan.empty()) throw UsageError("a tile job needs --plan and --tile");
+  TileSetup setup;
+  const BuildOptions job_options = tile_options(tiling, options, setup);
+  TileJob job(job_options, checked, setup, tiling.outline, progress, log);
+  for (const std::string& warning : checked.warnings) job.warn(warning);
+  const std::vector<const pipeline::Stage*> list = tile_stages();
+  pipeline::FilePlan files = pipeline::plan_files(job_options, list);
+  if (!tiling.outline.empty()) {
+    // Among the outputs in the tile stage's place, so that they are checked in stage order.
+    const auto at =
+        static_cast<std::size_t>(std::find(list.begin(), list.end(), &tile_stage) - list.begin());
+    const std::size_t before =
+        pipeline::plan_files(job_options, std::span(list).first(at)).outputs.size();
+    files.outputs.insert(files.outputs.begin() + static_cast<std::ptrdiff_t>(before),
+                         {tiling.outline, "the tile's outline (--outline)"});
+  }
+  return pipeline::run_job(job, list, files);
+}
+
 namespace detail {
 
-void check_tile_points(const Job& job, std::size_t input, const BBox& extent) {
-  const TileSetup& tile = *job.tile;
+void check_tile_points(const TileJob& job, std::size_t input, const BBox& extent) {
+  const TileSetup& tile = job.tile;
   if (tiles::empty(extent) || within(extent, tile.point_bounds[input])) return;
   throw InputError(job.options.inputs[input], "",
                    "holds points outside the bounds the plan has from its header (points: " +
@@ -362,8 +423,8 @@ void check_tile_points(const Job& job, std::size_t input, const BBox& extent) {
                        "-repair_bb') and make the plan again");
 }
 
-void add_tile_rim(Job& job) {
-  const TileSetup& tile = *job.tile;
+void add_tile_rim(TileJob& job) {
+  const TileSetup& tile = job.tile;
   if (tile.rim_path.empty()) return;
   std::vector<Point3> rim;
   io::read_points(tile.rim_path, {}, rim);
@@ -378,8 +439,8 @@ void add_tile_rim(Job& job) {
             " rim points outside the buffered box");
 }
 
-void keep_tile_lines(Job& job) {
-  const TileSetup& tile = *job.tile;
+void keep_tile_lines(TileJob& job) {
+  const TileSetup& tile = job.tile;
   io::LineData& lines = job.lines;
   std::vector<SegmentBox> segs;
   segs.reserve(lines.segments.size());
@@ -427,4 +488,4 @@ void keep_tile_lines(Job& job) {
 }
 
 }  // namespace detail
-}  // namespace tincdt::pipeline
+}  // namespace tincdt::tiles

@@ -1,4 +1,4 @@
-#include "pipeline/plan.hpp"
+#include "tiles/plan.hpp"
 
 #include <algorithm>
 #include <array>
@@ -19,10 +19,10 @@
 #include "io/points/point_summary.hpp"
 #include "io/vector/line_reader.hpp"
 #include "io/vector/vector_extent.hpp"
-#include "pipeline/plan_rim.hpp"
-#include "pipeline/tile_rules.hpp"
+#include "tiles/plan_rim.hpp"
+#include "tiles/tile_rules.hpp"
 
-namespace tincdt::pipeline {
+namespace tincdt::tiles {
 namespace {
 
 namespace fs = std::filesystem;
@@ -656,4 +656,4 @@ std::string resolve_input(const PlanInput& in, const std::string& plan_path) {
   return folder.empty() ? stored : (folder / stored).lexically_normal().string();
 }
 
-}  // namespace tincdt::pipeline
+}  // namespace tincdt::tiles

@@ -17,7 +17,13 @@
 
 #include "pipeline/build.hpp"
 
-namespace tincdt::pipeline {
+namespace tincdt::tiles {
+
+// Log lines as pipeline::build() gives them.
+using pipeline::log_debug;
+using pipeline::log_info;
+using pipeline::log_warn;
+using pipeline::LogFn;
 
 struct MergeOptions {
   std::vector<std::string> inputs;  // tile TINs (PLY), or outlines written with `outline`
@@ -38,4 +44,4 @@ struct MergeReport {
 // Throws InputError naming the tiles at fault, OutputError for the output.
 MergeReport merge_tiles(const MergeOptions& options, const LogFn& log = {});
 
-}  // namespace tincdt::pipeline
+}  // namespace tincdt::tiles

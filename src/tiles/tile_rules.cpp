@@ -1,4 +1,4 @@
-#include "pipeline/tile_rules.hpp"
+#include "tiles/tile_rules.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 
 #include "predicates/predicates.hpp"
 
-namespace tincdt::pipeline::tiles {
+namespace tincdt::tiles {
 namespace {
 
 constexpr double kEps = 0x1p-52;  // one ulp of 1.0: a generous bound per rounding
@@ -252,4 +252,4 @@ bool meets_convex(const BBox& r, const std::vector<Point2>& hull) {
   return true;
 }
 
-}  // namespace tincdt::pipeline::tiles
+}  // namespace tincdt::tiles

@@ -9,12 +9,12 @@
 // Checked: every triangle that meets the tile's box (grown by a hair for the rounding of the
 // owner point; the test errs on the side of meeting) and every hull edge whose outer side reaches
 // it. So every triangle
-// that holds a point of the tile is final, owned or not: the tile's DEM (stage_dem.cpp) fills
-// the cells of its box from all of them. If they are all final, the
-// triangles of the whole TIN owned by this tile are exactly the local ones it owns: the owner
-// point of a whole-TIN triangle lies inside it, in the tile, so inside a checked local triangle,
-// which is final and therefore that same triangle; a point of the tile outside the local hull is
-// outside the whole hull too (its hull edge is final).
+// that holds a point of the tile is final, owned or not: the tile's DEM (TileJob, tile_job.hpp)
+// fills the cells of its box from all of them. If they are all final, the triangles of the whole
+// TIN owned by this tile are exactly the local ones it owns: the owner point of a whole-TIN
+// triangle lies inside it, in the tile, so inside a checked local triangle, which is final and
+// therefore that same triangle; a point of the tile outside the local hull is outside the whole
+// hull too (its hull edge is final).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -23,11 +23,11 @@
 #include <vector>
 
 #include "core/error.hpp"
-#include "pipeline/merge_outline.hpp"
 #include "pipeline/stage.hpp"
-#include "pipeline/tile_job.hpp"
+#include "tiles/merge_outline.hpp"
+#include "tiles/tile_job.hpp"
 
-namespace tincdt::pipeline {
+namespace tincdt::tiles {
 namespace {
 
 std::string number(double v) {
@@ -61,13 +61,9 @@ std::vector<detail::Border> outline_of(const mesh::Triangulation& tin) {
   return border;
 }
 
-bool wanted(const BuildOptions& o) {
-  return !o.plan.empty();
-}
-
-void plan(const BuildOptions& o, FilePlan& files) {
-  if (!o.tile_outline.empty())
-    files.outputs.push_back({o.tile_outline, "the tile's outline (--outline)"});
+// In the stage list of a tile job only (tile_stages()); its outline is planned there too.
+bool wanted(const pipeline::BuildOptions&) {
+  return true;
 }
 
 // The triangles are checked in the tile's box grown by a bound on the rounding of owner points:
@@ -132,10 +128,10 @@ void check_hull_edge(const mesh::Triangulation& tin, const TileSetup& tile, cons
 }
 
 // A real triangle: removed when it does not meet NEAR; else checked final, and kept when the
-// tile owns it (the others go to job.tile_final_unowned, for the DEM).
-void check_triangle(Job& job, const BBox& near, const tiles::Polygon& near_polygon, TriangleId t,
-                    FinalityTally& tally) {
-  const TileSetup& tile = *job.tile;
+// tile owns it (the others go to job.dem_extra_triangles, for the DEM).
+void check_triangle(TileJob& job, const BBox& near, const tiles::Polygon& near_polygon,
+                    TriangleId t, FinalityTally& tally) {
+  const TileSetup& tile = job.tile;
   mesh::Triangulation& tin = job.tin();
   const auto c = tin.triangle(t);
   const Point2 a = tin.point(c[0]), b = tin.point(c[1]), p = tin.point(c[2]);
@@ -171,7 +167,7 @@ void check_triangle(Job& job, const BBox& near, const tiles::Polygon& near_polyg
     ++tally.owned;
   } else {
     tin.set_removed(t, true);
-    job.tile_final_unowned.push_back(t);
+    job.dem_extra_triangles.push_back(t);
   }
 }
 
@@ -198,8 +194,8 @@ void check_triangle(Job& job, const BBox& near, const tiles::Polygon& near_polyg
   throw InputError(tile.plan_path, name, detail);
 }
 
-void run(Job& job) {
-  const TileSetup& tile = *job.tile;
+void run(TileJob& job) {
+  const TileSetup& tile = job.tile;
   mesh::Triangulation& tin = job.tin();
   const BBox near = checked_region(tile);
   const tiles::Polygon near_polygon = tiles::box_polygon(near);
@@ -215,8 +211,8 @@ void run(Job& job) {
 
   const std::string name = "tile " + std::to_string(tile.index);
   if (tally.failed > 0) throw_buffer_too_small(tile, name, tally);
-  if (!job.options.tile_outline.empty()) {
-    io::OutputFile& out = job.add_output(job.options.tile_outline, "outline");
+  if (!job.outline.empty()) {
+    io::OutputFile& out = job.add_output(job.outline, "outline");
     detail::write_outline(out, outline_of(tin), "");
     job.finish_output(out);
   }
@@ -229,8 +225,13 @@ void run(Job& job) {
            " by the rim, their constrained edges or areas without data");
 }
 
+// Only a TileJob runs the stage (tile_stages()).
+void run_tile(pipeline::Job& job) {
+  run(static_cast<TileJob&>(job));
+}
+
 }  // namespace
 
-extern const Stage tile_stage{"tile", "tile", wanted, run, plan};
+extern const pipeline::Stage tile_stage{"tile", "tile", wanted, run_tile};
 
-}  // namespace tincdt::pipeline
+}  // namespace tincdt::tiles

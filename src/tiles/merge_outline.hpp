@@ -10,7 +10,7 @@
 #include "core/types.hpp"
 #include "io/output_file.hpp"
 
-namespace tincdt::pipeline::detail {
+namespace tincdt::tiles::detail {
 
 // A border edge a -> b of a tile, its triangle on the left, whose third corner is apex.
 struct Border {
@@ -23,4 +23,4 @@ struct Border {
 // vertex2, apex and constrained; CRS: a "comment crs" text, "" for none.
 void write_outline(io::OutputFile& out, const std::vector<Border>& edges, const std::string& crs);
 
-}  // namespace tincdt::pipeline::detail
+}  // namespace tincdt::tiles::detail

@@ -1,0 +1,127 @@
+// Tiled jobs, step 2: tile I of a plan as a job of its own (`tincdt --plan plan.json --tile I`).
+// The tile reads the points inside its buffered box and the line segments that meet it (whole),
+// builds the constrained TIN through the usual stages, and the tile stage (stage_tile.cpp) keeps
+// the triangles the tile owns after proving each final (tile_rules.hpp). A job needs no other
+// job's output, and running it again gives the same files. The pipeline knows nothing of tiles: a
+// tile job is a pipeline::Job whose read hooks keep the tile's data and whose DEM covers the
+// tile's box, run over the pipeline's stages with the tile stage among them.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/progress.hpp"
+#include "core/types.hpp"
+#include "pipeline/build.hpp"
+#include "pipeline/job.hpp"
+#include "pipeline/options.hpp"
+#include "pipeline/stage.hpp"
+#include "products/grid.hpp"
+#include "tiles/tile_rules.hpp"
+
+namespace tincdt::tiles {
+
+// The options of a tile job beside the build's own: build tile `tile` of the plan at `plan`
+// (made by make_plan()); the inputs, and how they are read, then come from the plan. buffer >= 0
+// replaces the plan's buffer; outline: also write the tile's outline there (for `tincdt merge
+// --check`).
+struct TileOptions {
+  std::string plan;
+  std::int64_t tile = -1;
+  double buffer = -1;
+  std::string outline;
+};
+
+struct TileSetup {
+  std::string plan_path;
+  std::uint32_t index = 0;
+  std::int64_t col = 0;
+  std::int64_t row = 0;
+  tiles::TileGrid grid;
+  double buffer = 0;
+  BBox box;                // the tile, half-open: [min, max)
+  BBox buffered;           // what the tile reads (closed)
+  std::vector<BBox> data;  // every input's bounds in the plan, grown by its tolerance
+  tiles::Rim rim;          // the data's hull and the rim's width (no hull: none)
+  std::string rim_path;    // the rim's points, when the tile needs them ("" otherwise)
+  // Where data the tile does not hold may lie: outside its buffered box, inside an input's
+  // bounds and inside the hull (shrunk by the rim's width when the tile reads the rim).
+  std::vector<tiles::Polygon> missing;
+  double margin = 0;  // for the tests in doubles: a bound on their rounding
+  // The bounds each input of the tile's job must keep to (the plan relies on them): per point
+  // file of BuildOptions::inputs, and per line source (contours, then breaklines).
+  std::vector<BBox> point_bounds;
+  std::vector<BBox> line_bounds;
+};
+
+// The rules of tiled jobs that need no file: --tile, --buffer and --outline need --plan, --plan
+// needs --tile, and the options that cannot give the same triangles in every tile (--max-edge,
+// --fix-flats, surface features, --restore other than delaunay) are refused, as are inputs and
+// their read options given beside a plan. Throws UsageError.
+void check_tile_options(const TileOptions& tiling, const pipeline::BuildOptions& options);
+
+// check_tile_options(), then pipeline::check_options() on OPTIONS, the plan (when given) standing
+// for the inputs it gives the tile. Cheap (no file is read): a command line runs it first, to
+// tell a usage error from a failed job, for a tile job or any other.
+pipeline::CheckedOptions check_options(const TileOptions& tiling,
+                                       const pipeline::BuildOptions& options);
+
+// The job options of tile TILING.tile of plan TILING.plan, and SETUP filled in: the tile's inputs
+// from the plan (each checked against its fingerprint), the read filter set to the buffered box,
+// --offset auto taken from the plan's extent. Throws UsageError for options that cannot be tiled,
+// InputError naming the plan for a missing tile, a changed input, a tile with no input in reach.
+pipeline::BuildOptions tile_options(const TileOptions& tiling,
+                                    const pipeline::BuildOptions& options, TileSetup& setup);
+
+// The DEM grid of a tile job: its box [min, max) in cells of RESOLUTION, the top-left corner
+// (box.min_x, box.max_y). Every tile's cells then lie on one lattice of the plane (the tile
+// size is a multiple of the resolution: tile_options() checks it), and the tiles' DEMs join
+// pixel-aligned.
+products::Grid tile_grid(const BBox& box, double resolution);
+
+// A tile's job: the pipeline's Job with the tile it builds. Its read hooks keep the tile's data
+// (detail:: below); its DEM has the tile's grid and takes the cells of the tile's box from every
+// triangle the tile stage proves final, the neighbours' too (Job::dem_extra_triangles): each
+// cell centre then gets the value the whole job gives it (products::rasterize interpolates a
+// triangle the same way in any TIN that holds it).
+struct TileJob : pipeline::Job {
+  TileJob(const pipeline::BuildOptions& job_options, const pipeline::CheckedOptions& checked,
+          const TileSetup& setup, std::string outline_path, const ProgressFn* progress,
+          pipeline::LogFn log);
+
+  const TileSetup& tile;
+  const std::string outline;  // TileOptions::outline
+};
+
+// tile: keeps the tile's own triangles, each proven final (stage_tile.cpp). It runs only in a
+// TileJob.
+extern const pipeline::Stage tile_stage;
+
+// The stages of a tile job: the pipeline's, with the tile stage after the polygon stages (the
+// last that remove triangles) and before the checks and outputs.
+std::vector<const pipeline::Stage*> tile_stages();
+
+// Builds tile TILING.tile of plan TILING.plan as pipeline::build() builds a job: check_options(),
+// tile_options(), the checks on every planned output (the outline among them), the stages of
+// tile_stages() in a TileJob, then every output moved into place. Throws as build() does.
+pipeline::BuildReport build_tile(const TileOptions& tiling, const pipeline::BuildOptions& options,
+                                 const ProgressFn* progress = nullptr,
+                                 const pipeline::LogFn& log = {});
+
+namespace detail {
+
+// The read hooks of a TileJob. Throws InputError when point file INPUT holds points outside the
+// bounds the plan has for it (EXTENT: theirs).
+void check_tile_points(const TileJob& job, std::size_t input, const BBox& extent);
+
+// After the point files: the rim's points outside the buffered box.
+void add_tile_rim(TileJob& job);
+
+// Once every line source is read: checks their vertices against the plan's bounds, refuses lines
+// that cross (a crossing vertex's rounding depends on the segments the job sees), and keeps whole
+// the segments whose bounding box meets the buffered box or that end in the rim the tile reads.
+void keep_tile_lines(TileJob& job);
+
+}  // namespace detail
+}  // namespace tincdt::tiles
