@@ -59,6 +59,7 @@ class Scratch {
   }
   // Gives back the whole pages inside elements [begin, end), which must not be used again.
   void release(std::size_t begin, std::size_t end) {
+    assert(begin <= end && end <= size_);
 #if defined(__unix__) || defined(__APPLE__)
     if (!data_) return;
     const auto page = static_cast<std::uintptr_t>(4096);
@@ -135,6 +136,7 @@ class PointStash {
  public:
   PointStash(Triangulation& tin, std::size_t n) : tin_(tin), n_(n) {}
   void put(std::size_t k, const Point3& p) {
+    assert(k < n_);
     if (k + 1 == n_) {
       last_ = p;
       return;
@@ -143,6 +145,7 @@ class PointStash {
     for (std::size_t w = 0; w < 6; ++w) tin_.set_corner(static_cast<EdgeId>(6 * k + w), words[w]);
   }
   Point3 get(std::size_t k) const {
+    assert(k < n_);
     if (k + 1 == n_) return last_;
     std::array<std::uint32_t, 6> words;
     for (std::size_t w = 0; w < 6; ++w) words[w] = tin_.origin(static_cast<EdgeId>(6 * k + w));
@@ -189,6 +192,7 @@ std::size_t sort_items(const std::vector<Point3>& input, const BBox& box, LeftOf
       }
     }
   };
+  assert(left_items <= n);
   run_two(
       concurrent, [&] { fill(0, mid, 0, left_items); },
       [&] { fill(mid, n, left_in_chunk[0], left_items + (mid - left_in_chunk[0])); });
