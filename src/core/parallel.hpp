@@ -1,10 +1,13 @@
-// Splits [0, n) into one contiguous chunk per thread and runs f(begin, end) on each. The thread
-// count is always the caller's (from BuildOptions::threads down), never a global.
+// The one place that starts threads. Every thread count is the caller's (from
+// BuildOptions::threads down), never a global; 0 means one thread per core.
 #pragma once
 
 #include <algorithm>
 #include <cstddef>
+#include <exception>
+#include <system_error>
 #include <thread>
+#include <utility>
 #include <vector>
 
 namespace tincdt {
@@ -14,8 +17,19 @@ inline std::size_t thread_count(std::size_t threads) {
   return threads != 0 ? threads : std::max(1u, std::thread::hardware_concurrency());
 }
 
-// At most THREADS chunks (0 = one per core) of at least MIN_CHUNK items each; f runs on the
-// calling thread for the first chunk.
+namespace detail {
+// Joins the threads however the scope is left (a thread that fails to start throws).
+struct JoinAll {
+  std::vector<std::thread>& threads;
+  ~JoinAll() {
+    for (std::thread& t : threads)
+      if (t.joinable()) t.join();
+  }
+};
+}  // namespace detail
+
+// Splits [0, n) into at most THREADS chunks (0 = one per core) of at least MIN_CHUNK items each
+// and runs f(begin, end) on each, the first chunk on the calling thread.
 template <class F>
 void parallel_chunks(std::size_t threads, std::size_t n, F&& f, std::size_t min_chunk = 1 << 16) {
   const std::size_t chunks = std::clamp<std::size_t>(n / min_chunk, 1, thread_count(threads));
@@ -24,11 +38,109 @@ void parallel_chunks(std::size_t threads, std::size_t n, F&& f, std::size_t min_
     return;
   }
   std::vector<std::thread> workers;
+  const detail::JoinAll join{workers};
   workers.reserve(chunks - 1);
   for (std::size_t c = 1; c < chunks; ++c)
     workers.emplace_back([&f, c, chunks, n] { f(n * c / chunks, n * (c + 1) / chunks); });
   f(std::size_t{0}, n / chunks);
-  for (auto& t : workers) t.join();
 }
+
+// Runs left() on the calling thread and right() on a new one, or, if not CONCURRENT, left() and
+// then right(): for two halves of one job whose result must not depend on the thread count.
+// Returns when both are done; rethrows left's exception, else right's (in turn, right() does not
+// run once left() has thrown).
+template <class Left, class Right>
+void run_two(bool concurrent, Left&& left, Right&& right) {
+  if (!concurrent) {
+    left();
+    right();
+    return;
+  }
+  std::exception_ptr right_error;
+  std::thread worker([&] {
+    try {
+      right();
+    } catch (...) {
+      right_error = std::current_exception();
+    }
+  });
+  std::exception_ptr left_error;
+  try {
+    left();
+  } catch (...) {
+    left_error = std::current_exception();
+  }
+  worker.join();
+  if (left_error) std::rethrow_exception(left_error);
+  if (right_error) std::rethrow_exception(right_error);
+}
+
+// Runs work(w) for w in [0, WORKERS) at once, w = 0 on the calling thread (so that it can report
+// progress: callbacks need not be thread-safe). For workers that take their tasks from a shared
+// queue: a thread that cannot start is left out and the others take up its share. Returns when
+// all are done; rethrows the exception of the lowest-numbered worker that threw.
+template <class F>
+void run_workers(std::size_t workers, F&& work) {
+  workers = std::max<std::size_t>(workers, 1);
+  std::vector<std::exception_ptr> errors(workers);
+  const auto guarded = [&work, &errors](std::size_t w) {
+    try {
+      work(w);
+    } catch (...) {
+      errors[w] = std::current_exception();
+    }
+  };
+  {
+    std::vector<std::thread> helpers;
+    const detail::JoinAll join{helpers};
+    helpers.reserve(workers - 1);
+    for (std::size_t w = 1; w < workers; ++w) {
+      try {
+        helpers.emplace_back(guarded, w);
+      } catch (const std::system_error&) {
+        break;  // fewer threads than asked for
+      }
+    }
+    guarded(0);
+  }
+  for (const std::exception_ptr& e : errors)
+    if (e) std::rethrow_exception(e);
+}
+
+// A job started now and waited for later: on a thread of its own if CONCURRENT, else at once on
+// the calling thread. wait() returns when it is done and rethrows its exception; the destructor
+// waits too (and drops the exception).
+class BackgroundJob {
+ public:
+  template <class F>
+  BackgroundJob(bool concurrent, F&& job) {
+    if (concurrent) {
+      thread_ = std::thread([this, job = std::forward<F>(job)]() mutable { guarded(job); });
+    } else {
+      guarded(job);
+    }
+  }
+  BackgroundJob(const BackgroundJob&) = delete;
+  BackgroundJob& operator=(const BackgroundJob&) = delete;
+  ~BackgroundJob() {
+    if (thread_.joinable()) thread_.join();
+  }
+  void wait() {
+    if (thread_.joinable()) thread_.join();
+    if (error_) std::rethrow_exception(std::exchange(error_, nullptr));
+  }
+
+ private:
+  template <class F>
+  void guarded(F& job) noexcept {
+    try {
+      job();
+    } catch (...) {
+      error_ = std::current_exception();
+    }
+  }
+  std::exception_ptr error_;
+  std::thread thread_;
+};
 
 }  // namespace tincdt

@@ -154,21 +154,15 @@ std::string describe_edge(const Triangulation& tin, EdgeId e) {
   return s.str();
 }
 
-}  // namespace
-
-std::string Triangulation::validate(ValidateOptions options) const {
-  const std::size_t slots = triangle_slots();
-  const std::size_t nv = vertex_count();
-  if (corner_.size() != twin_.size() || corner_.size() != 3 * slots)
-    return "corner and twin arrays differ in size";
-  if (!constrained_.empty() && constrained_.size() != corner_.size())
-    return "constraint flags differ in size from the corners";
-
-  // Twins, corners, orientation.
-  std::vector<std::uint32_t> degree(nv, 0);
-  std::size_t ghosts = 0;
-  for (std::size_t t = 0; t < slots; ++t) {
-    const auto tri = triangle(static_cast<TriangleId>(t));
+// Every triangle names existing, distinct vertices, at most one of them infinite, and a real
+// triangle turns counter-clockwise. Counts each vertex's triangles in DEGREE and the ghosts.
+std::string check_triangles(const Triangulation& tin, std::vector<std::uint32_t>& degree,
+                            std::size_t& ghosts) {
+  const std::size_t nv = tin.vertex_count();
+  degree.assign(nv, 0);
+  ghosts = 0;
+  for (std::size_t t = 0; t < tin.triangle_slots(); ++t) {
+    const auto tri = tin.triangle(static_cast<TriangleId>(t));
     int infinite = 0;
     for (int i = 0; i < 3; ++i) {
       if (tri[i] == kInfinite) {
@@ -184,9 +178,101 @@ std::string Triangulation::validate(ValidateOptions options) const {
       return "triangle " + std::to_string(t) + " repeats a corner";
     if (infinite > 1) return "triangle " + std::to_string(t) + " has two infinite corners";
     ghosts += infinite;
-    if (!infinite && predicates::orient2d(xy_[tri[0]], xy_[tri[1]], xy_[tri[2]]) <= 0)
+    if (!infinite &&
+        predicates::orient2d(tin.point(tri[0]), tin.point(tri[1]), tin.point(tri[2])) <= 0)
       return "triangle " + std::to_string(t) + " is not counter-clockwise";
   }
+  return {};
+}
+
+// Every vertex is in a triangle and in exactly one fan of them (a manifold), DEGREE counting its
+// triangles; Euler's formula holds.
+std::string check_fans(const Triangulation& tin, const std::vector<std::uint32_t>& degree) {
+  const std::size_t nv = tin.vertex_count();
+  for (std::size_t v = 0; v < nv; ++v)
+    if (!degree[v]) return "vertex " + std::to_string(v) + " is in no triangle";
+  std::vector<EdgeId> out_edge(nv, kNoId);
+  for (std::size_t i = 0; i < 3 * tin.triangle_slots(); ++i) {
+    const VertexId v = tin.origin(static_cast<EdgeId>(i));
+    if (v < kInfinite) out_edge[v] = static_cast<EdgeId>(i);
+  }
+  for (std::size_t v = 0; v < nv; ++v) {
+    std::uint32_t around = 0;
+    EdgeId e = out_edge[v];
+    do {
+      e = tin.twin(prev_edge(e));  // the next half-edge leaving v, counter-clockwise
+      if (++around > degree[v]) break;
+    } while (e != out_edge[v]);
+    if (around != degree[v])
+      return "vertex " + std::to_string(v) + " has more than one fan of triangles";
+  }
+  if (tin.triangle_slots() + 2 != 2 * nv) return "Euler's formula fails: wrong number of triangles";
+  return {};
+}
+
+// The hull: ghosts chain into one polygon that winds once (its convexity is checked with the
+// edges between ghosts by check_local_delaunay). Exactly, in signs only: the direction of hull
+// edge u -> v turns at v by less than half a turn either way (orient2d tells which way, and a
+// collinear edge turns by 0 or doubles back), so the winding number is the count of the turns
+// that carry the direction across the +x axis counter-clockwise, less those that carry it back.
+// A direction is above the axis when dy > 0 or (dy = 0 and dx > 0); the sign of a difference of
+// doubles is exact, so even coordinates 1e-320 apart (a LAS scale of 5e-324) are judged right.
+std::string check_hull(const Triangulation& tin, std::size_t ghosts) {
+  const auto upper = [](Point2 a, Point2 b) { return b.y > a.y || (b.y == a.y && b.x > a.x); };
+  long long winding = 0;
+  for (std::size_t i = 0; i < 3 * tin.triangle_slots(); ++i) {
+    const auto e = static_cast<EdgeId>(i);
+    if (tin.apex(e) != kInfinite) continue;
+    // Ghost (u, v, inf); the next ghost along the hull is (v, w, inf), across v -> inf.
+    const VertexId u = tin.origin(e), v = tin.dest(e);
+    const EdgeId g = next_edge(tin.twin(next_edge(e)));
+    if (tin.origin(g) != v || tin.apex(g) != kInfinite)
+      return describe_edge(tin, e) + ": hull ghosts are not chained";
+    const Point2 pu = tin.point(u), pv = tin.point(v), pw = tin.point(tin.dest(g));
+    const int turn = predicates::orient2d(pu, pv, pw);
+    const bool up_in = upper(pu, pv), up_out = upper(pv, pw);
+    if (turn == 0) {
+      // Straight on, or back along itself (a hull that folds: never valid).
+      if ((pv.x < pu.x) != (pw.x < pv.x) || (pv.x > pu.x) != (pw.x > pv.x) ||
+          (pv.y < pu.y) != (pw.y < pv.y) || (pv.y > pu.y) != (pw.y > pv.y))
+        return describe_edge(tin, e) + ": the hull doubles back on itself";
+    } else if (turn > 0 && !up_in && up_out) {
+      ++winding;
+    } else if (turn < 0 && up_in && !up_out) {
+      --winding;
+    }
+  }
+  if (ghosts > 0 && winding != 1 && winding != -1)
+    return "the hull does not wind once around the triangulation";
+  return {};
+}
+
+// Local Delaunay (if asked) of the unconstrained edges, and hull convexity, for the edges between
+// two ghosts.
+std::string check_local_delaunay(const Triangulation& tin, bool delaunay) {
+  for (std::size_t i = 0; i < 3 * tin.triangle_slots(); ++i) {
+    const auto e = static_cast<EdgeId>(i);
+    if (tin.is_constrained(e)) continue;
+    const bool hull_edge = tin.origin(e) == kInfinite || tin.dest(e) == kInfinite;
+    if (!delaunay && !hull_edge) continue;
+    if (!is_locally_delaunay(tin, e))
+      return describe_edge(tin, e) +
+             (hull_edge ? " leaves the hull non-convex" : " is not locally Delaunay");
+  }
+  return {};
+}
+
+}  // namespace
+
+std::string Triangulation::validate(ValidateOptions options) const {
+  if (corner_.size() != twin_.size() || corner_.size() != 3 * triangle_slots())
+    return "corner and twin arrays differ in size";
+  if (!constrained_.empty() && constrained_.size() != corner_.size())
+    return "constraint flags differ in size from the corners";
+  std::vector<std::uint32_t> degree;
+  std::size_t ghosts = 0;
+  if (std::string problem = check_triangles(*this, degree, ghosts); !problem.empty())
+    return problem;
   for (std::size_t i = 0; i < corner_.size(); ++i) {
     const auto e = static_cast<EdgeId>(i);
     const EdgeId f = twin_[e];
@@ -199,70 +285,9 @@ std::string Triangulation::validate(ValidateOptions options) const {
     if (!constrained_.empty() && constrained_[e] != constrained_[f])
       return describe_edge(*this, e) + " is constrained on one side only";
   }
-
-  // Every vertex used, exactly one fan around it (a manifold), Euler's formula.
-  for (std::size_t v = 0; v < nv; ++v)
-    if (!degree[v]) return "vertex " + std::to_string(v) + " is in no triangle";
-  std::vector<EdgeId> out_edge(nv, kNoId);
-  for (std::size_t i = 0; i < corner_.size(); ++i)
-    if (corner_[i] < kInfinite) out_edge[corner_[i]] = static_cast<EdgeId>(i);
-  for (std::size_t v = 0; v < nv; ++v) {
-    std::uint32_t around = 0;
-    EdgeId e = out_edge[v];
-    do {
-      e = twin_[prev_edge(e)];  // the next half-edge leaving v, counter-clockwise
-      if (++around > degree[v]) break;
-    } while (e != out_edge[v]);
-    if (around != degree[v])
-      return "vertex " + std::to_string(v) + " has more than one fan of triangles";
-  }
-  if (slots + 2 != 2 * nv) return "Euler's formula fails: wrong number of triangles";
-
-  // The hull: ghosts chain into one polygon that winds once (its convexity is checked with the
-  // edges between ghosts below). Exactly, in signs only: the direction of hull edge u -> v turns
-  // at v by less than half a turn either way (orient2d tells which way, and a collinear edge
-  // turns by 0 or doubles back), so the winding number is the count of the turns that carry the
-  // direction across the +x axis counter-clockwise, less those that carry it back. A direction
-  // is above the axis when dy > 0 or (dy = 0 and dx > 0); the sign of a difference of doubles
-  // is exact, so even coordinates 1e-320 apart (a LAS scale of 5e-324) are judged right.
-  const auto upper = [](Point2 a, Point2 b) { return b.y > a.y || (b.y == a.y && b.x > a.x); };
-  long long winding = 0;
-  for (std::size_t i = 0; i < corner_.size(); ++i) {
-    const auto e = static_cast<EdgeId>(i);
-    if (apex(e) != kInfinite) continue;
-    // Ghost (u, v, inf); the next ghost along the hull is (v, w, inf), across v -> inf.
-    const VertexId u = origin(e), v = dest(e);
-    const EdgeId g = next_edge(twin_[next_edge(e)]);
-    if (origin(g) != v || apex(g) != kInfinite)
-      return describe_edge(*this, e) + ": hull ghosts are not chained";
-    const Point2 pu = xy_[u], pv = xy_[v], pw = xy_[dest(g)];
-    const int turn = predicates::orient2d(pu, pv, pw);
-    const bool up_in = upper(pu, pv), up_out = upper(pv, pw);
-    if (turn == 0) {
-      // Straight on, or back along itself (a hull that folds: never valid).
-      if ((pv.x < pu.x) != (pw.x < pv.x) || (pv.x > pu.x) != (pw.x > pv.x) ||
-          (pv.y < pu.y) != (pw.y < pv.y) || (pv.y > pu.y) != (pw.y > pv.y))
-        return describe_edge(*this, e) + ": the hull doubles back on itself";
-    } else if (turn > 0 && !up_in && up_out) {
-      ++winding;
-    } else if (turn < 0 && up_in && !up_out) {
-      --winding;
-    }
-  }
-  if (ghosts > 0 && winding != 1 && winding != -1)
-    return "the hull does not wind once around the triangulation";
-
-  // Local Delaunay (or hull convexity, for the edges between two ghosts).
-  for (std::size_t i = 0; i < corner_.size(); ++i) {
-    const auto e = static_cast<EdgeId>(i);
-    if (is_constrained(e)) continue;
-    if (!options.delaunay && origin(e) != kInfinite && dest(e) != kInfinite) continue;
-    if (!is_locally_delaunay(*this, e))
-      return describe_edge(*this, e) + (origin(e) == kInfinite || dest(e) == kInfinite
-                                            ? " leaves the hull non-convex"
-                                            : " is not locally Delaunay");
-  }
-  return {};
+  if (std::string problem = check_fans(*this, degree); !problem.empty()) return problem;
+  if (std::string problem = check_hull(*this, ghosts); !problem.empty()) return problem;
+  return check_local_delaunay(*this, options.delaunay);
 }
 
 }  // namespace tincdt::mesh

@@ -3,13 +3,12 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <exception>
 #include <limits>
-#include <mutex>
 #include <string>
-#include <thread>
+#include <vector>
 
 #include "core/error.hpp"
+#include "core/parallel.hpp"
 
 namespace tincdt::products {
 
@@ -193,17 +192,15 @@ class LevelTracer {
   std::vector<Point2> raw_;
 };
 
-}  // namespace
+// The levels k_lo + j, j in [0, count), that cross the TIN: level(k) for k in [k_lo, k_hi] has
+// z_min < level <= z_max (a level at z_min crosses nothing: the lowest vertices count as above
+// it). No levels when the TIN has no kept triangle or no level falls in its z range.
+struct LevelRange {
+  std::int64_t k_lo = 0;
+  std::size_t count = 0;
+};
 
-ContourSet trace_contours(const mesh::Triangulation& tin, const ContourOptions& options) {
-  const double interval = options.interval, base = options.base;
-  if (!(interval > 0) || !std::isfinite(interval))
-    throw Error("the contour interval must be a positive number, not " + std::to_string(interval));
-  if (!std::isfinite(base)) throw Error("the contour base must be a finite number");
-  ContourSet result;
-
-  // Level range over the kept vertices; level(k) for k in [k_lo, k_hi] has z_min < level <= z_max
-  // (a level at z_min crosses nothing: the lowest vertices count as above it).
+LevelRange level_range(const mesh::Triangulation& tin, double base, double interval) {
   double z_min = std::numeric_limits<double>::infinity(), z_max = -z_min;
   tin.for_each_triangle([&](TriangleId, const std::array<VertexId, 3>& c) {
     for (const VertexId v : c) {
@@ -211,7 +208,7 @@ ContourSet trace_contours(const mesh::Triangulation& tin, const ContourOptions& 
       z_max = std::max(z_max, tin.z(v));
     }
   });
-  if (!(z_min <= z_max)) return result;
+  if (!(z_min <= z_max)) return {};
   if (!std::isfinite(z_min) || !std::isfinite(z_max))
     throw Error("the TIN has a vertex whose z is not a finite number");
   // Levels closer than the doubles near them would repeat: 2^-40 of the magnitude is far below
@@ -226,75 +223,49 @@ ContourSet trace_contours(const mesh::Triangulation& tin, const ContourOptions& 
                 std::to_string(kMaxLevels) + " levels over the TIN's z range");
   const std::int64_t k_lo = first_level_above(base, interval, z_min);
   const std::int64_t k_hi = first_level_above(base, interval, z_max) - 1;
-  if (k_hi < k_lo) return result;
-  const auto levels = static_cast<std::size_t>(k_hi - k_lo + 1);
-  result.levels = levels;
+  if (k_hi < k_lo) return {};
+  return {k_lo, static_cast<std::size_t>(k_hi - k_lo + 1)};
+}
 
-  // The crossed triangles of each level (CSR by level, triangles in id order within a level).
+// The crossed triangles of each level (CSR by level: level j's are crossed[start[j],
+// start[j + 1]), in id order).
+struct CrossedIndex {
+  std::vector<std::size_t> start;
+  std::vector<TriangleId> crossed;
+};
+
+CrossedIndex index_crossings(const mesh::Triangulation& tin, double base, double interval,
+                             LevelRange levels) {
   const auto slots = static_cast<TriangleId>(tin.triangle_slots());
-  std::vector<std::size_t> start(levels + 1, 0);
-  const auto level_range = [&](TriangleId t, std::int64_t& lo, std::int64_t& hi) {
+  CrossedIndex index;
+  std::vector<std::size_t>& start = index.start;
+  start.assign(levels.count + 1, 0);
+  const auto crossing = [&](TriangleId t, std::int64_t& lo, std::int64_t& hi) {
     const auto c = tin.triangle(t);
     const double a = tin.z(c[0]), b = tin.z(c[1]), d = tin.z(c[2]);
-    lo = first_level_above(base, interval, std::min({a, b, d})) - k_lo;
-    hi = first_level_above(base, interval, std::max({a, b, d})) - 1 - k_lo;
+    lo = first_level_above(base, interval, std::min({a, b, d})) - levels.k_lo;
+    hi = first_level_above(base, interval, std::max({a, b, d})) - 1 - levels.k_lo;
   };
   for (TriangleId t = 0; t < slots; ++t) {
     if (!tin.is_kept(t)) continue;
     std::int64_t lo, hi;
-    level_range(t, lo, hi);
+    crossing(t, lo, hi);
     for (std::int64_t j = lo; j <= hi; ++j) ++start[static_cast<std::size_t>(j) + 1];
   }
-  for (std::size_t j = 0; j < levels; ++j) start[j + 1] += start[j];
-  std::vector<TriangleId> crossed(start[levels]);
-  {
-    std::vector<std::size_t> fill(start.begin(), start.end() - 1);
-    for (TriangleId t = 0; t < slots; ++t) {
-      if (!tin.is_kept(t)) continue;
-      std::int64_t lo, hi;
-      level_range(t, lo, hi);
-      for (std::int64_t j = lo; j <= hi; ++j) crossed[fill[static_cast<std::size_t>(j)]++] = t;
-    }
+  for (std::size_t j = 0; j < levels.count; ++j) start[j + 1] += start[j];
+  index.crossed.resize(start[levels.count]);
+  std::vector<std::size_t> fill(start.begin(), start.end() - 1);
+  for (TriangleId t = 0; t < slots; ++t) {
+    if (!tin.is_kept(t)) continue;
+    std::int64_t lo, hi;
+    crossing(t, lo, hi);
+    for (std::int64_t j = lo; j <= hi; ++j) index.crossed[fill[static_cast<std::size_t>(j)]++] = t;
   }
+  return index;
+}
 
-  // Levels are independent: threads take them in turn, each with its own stamps.
-  unsigned threads = options.threads != 0 ? options.threads : std::thread::hardware_concurrency();
-  threads =
-      std::clamp<unsigned>(threads, 1, static_cast<unsigned>(std::min<std::size_t>(levels, 64)));
-  std::vector<ContourSet> per_level(levels);
-  Progress progress(options.progress, "contours", levels);
-  std::atomic<std::size_t> next_level{0}, levels_done{0};
-  std::atomic<bool> stop{false};
-  std::exception_ptr failure;
-  std::mutex failure_mutex;
-  const auto work = [&](bool reports) {
-    try {
-      std::vector<std::uint32_t> stamp(slots, 0);
-      LevelTracer tracer(tin, stamp);
-      for (;;) {
-        if (stop.load(std::memory_order_relaxed)) break;
-        const std::size_t j = next_level.fetch_add(1);
-        if (j >= levels) break;
-        const double level = contour_level(base, interval, k_lo + static_cast<std::int64_t>(j));
-        tracer.trace(level, static_cast<std::uint32_t>(j + 1), crossed.data() + start[j],
-                     start[j + 1] - start[j], per_level[j]);
-        const std::size_t done = levels_done.fetch_add(1) + 1;
-        if (reports) progress.tick(done);
-      }
-    } catch (...) {
-      stop = true;
-      const std::lock_guard<std::mutex> lock(failure_mutex);
-      if (!failure) failure = std::current_exception();
-    }
-  };
-  std::vector<std::thread> pool;
-  pool.reserve(threads - 1);
-  for (unsigned i = 1; i < threads; ++i) pool.emplace_back(work, false);
-  work(true);
-  for (std::thread& th : pool) th.join();
-  if (failure) std::rethrow_exception(failure);
-  std::vector<TriangleId>().swap(crossed);
-
+// Appends the lines of every level, in level order, to RESULT, emptying PER_LEVEL as it goes.
+void append_levels(std::vector<ContourSet>& per_level, ContourSet& result) {
   std::size_t n_lines = 0, n_points = 0;
   for (const ContourSet& s : per_level) {
     n_lines += s.lines.size();
@@ -312,6 +283,52 @@ ContourSet trace_contours(const mesh::Triangulation& tin, const ContourOptions& 
     std::vector<ContourLine>().swap(s.lines);
     std::vector<Point2>().swap(s.points);
   }
+}
+
+}  // namespace
+
+ContourSet trace_contours(const mesh::Triangulation& tin, const ContourOptions& options) {
+  const double interval = options.interval, base = options.base;
+  if (!(interval > 0) || !std::isfinite(interval))
+    throw Error("the contour interval must be a positive number, not " + std::to_string(interval));
+  if (!std::isfinite(base)) throw Error("the contour base must be a finite number");
+  ContourSet result;
+  const LevelRange range = level_range(tin, base, interval);
+  if (range.count == 0) return result;
+  const std::size_t levels = range.count;
+  result.levels = levels;
+  CrossedIndex index = index_crossings(tin, base, interval, range);
+
+  // Levels are independent: threads take them in turn, each with its own stamps.
+  const std::size_t threads =
+      std::clamp<std::size_t>(thread_count(options.threads), 1, std::min<std::size_t>(levels, 64));
+  const auto slots = static_cast<TriangleId>(tin.triangle_slots());
+  std::vector<ContourSet> per_level(levels);
+  Progress progress(options.progress, "contours", levels);
+  std::atomic<std::size_t> next_level{0}, levels_done{0};
+  std::atomic<bool> stop{false};
+  run_workers(threads, [&](std::size_t worker) {
+    try {
+      std::vector<std::uint32_t> stamp(slots, 0);
+      LevelTracer tracer(tin, stamp);
+      while (!stop.load(std::memory_order_relaxed)) {
+        const std::size_t j = next_level.fetch_add(1);
+        if (j >= levels) break;
+        const double level =
+            contour_level(base, interval, range.k_lo + static_cast<std::int64_t>(j));
+        tracer.trace(level, static_cast<std::uint32_t>(j + 1),
+                     index.crossed.data() + index.start[j], index.start[j + 1] - index.start[j],
+                     per_level[j]);
+        const std::size_t done = levels_done.fetch_add(1) + 1;
+        if (worker == 0) progress.tick(done);  // the callback need not be thread-safe
+      }
+    } catch (...) {
+      stop = true;
+      throw;
+    }
+  });
+  std::vector<TriangleId>().swap(index.crossed);
+  append_levels(per_level, result);
   progress.finish();
   return result;
 }

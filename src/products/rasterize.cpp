@@ -2,12 +2,10 @@
 
 #include <algorithm>
 #include <atomic>
-#include <exception>
-#include <mutex>
-#include <thread>
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/parallel.hpp"
 
 namespace tincdt::products {
 
@@ -86,23 +84,22 @@ bool owns_point(const mesh::Triangulation& tin, TriangleId t, Point2 p) {
   return owns_vertex(tin, zero_edge);
 }
 
-template <class T>
-RasterizeStats rasterize(const mesh::Triangulation& tin, const Grid& grid, T nodata,
-                         std::span<T> cells, const RasterizeOptions& options) {
-  if (cells.size() != grid.cells())
-    throw Error("rasterize: " + std::to_string(cells.size()) + " cells given for a grid of " +
-                std::to_string(grid.cells()));
-  RasterizeStats stats;
-  if (grid.cells() == 0) return stats;
-  unsigned threads = options.threads != 0 ? options.threads : std::thread::hardware_concurrency();
-  threads = std::max(1u, threads);
-  const std::uint32_t rows_per_band = band_rows(grid, threads);
-  const std::uint32_t bands = (grid.height + rows_per_band - 1) / rows_per_band;
+namespace {
 
-  // Triangles by band (CSR): a triangle goes to every band its rows reach.
+// The kept triangles of each band (CSR: band b's are triangles[start[b], start[b + 1])): a
+// triangle goes to every band its rows reach.
+struct BandIndex {
+  std::vector<std::size_t> start;
+  std::vector<TriangleId> triangles;
+};
+
+BandIndex index_bands(const mesh::Triangulation& tin, const Grid& grid, std::uint32_t rows_per_band,
+                      std::uint32_t bands) {
   const auto slots = static_cast<TriangleId>(tin.triangle_slots());
   std::vector<std::uint32_t> first_band(slots, kNoId), last_band(slots, 0);
-  std::vector<std::size_t> start(std::size_t{bands} + 1, 0);
+  BandIndex index;
+  index.start.assign(std::size_t{bands} + 1, 0);
+  std::vector<std::size_t>& start = index.start;
   for (TriangleId t = 0; t < slots; ++t) {
     if (!tin.is_kept(t)) continue;
     const auto c = tin.triangle(t);
@@ -116,85 +113,94 @@ RasterizeStats rasterize(const mesh::Triangulation& tin, const Grid& grid, T nod
     for (std::uint32_t b = first_band[t]; b <= last_band[t]; ++b) ++start[b + 1];
   }
   for (std::uint32_t b = 0; b < bands; ++b) start[b + 1] += start[b];
-  std::vector<TriangleId> band_triangles(start[bands]);
-  {
-    std::vector<std::size_t> fill(start.begin(), start.end() - 1);
-    for (TriangleId t = 0; t < slots; ++t) {
-      if (first_band[t] == kNoId) continue;
-      for (std::uint32_t b = first_band[t]; b <= last_band[t]; ++b) band_triangles[fill[b]++] = t;
-    }
+  index.triangles.resize(start[bands]);
+  std::vector<std::size_t> fill(start.begin(), start.end() - 1);
+  for (TriangleId t = 0; t < slots; ++t) {
+    if (first_band[t] == kNoId) continue;
+    for (std::uint32_t b = first_band[t]; b <= last_band[t]; ++b) index.triangles[fill[b]++] = t;
   }
-  std::vector<std::uint32_t>().swap(first_band);
-  std::vector<std::uint32_t>().swap(last_band);
+  return index;
+}
 
+// Writes the cells of rows [ROW_BEGIN, ROW_END) whose centres triangle T owns; returns how many.
+template <class T>
+std::uint64_t fill_triangle(const mesh::Triangulation& tin, const Grid& grid, TriangleId t,
+                            std::uint32_t row_begin, std::uint32_t row_end, std::span<T> cells) {
+  // The plane through the corners, as z(a) + gx (x - a.x) + gy (y - a.y): differences from a
+  // corner keep the digits of map coordinates. A is the corner smallest by (x, y) and the others
+  // follow in the triangle's order, so the same triangle gives the same doubles in any TIN that
+  // holds it (the DEM tiles of a tiled job match the whole job).
+  auto v = tin.triangle(t);
+  const auto before = [&tin](VertexId p, VertexId q) {
+    const Point2 pp = tin.point(p), pq = tin.point(q);
+    return pp.x < pq.x || (pp.x == pq.x && pp.y < pq.y);
+  };
+  if (before(v[1], v[0]) && before(v[1], v[2]))
+    v = {v[1], v[2], v[0]};
+  else if (before(v[2], v[0]) && before(v[2], v[1]))
+    v = {v[2], v[0], v[1]};
+  const Point2 a = tin.point(v[0]), pb = tin.point(v[1]), pc = tin.point(v[2]);
+  const double za = tin.z(v[0]);
+  const double bx = pb.x - a.x, by = pb.y - a.y, bz = tin.z(v[1]) - za;
+  const double cx = pc.x - a.x, cy = pc.y - a.y, cz = tin.z(v[2]) - za;
+  const double det = bx * cy - cx * by;
+  const double gx = (bz * cy - cz * by) / det;
+  const double gy = (cz * bx - bz * cx) / det;
+  std::uint64_t count = 0;
+  scan_triangle(tin, grid, t, row_begin, row_end,
+                [&](std::uint32_t row, std::uint32_t first, std::uint32_t end) {
+                  const double z_row = za + gy * (grid.centre_y(row) - a.y);
+                  T* out = cells.data() + std::size_t{row} * grid.width;
+                  for (std::uint32_t col = first; col < end; ++col)
+                    out[col] = static_cast<T>(z_row + gx * (grid.centre_x(col) - a.x));
+                  count += end - first;
+                });
+  return count;
+}
+
+}  // namespace
+
+template <class T>
+RasterizeStats rasterize(const mesh::Triangulation& tin, const Grid& grid, T nodata,
+                         std::span<T> cells, const RasterizeOptions& options) {
+  if (cells.size() != grid.cells())
+    throw Error("rasterize: " + std::to_string(cells.size()) + " cells given for a grid of " +
+                std::to_string(grid.cells()));
+  RasterizeStats stats;
+  if (grid.cells() == 0) return stats;
+  const auto threads = static_cast<unsigned>(thread_count(options.threads));
+  const std::uint32_t rows_per_band = band_rows(grid, threads);
+  const std::uint32_t bands = (grid.height + rows_per_band - 1) / rows_per_band;
+  const BandIndex index = index_bands(tin, grid, rows_per_band, bands);
+
+  // Threads take the bands in turn; each band's cells are its own.
   Progress progress(options.progress, "dem", bands);
   std::atomic<std::uint32_t> next_band{0};
   std::atomic<std::uint32_t> bands_done{0};
   std::atomic<bool> stop{false};
   std::atomic<std::uint64_t> with_value{0};
-  std::exception_ptr failure;
-  std::mutex failure_mutex;
-
-  const auto work = [&](bool reports) {
+  const auto work = [&](std::size_t worker) {
     try {
       std::uint64_t count = 0;
-      for (;;) {
-        if (stop.load(std::memory_order_relaxed)) break;
+      while (!stop.load(std::memory_order_relaxed)) {
         const std::uint32_t b = next_band.fetch_add(1);
         if (b >= bands) break;
         const std::uint32_t row_begin = b * rows_per_band;
         const std::uint32_t row_end = std::min(grid.height, row_begin + rows_per_band);
         T* band = cells.data() + std::size_t{row_begin} * grid.width;
         std::fill(band, band + std::size_t{row_end - row_begin} * grid.width, nodata);
-        for (std::size_t i = start[b]; i < start[b + 1]; ++i) {
-          const TriangleId t = band_triangles[i];
-          // The plane through the corners, as z(a) + gx (x - a.x) + gy (y - a.y): differences
-          // from a corner keep the digits of map coordinates. A is the corner smallest by (x, y)
-          // and the others follow in the triangle's order, so the same triangle gives the same
-          // doubles in any TIN that holds it (the DEM tiles of a tiled job match the whole job).
-          auto v = tin.triangle(t);
-          const auto before = [&tin](VertexId p, VertexId q) {
-            const Point2 pp = tin.point(p), pq = tin.point(q);
-            return pp.x < pq.x || (pp.x == pq.x && pp.y < pq.y);
-          };
-          if (before(v[1], v[0]) && before(v[1], v[2]))
-            v = {v[1], v[2], v[0]};
-          else if (before(v[2], v[0]) && before(v[2], v[1]))
-            v = {v[2], v[0], v[1]};
-          const Point2 a = tin.point(v[0]), pb = tin.point(v[1]), pc = tin.point(v[2]);
-          const double za = tin.z(v[0]);
-          const double bx = pb.x - a.x, by = pb.y - a.y, bz = tin.z(v[1]) - za;
-          const double cx = pc.x - a.x, cy = pc.y - a.y, cz = tin.z(v[2]) - za;
-          const double det = bx * cy - cx * by;
-          const double gx = (bz * cy - cz * by) / det;
-          const double gy = (cz * bx - bz * cx) / det;
-          scan_triangle(tin, grid, t, row_begin, row_end,
-                        [&](std::uint32_t row, std::uint32_t first, std::uint32_t end) {
-                          const double z_row = za + gy * (grid.centre_y(row) - a.y);
-                          T* out = cells.data() + std::size_t{row} * grid.width;
-                          for (std::uint32_t col = first; col < end; ++col)
-                            out[col] = static_cast<T>(z_row + gx * (grid.centre_x(col) - a.x));
-                          count += end - first;
-                        });
-        }
+        for (std::size_t i = index.start[b]; i < index.start[b + 1]; ++i)
+          count += fill_triangle(tin, grid, index.triangles[i], row_begin, row_end, cells);
         const std::uint32_t done = bands_done.fetch_add(1) + 1;
-        if (reports) progress.tick(done);
+        if (worker == 0) progress.tick(done);  // the callback need not be thread-safe
       }
       with_value.fetch_add(count);
     } catch (...) {
       stop = true;
-      const std::lock_guard<std::mutex> lock(failure_mutex);
-      if (!failure) failure = std::current_exception();
+      throw;
     }
   };
-
-  std::vector<std::thread> pool;
-  const unsigned helpers = std::min<unsigned>(threads, bands) - 1;
-  pool.reserve(helpers);
-  for (unsigned i = 0; i < helpers; ++i) pool.emplace_back(work, false);
-  work(true);  // the caller's thread reports progress (the callback need not be thread-safe)
-  for (std::thread& th : pool) th.join();
-  if (failure) std::rethrow_exception(failure);
+  run_workers(std::min<unsigned>(threads, bands), work);
   progress.finish();
   stats.cells_with_value = with_value.load();
   return stats;

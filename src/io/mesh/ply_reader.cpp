@@ -1,5 +1,6 @@
 #include "io/mesh/ply_reader.hpp"
 
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <cstring>
@@ -127,8 +128,11 @@ class Values {
     if (start == stop) fail("the file ends inside the data");
     double v = 0;
     const auto [ptr, ec] = std::from_chars(start, stop, v);
-    if (ec != std::errc() || ptr != stop)
-      fail("'" + std::string(start, stop) + "' is not a number");
+    if (ec != std::errc() || ptr != stop) {
+      std::string what = "'";  // appended, not concatenated: GCC 12 -Wrestrict misfires there
+      what.append(start, stop).append("' is not a number");
+      fail(what);
+    }
     return v;
   }
 
@@ -146,24 +150,15 @@ std::uint32_t index_of(Values& in, double v, std::size_t vertices, const char* w
   return static_cast<std::uint32_t>(v);
 }
 
-}  // namespace
-
-PlyMesh read_ply(const std::string& path) {
-  const detail::MappedFile file(path);
-  const auto* data = file.data();
-  const std::size_t size = file.size();
-  const std::string_view text(reinterpret_cast<const char*>(data), size);
-  const std::size_t end_header = text.find("end_header");
-  if (size < 4 || text.substr(0, 4) != "ply\n" || end_header == std::string_view::npos)
-    throw InputError(path, "", "not a PLY file");
-  std::size_t body = text.find('\n', end_header);
-  if (body == std::string_view::npos) throw InputError(path, "header", "no data after the header");
-  ++body;
-
-  PlyMesh mesh;
+// The header's elements and format; the offset and CRS comments go into MESH.
+struct Header {
   std::vector<Element> elements;
   bool ascii = false;
-  std::istringstream header{std::string(text.substr(0, end_header))};
+};
+
+Header read_header(const std::string& path, std::string_view text, PlyMesh& mesh) {
+  Header h;
+  std::istringstream header{std::string(text)};
   std::size_t line_no = 0;
   for (std::string line; std::getline(header, line);) {
     ++line_no;
@@ -178,7 +173,7 @@ PlyMesh read_ply(const std::string& path) {
       std::string f;
       ls >> f;
       if (f == "ascii")
-        ascii = true;
+        h.ascii = true;
       else if (f != "binary_little_endian")
         bad("format '" + f + "' (ascii and binary_little_endian are read)");
     } else if (word == "comment") {
@@ -195,9 +190,9 @@ PlyMesh read_ply(const std::string& path) {
     } else if (word == "element") {
       Element e;
       if (!(ls >> e.name >> e.count)) bad("an element needs a name and a count");
-      elements.push_back(std::move(e));
+      h.elements.push_back(std::move(e));
     } else if (word == "property") {
-      if (elements.empty()) bad("a property before any element");
+      if (h.elements.empty()) bad("a property before any element");
       Property p;
       std::string type;
       ls >> type;
@@ -211,75 +206,114 @@ PlyMesh read_ply(const std::string& path) {
         ls >> p.name;
         if (!parse_type(type, p.type)) bad("unknown property type '" + type + "'");
       }
-      elements.back().props.push_back(std::move(p));
+      h.elements.back().props.push_back(std::move(p));
     } else if (word != "ply" && word != "obj_info" && !word.empty()) {
       bad("unknown header line '" + word + "'");
     }
   }
+  return h;
+}
 
-  Values in(path, data + body, data + size, ascii);
-  for (const Element& e : elements) {
-    // Every element needs at least this many bytes: refuse counts the file cannot hold before
-    // allocating for them.
-    std::size_t min_bytes = 0;
-    for (const Property& p : e.props)
-      min_bytes += ascii ? 2 : size_of(p.list ? p.count_type : p.type);
-    if (min_bytes > 0 && e.count > in.remaining() / min_bytes)
-      in.fail("element '" + e.name + "' announces " + std::to_string(e.count) +
-              " items, more than the file holds");
-    const int x = e.find("x"), y = e.find("y"), z = e.find("z");
-    const int v1 = e.find("vertex1"), v2 = e.find("vertex2"), apex = e.find("apex");
-    const int constrained = e.find("constrained");
-    int list = e.find("vertex_indices");
-    if (list < 0) list = e.find("vertex_index");
-    const bool is_vertex = e.name == "vertex", is_face = e.name == "face",
-               is_edge = e.name == "edge";
-    if (is_vertex && (x < 0 || y < 0 || z < 0)) in.fail("vertices without x, y and z");
-    if (is_face && (list < 0 || !e.props[static_cast<std::size_t>(list)].list))
-      in.fail("faces without a vertex_indices list");
-    if (is_edge && (v1 < 0 || v2 < 0)) in.fail("edges without vertex1 and vertex2");
-    if (is_vertex) mesh.vertices.reserve(static_cast<std::size_t>(e.count));
-    if (is_face) mesh.faces.reserve(static_cast<std::size_t>(e.count));
-    if (is_edge) mesh.edges.reserve(static_cast<std::size_t>(e.count));
-    if (is_edge && apex >= 0) mesh.outline = true;
-    std::vector<double> row(e.props.size());
-    std::array<std::uint32_t, 3> face{};
-    for (std::uint64_t k = 0; k < e.count; ++k) {
-      for (std::size_t i = 0; i < e.props.size(); ++i) {
-        const Property& p = e.props[i];
-        if (!p.list) {
-          row[i] = in.get(p.type);
-          continue;
-        }
-        const double n = in.get(p.count_type);
-        if (!(n >= 0 && n == std::floor(n))) in.fail("a list with a bad count");
-        if (is_face && static_cast<int>(i) == list) {
-          if (n != 3) in.fail("face " + std::to_string(k) + " is not a triangle");
-          for (auto& c : face) c = index_of(in, in.get(p.type), mesh.vertices.size(), "a face");
-        } else {
-          for (double j = 0; j < n; ++j) in.get(p.type);
-        }
+// Where an element's wanted properties are (-1: absent), and which kind of element it is.
+struct Columns {
+  int x, y, z, v1, v2, apex, constrained, list;
+  bool is_vertex, is_face, is_edge;
+};
+
+// The columns of E, checked against what its kind needs, and its count against the bytes left.
+Columns columns_of(Values& in, const Element& e, bool ascii) {
+  // Every element needs at least this many bytes: refuse counts the file cannot hold before
+  // allocating for them.
+  std::size_t min_bytes = 0;
+  for (const Property& p : e.props)
+    min_bytes += ascii ? 2 : size_of(p.list ? p.count_type : p.type);
+  if (min_bytes > 0 && e.count > in.remaining() / min_bytes)
+    in.fail("element '" + e.name + "' announces " + std::to_string(e.count) +
+            " items, more than the file holds");
+  Columns c{};
+  c.x = e.find("x"), c.y = e.find("y"), c.z = e.find("z");
+  c.v1 = e.find("vertex1"), c.v2 = e.find("vertex2"), c.apex = e.find("apex");
+  c.constrained = e.find("constrained");
+  c.list = e.find("vertex_indices");
+  if (c.list < 0) c.list = e.find("vertex_index");
+  c.is_vertex = e.name == "vertex", c.is_face = e.name == "face", c.is_edge = e.name == "edge";
+  if (c.is_vertex && (c.x < 0 || c.y < 0 || c.z < 0)) in.fail("vertices without x, y and z");
+  if (c.is_face && (c.list < 0 || !e.props[static_cast<std::size_t>(c.list)].list))
+    in.fail("faces without a vertex_indices list");
+  if (c.is_edge && (c.v1 < 0 || c.v2 < 0)) in.fail("edges without vertex1 and vertex2");
+  return c;
+}
+
+// Stores item K of an element (its scalar values ROW, its face FACE) in MESH.
+void store_item(Values& in, const Columns& c, std::uint64_t k, const std::vector<double>& row,
+                const std::array<std::uint32_t, 3>& face, PlyMesh& mesh) {
+  const auto at = [&row](int column) { return row[static_cast<std::size_t>(column)]; };
+  if (c.is_vertex) {
+    const Point3 v{at(c.x) + mesh.offset.x, at(c.y) + mesh.offset.y, at(c.z) + mesh.offset.z};
+    if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
+      in.fail("vertex " + std::to_string(k) + " is not finite");
+    mesh.vertices.push_back(v);
+  } else if (c.is_face) {
+    mesh.faces.push_back(face);
+  } else if (c.is_edge) {
+    PlyMesh::Edge edge;
+    const std::size_t nv = mesh.vertices.size();
+    edge.a = index_of(in, at(c.v1), nv, "an edge");
+    edge.b = index_of(in, at(c.v2), nv, "an edge");
+    if (c.apex >= 0) edge.apex = index_of(in, at(c.apex), nv, "an edge");
+    if (c.constrained >= 0) edge.constrained = at(c.constrained) != 0;
+    mesh.edges.push_back(edge);
+  }
+}
+
+// Reads the items of element E into MESH (vertices, faces and edges; others are skipped).
+void read_element(Values& in, const Element& e, bool ascii, PlyMesh& mesh) {
+  const Columns c = columns_of(in, e, ascii);
+  if (c.is_vertex) mesh.vertices.reserve(static_cast<std::size_t>(e.count));
+  if (c.is_face) mesh.faces.reserve(static_cast<std::size_t>(e.count));
+  if (c.is_edge) mesh.edges.reserve(static_cast<std::size_t>(e.count));
+  if (c.is_edge && c.apex >= 0) mesh.outline = true;
+  std::vector<double> row(e.props.size());
+  std::array<std::uint32_t, 3> face{};
+  for (std::uint64_t k = 0; k < e.count; ++k) {
+    for (std::size_t i = 0; i < e.props.size(); ++i) {
+      const Property& p = e.props[i];
+      if (!p.list) {
+        row[i] = in.get(p.type);
+        continue;
       }
-      if (is_vertex) {
-        const Point3 v{row[static_cast<std::size_t>(x)] + mesh.offset.x,
-                       row[static_cast<std::size_t>(y)] + mesh.offset.y,
-                       row[static_cast<std::size_t>(z)] + mesh.offset.z};
-        if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
-          in.fail("vertex " + std::to_string(k) + " is not finite");
-        mesh.vertices.push_back(v);
-      } else if (is_face) {
-        mesh.faces.push_back(face);
-      } else if (is_edge) {
-        PlyMesh::Edge edge;
-        const std::size_t nv = mesh.vertices.size();
-        edge.a = index_of(in, row[static_cast<std::size_t>(v1)], nv, "an edge");
-        edge.b = index_of(in, row[static_cast<std::size_t>(v2)], nv, "an edge");
-        if (apex >= 0) edge.apex = index_of(in, row[static_cast<std::size_t>(apex)], nv, "an edge");
-        if (constrained >= 0) edge.constrained = row[static_cast<std::size_t>(constrained)] != 0;
-        mesh.edges.push_back(edge);
+      const double n = in.get(p.count_type);
+      if (!(n >= 0 && n == std::floor(n))) in.fail("a list with a bad count");
+      if (c.is_face && static_cast<int>(i) == c.list) {
+        if (n != 3) in.fail("face " + std::to_string(k) + " is not a triangle");
+        for (auto& corner : face)
+          corner = index_of(in, in.get(p.type), mesh.vertices.size(), "a face");
+      } else {
+        for (double j = 0; j < n; ++j) in.get(p.type);
       }
     }
+    store_item(in, c, k, row, face, mesh);
   }
+}
+
+}  // namespace
+
+PlyMesh read_ply(const std::string& path) {
+  const detail::MappedFile file(path);
+  const auto* data = file.data();
+  const std::size_t size = file.size();
+  const std::string_view text(reinterpret_cast<const char*>(data), size);
+  const std::size_t end_header = text.find("end_header");
+  if (size < 4 || text.substr(0, 4) != "ply\n" || end_header == std::string_view::npos)
+    throw InputError(path, "", "not a PLY file");
+  std::size_t body = text.find('\n', end_header);
+  if (body == std::string_view::npos) throw InputError(path, "header", "no data after the header");
+  ++body;
+
+  PlyMesh mesh;
+  const Header header = read_header(path, text.substr(0, end_header), mesh);
+  Values in(path, data + body, data + size, header.ascii);
+  for (const Element& e : header.elements) read_element(in, e, header.ascii, mesh);
   return mesh;
 }
 

@@ -23,11 +23,11 @@
 #include <new>
 #include <string>
 #include <string_view>
-#include <thread>
 #include <vector>
 
 #include "core/coordinates.hpp"
 #include "core/error.hpp"
+#include "core/parallel.hpp"
 #include "io/mapped_file.hpp"
 #include "io/points/point_reader.hpp"
 
@@ -399,10 +399,9 @@ Start find_start(const char* b, const char* e, bool at_eof) {
                    "a carriage return (CR) inside the line: " + std::string(kCrOnlyAdvice));
 }
 
-// THREADS, or every core for 0.
-unsigned thread_count(unsigned threads) {
-  const unsigned hw = threads != 0 ? threads : std::thread::hardware_concurrency();
-  return std::clamp(hw, 1u, kMaxThreads);
+// THREADS, or every core for 0, at most kMaxThreads.
+unsigned parser_threads(unsigned threads) {
+  return static_cast<unsigned>(std::min<std::size_t>(thread_count(threads), kMaxThreads));
 }
 
 // Parses the whole lines of [b, e), cut into up to THREADS pieces at newlines, and appends the
@@ -423,22 +422,19 @@ std::size_t parse_window(const std::string& name, const char* b, const char* e,
   if (scratch.size() < pieces) scratch.resize(pieces);
   std::vector<PieceResult> results(pieces);
   const std::size_t before = out.size();
-  {
-    // Joins the workers however this block is left (a thread that fails to start throws).
-    struct Workers {
-      std::vector<std::thread> threads;
-      ~Workers() {
-        for (std::thread& t : threads) t.join();
-      }
-    } workers;
-    workers.threads.reserve(pieces - 1);
-    for (std::size_t i = 1; i < pieces; ++i) {
-      scratch[i].clear();
-      workers.threads.emplace_back(parse_piece, cut[i], cut[i + 1], std::cref(layout),
-                                   std::ref(scratch[i]), std::ref(results[i]));
-    }
-    parse_piece(cut[0], cut[1], layout, out, results[0]);  // piece 0 straight into `out`
-  }
+  parallel_chunks(
+      pieces, pieces,
+      [&](std::size_t first, std::size_t last) {
+        for (std::size_t i = first; i < last; ++i) {
+          if (i == 0) {
+            parse_piece(cut[0], cut[1], layout, out, results[0]);  // straight into `out`
+          } else {
+            scratch[i].clear();
+            parse_piece(cut[i], cut[i + 1], layout, scratch[i], results[i]);
+          }
+        }
+      },
+      1);
   for (std::size_t i = 0; i < pieces; ++i) {
     const PieceResult& r = results[i];
     if (r.exception) std::rethrow_exception(r.exception);
@@ -478,7 +474,7 @@ PointReadStats read_mapped(const std::string& path, std::vector<Point3>& out,
   PointReadStats stats;
   stats.format = "xyz";
   reserve_for(start.data, static_cast<std::size_t>(e - start.data), out);
-  const unsigned threads = thread_count(threads_wanted);
+  const unsigned threads = parser_threads(threads_wanted);
   const std::size_t window = kPieceBytes * threads;
   std::vector<std::vector<Point3>> scratch;
   std::size_t lines = start.lines_before;
@@ -498,7 +494,7 @@ PointReadStats read_mapped(const std::string& path, std::vector<Point3>& out,
 
 PointReadStats read_stream(int fd, const std::string& name, std::vector<Point3>& out,
                            unsigned threads_wanted) {
-  const unsigned threads = thread_count(threads_wanted);
+  const unsigned threads = parser_threads(threads_wanted);
   // The buffer starts small (stdin often holds a few lines) and doubles each time the input
   // fills it, up to one window of parallel parsing: larger than kMaxLineBytes, so that a full
   // buffer always holds a line end or an over-long line.

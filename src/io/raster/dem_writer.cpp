@@ -6,10 +6,10 @@
 #include <limits>
 #include <optional>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/parallel.hpp"
 #include "io/gdal_support.hpp"
 #include "io/mesh/writer_detail.hpp"
 
@@ -31,44 +31,36 @@ struct ProgressBridge {
 
 constexpr int kBlock = 512;  // tile size, and the largest overview's side bound (as COG's AUTO)
 
-// Runs f(begin, end) over [0, n) in THREADS contiguous chunks.
-template <class F>
-void in_chunks(std::size_t n, unsigned threads, F&& f) {
-  threads = static_cast<unsigned>(std::clamp<std::size_t>(n / 64, 1, threads));
-  std::vector<std::thread> pool;
-  for (unsigned i = 1; i < threads; ++i)
-    pool.emplace_back([&f, i, n, threads] { f(n * i / threads, n * (i + 1) / threads); });
-  f(0, n / threads);
-  for (std::thread& t : pool) t.join();
-}
-
 // One overview level from the one above it (W x H cells): each cell the mean of the up to 2 x 2
 // cells with a value under it, nodata when none has one. The average of GDAL's overviews;
 // computed here on every thread because GDAL 3.6 builds overviews on one, and the pyramid of a
 // large DEM took longer than its tiles.
 template <class T>
 std::vector<T> halve(const T* above, std::size_t w, std::size_t h, double nodata,
-                     unsigned threads) {
+                     std::size_t threads) {
   const std::size_t ow = (w + 1) / 2, oh = (h + 1) / 2;
   std::vector<T> level(ow * oh);
   const bool nan_nodata = std::isnan(nodata);
   const T no = static_cast<T>(nodata);
-  in_chunks(oh, threads, [&](std::size_t r0, std::size_t r1) {
-    for (std::size_t r = r0; r < r1; ++r) {
-      for (std::size_t c = 0; c < ow; ++c) {
-        double sum = 0;
-        int n = 0;
-        for (std::size_t dr = 0; dr < 2 && 2 * r + dr < h; ++dr)
-          for (std::size_t dc = 0; dc < 2 && 2 * c + dc < w; ++dc) {
-            const T v = above[(2 * r + dr) * w + 2 * c + dc];
-            if (nan_nodata ? std::isnan(v) : v == no) continue;
-            sum += v;
-            ++n;
+  parallel_chunks(
+      threads, oh,
+      [&](std::size_t r0, std::size_t r1) {
+        for (std::size_t r = r0; r < r1; ++r) {
+          for (std::size_t c = 0; c < ow; ++c) {
+            double sum = 0;
+            int n = 0;
+            for (std::size_t dr = 0; dr < 2 && 2 * r + dr < h; ++dr)
+              for (std::size_t dc = 0; dc < 2 && 2 * c + dc < w; ++dc) {
+                const T v = above[(2 * r + dr) * w + 2 * c + dc];
+                if (nan_nodata ? std::isnan(v) : v == no) continue;
+                sum += v;
+                ++n;
+              }
+            level[r * ow + c] = n > 0 ? static_cast<T>(sum / n) : no;
           }
-        level[r * ow + c] = n > 0 ? static_cast<T>(sum / n) : no;
-      }
-    }
-  });
+        }
+      },
+      64);
   return level;
 }
 
@@ -76,7 +68,7 @@ std::vector<T> halve(const T* above, std::size_t w, std::size_t h, double nodata
 // created empty by GDAL ("NONE") and filled here.
 template <class T>
 bool add_overviews(GDALDataset& source, GDALRasterBand& band, const T* top, std::size_t w,
-                   std::size_t h, GDALDataType type, double nodata, unsigned threads) {
+                   std::size_t h, GDALDataType type, double nodata, std::size_t threads) {
   std::vector<int> factors;
   for (std::size_t f = 2, ow = w, oh = h; std::max(ow, oh) > kBlock; f *= 2) {
     factors.push_back(static_cast<int>(f));
@@ -157,8 +149,7 @@ DemWriteStats write(OutputFile& out, const products::Grid& grid, std::span<const
   GDALRasterBand* band = source->GetRasterBand(1);
   band->SetNoDataValue(nodata);
 
-  const unsigned threads =
-      options.threads != 0 ? options.threads : std::max(1u, std::thread::hardware_concurrency());
+  const std::size_t threads = thread_count(options.threads);
   // The defaults, then the caller's creation options, which win (GDAL takes the last of a
   // name). Unless they ask GDAL for its own overviews, the pyramid is computed here.
   CPLStringList cog_options;

@@ -159,7 +159,9 @@ class RgbDecoder {
     for (SymbolModel& m : diff_) m.reset();
   }
 
-  void decode(ArithmeticDecoder& dec, const std::uint16_t* last, std::uint16_t* out) {
+  // Inlined: once per point in the decoder loops, where GCC's own choice varies with the caller.
+  TINCDT_LAZ_INLINE void decode(ArithmeticDecoder& dec, const std::uint16_t* last,
+                                std::uint16_t* out) {
     const std::uint32_t used = dec.decode_symbol(used_);
     const auto lo = [&](int c) { return static_cast<std::int32_t>(last[c] & 0xFFu); };
     const auto hi = [&](int c) { return static_cast<std::int32_t>(last[c] >> 8); };

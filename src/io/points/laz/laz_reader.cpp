@@ -5,11 +5,11 @@
 #include <condition_variable>
 #include <exception>
 #include <mutex>
-#include <system_error>
-#include <thread>
+#include <vector>
 
 #include "core/error.hpp"
 #include "core/memory.hpp"
+#include "core/parallel.hpp"
 #include "io/points/laz/chunk.hpp"
 #include "io/points/laz/chunk_table.hpp"
 #include "io/points/laz/laszip_vlr.hpp"
@@ -64,12 +64,6 @@ ChunkInput input_for(const LazSource& src, const ChunkEntry& c, std::size_t inde
   return in;
 }
 
-unsigned thread_count(unsigned requested, std::size_t chunks) {
-  const unsigned wanted =
-      requested != 0 ? requested : std::max(1u, std::thread::hardware_concurrency());
-  return static_cast<unsigned>(std::min<std::size_t>(wanted, chunks));
-}
-
 // Hands the pages of decoded chunks back to the kernel, front to back.
 class PageReleaser {
  public:
@@ -85,61 +79,44 @@ class PageReleaser {
   std::uint64_t released_ = 0;
 };
 
-// Decodes every chunk with one Decoder per thread. decode(decoder, input, output) turns a chunk
-// into an Output; commit(output) consumes it. Commits happen one at a time and in chunk order,
-// whatever the thread count, so the result is deterministic. When chunks fail, the error of the
-// first failing chunk is thrown (every chunk before it has been decoded by then).
+// Decodes the chunks of a file without a chunk table: each starts where the previous one's data
+// ended, so they go one after the other.
 template <class Decoder, class Output, class Decode, class Commit>
-void decode_chunks(const LazSource& src, const Prepared& prep, unsigned fields, unsigned threads,
-                   Decode& decode, Commit& commit) {
+void decode_in_sequence(const LazSource& src, const Prepared& prep, unsigned fields,
+                        PageReleaser& releaser, Decode& decode, Commit& commit) {
   const ChunkPlan& plan = prep.plan;
   const std::size_t n = plan.chunks.size();
-  if (n == 0) return;
-  PageReleaser releaser(src);
-  if (src.mapping != nullptr) {
-    src.mapping->advise_sequential(static_cast<std::size_t>(src.offset_to_points),
-                                   static_cast<std::size_t>(plan.data_end));
+  Decoder decoder(prep.layout, fields);
+  Output out;
+  std::uint64_t offset = plan.chunks[0].offset;
+  for (std::size_t c = 0; c < n; ++c) {
+    ChunkEntry chunk = plan.chunks[c];
+    chunk.offset = offset;
+    chunk.size = plan.data_end - offset;
+    offset += decode(decoder, input_for(src, chunk, c), out);
+    commit(out);
+    releaser.up_to(offset);
   }
-
-  if (plan.sequential) {
-    // No table: each chunk starts where the previous one's data ended.
-    Decoder decoder(prep.layout, fields);
-    Output out;
-    std::uint64_t offset = plan.chunks[0].offset;
-    for (std::size_t c = 0; c < n; ++c) {
-      ChunkEntry chunk = plan.chunks[c];
-      chunk.offset = offset;
-      chunk.size = plan.data_end - offset;
-      offset += decode(decoder, input_for(src, chunk, c), out);
-      commit(out);
-      releaser.up_to(offset);
-    }
-    if (plan.exact_end && offset != plan.data_end) {
-      // Without the table nothing says where each chunk starts; a wrong chunk size shows here.
-      throw InputError(src.path, "chunk " + std::to_string(n - 1),
-                       "the chunks end at byte " + std::to_string(offset) +
-                           " but the chunk table starts at byte " + std::to_string(plan.data_end) +
-                           ": the file is damaged, or its LASzip VLR has the wrong chunk size");
-    }
-    return;
+  if (plan.exact_end && offset != plan.data_end) {
+    // Without the table nothing says where each chunk starts; a wrong chunk size shows here.
+    throw InputError(src.path, "chunk " + std::to_string(n - 1),
+                     "the chunks end at byte " + std::to_string(offset) +
+                         " but the chunk table starts at byte " + std::to_string(plan.data_end) +
+                         ": the file is damaged, or its LASzip VLR has the wrong chunk size");
   }
+}
 
-  threads = thread_count(threads, n);
-  if (threads <= 1) {
-    Decoder decoder(prep.layout, fields);
-    Output out;
-    for (std::size_t c = 0; c < n; ++c) {
-      decode(decoder, input_for(src, plan.chunks[c], c), out);
-      commit(out);
-      releaser.up_to(plan.chunks[c].offset + plan.chunks[c].size);
-    }
-    return;
-  }
-
-  // Workers take chunks in order; a finished chunk waits in a slot until the ones before it are
-  // committed. The window bounds how far ahead of the oldest unfinished chunk workers may run,
-  // and so the memory the waiting outputs hold.
-  const std::size_t window = 2 * std::size_t{threads};
+// Decodes the chunks of the table on THREADS threads (at least two). Workers take chunks in
+// order; a finished chunk waits in a slot until the ones before it are committed. The window
+// bounds how far ahead of the oldest unfinished chunk workers may run, and so the memory the
+// waiting outputs hold.
+template <class Decoder, class Output, class Decode, class Commit>
+void decode_in_parallel(const LazSource& src, const Prepared& prep, unsigned fields,
+                        std::size_t threads, PageReleaser& releaser, Decode& decode,
+                        Commit& commit) {
+  const ChunkPlan& plan = prep.plan;
+  const std::size_t n = plan.chunks.size();
+  const std::size_t window = 2 * threads;
   std::mutex mutex;
   std::condition_variable wake;
   std::size_t next = 0;
@@ -158,7 +135,7 @@ void decode_chunks(const LazSource& src, const Prepared& prep, unsigned fields, 
     stop = true;  // no new chunks; those already taken, all before CHUNK, still finish
     wake.notify_all();
   };
-  const auto work = [&] {
+  run_workers(threads, [&](std::size_t) {
     std::size_t chunk = n;
     try {
       Decoder decoder(prep.layout, fields);
@@ -186,20 +163,41 @@ void decode_chunks(const LazSource& src, const Prepared& prep, unsigned fields, 
       std::lock_guard lock(mutex);
       fail(chunk);
     }
-  };
-
-  std::vector<std::thread> helpers;
-  helpers.reserve(threads - 1);
-  for (unsigned t = 1; t < threads; ++t) {
-    try {
-      helpers.emplace_back(work);
-    } catch (const std::system_error&) {
-      break;  // fewer threads than asked for: the others take up the work
-    }
-  }
-  work();
-  for (std::thread& t : helpers) t.join();
+  });
   if (failure) std::rethrow_exception(failure);
+}
+
+// Decodes every chunk with one Decoder per thread. decode(decoder, input, output) turns a chunk
+// into an Output; commit(output) consumes it. Commits happen one at a time and in chunk order,
+// whatever the thread count, so the result is deterministic. When chunks fail, the error of the
+// first failing chunk is thrown (every chunk before it has been decoded by then).
+template <class Decoder, class Output, class Decode, class Commit>
+void decode_chunks(const LazSource& src, const Prepared& prep, unsigned fields, unsigned threads,
+                   Decode& decode, Commit& commit) {
+  const ChunkPlan& plan = prep.plan;
+  const std::size_t n = plan.chunks.size();
+  if (n == 0) return;
+  PageReleaser releaser(src);
+  if (src.mapping != nullptr) {
+    src.mapping->advise_sequential(static_cast<std::size_t>(src.offset_to_points),
+                                   static_cast<std::size_t>(plan.data_end));
+  }
+  if (plan.sequential) {
+    decode_in_sequence<Decoder, Output>(src, prep, fields, releaser, decode, commit);
+    return;
+  }
+  const std::size_t workers = std::min<std::size_t>(thread_count(threads), n);
+  if (workers > 1) {
+    decode_in_parallel<Decoder, Output>(src, prep, fields, workers, releaser, decode, commit);
+    return;
+  }
+  Decoder decoder(prep.layout, fields);
+  Output out;
+  for (std::size_t c = 0; c < n; ++c) {
+    decode(decoder, input_for(src, plan.chunks[c], c), out);
+    commit(out);
+    releaser.up_to(plan.chunks[c].offset + plan.chunks[c].size);
+  }
 }
 
 template <class Output, class Decode, class Commit>

@@ -241,6 +241,43 @@ std::size_t Point14Decoder::begin_chunk(const ChunkInput& in) {
   return offset;
 }
 
+namespace {
+
+// The layers only the whole record needs (flags, intensity, scan angle, user data, point source,
+// GPS time) of point LAST, from its channel's models O. KIND, TIME_CHANGED, ANGLE_CHANGED and
+// SOURCE_CHANGED come from the XY layer.
+void decode_record_only(RecordOnlyModels& o, Point14& last, std::vector<ArithmeticDecoder>& layer,
+                        const std::vector<bool>& active, unsigned kind, unsigned time_changed,
+                        bool angle_changed, bool source_changed) {
+  if (active[kFlags]) {
+    last.flags = static_cast<std::uint8_t>(layer[kFlags].decode_symbol(o.flags[last.flags]));
+  }
+  if (active[kIntensity]) {
+    const unsigned i = (kind << 1) | time_changed;
+    last.intensity = static_cast<std::uint16_t>(
+        o.intensity.decompress(layer[kIntensity], o.last_intensity[i], kind));
+    o.last_intensity[i] = last.intensity;
+  }
+  if (active[kScanAngle] && angle_changed) {
+    last.scan_angle = static_cast<std::int16_t>(
+        o.scan_angle.decompress(layer[kScanAngle], last.scan_angle, time_changed));
+  }
+  if (active[kUserData]) {
+    last.user_data =
+        static_cast<std::uint8_t>(layer[kUserData].decode_symbol(o.user_data[last.user_data / 4u]));
+  }
+  if (active[kPointSource] && source_changed) {
+    last.point_source = static_cast<std::uint16_t>(
+        o.point_source.decompress(layer[kPointSource], last.point_source));
+  }
+  if (active[kGpsTime] && time_changed) {
+    o.gps.decode(layer[kGpsTime]);
+    last.gps_time = o.gps.time();
+  }
+}
+
+}  // namespace
+
 void Point14Decoder::decode_point() {
   Channel* ch = channels_[current_].get();
   Point14* last = &ch->last;
@@ -308,32 +345,8 @@ void Point14Decoder::decode_point() {
         static_cast<std::uint8_t>(layer_[kClassLayer].decode_symbol(ch->classification[context]));
   }
   if (ch->others) {
-    RecordOnlyModels& o = *ch->others;
-    if (active_[kFlags]) {
-      last->flags = static_cast<std::uint8_t>(layer_[kFlags].decode_symbol(o.flags[last->flags]));
-    }
-    if (active_[kIntensity]) {
-      const unsigned i = (kind << 1) | time_changed;
-      last->intensity = static_cast<std::uint16_t>(
-          o.intensity.decompress(layer_[kIntensity], o.last_intensity[i], kind));
-      o.last_intensity[i] = last->intensity;
-    }
-    if (active_[kScanAngle] && angle_changed) {
-      last->scan_angle = static_cast<std::int16_t>(
-          o.scan_angle.decompress(layer_[kScanAngle], last->scan_angle, time_changed));
-    }
-    if (active_[kUserData]) {
-      last->user_data = static_cast<std::uint8_t>(
-          layer_[kUserData].decode_symbol(o.user_data[last->user_data / 4u]));
-    }
-    if (active_[kPointSource] && source_changed) {
-      last->point_source = static_cast<std::uint16_t>(
-          o.point_source.decompress(layer_[kPointSource], last->point_source));
-    }
-    if (active_[kGpsTime] && time_changed) {
-      o.gps.decode(layer_[kGpsTime]);
-      last->gps_time = o.gps.time();
-    }
+    decode_record_only(*ch->others, *last, layer_, active_, kind, time_changed, angle_changed,
+                       source_changed);
   }
   // Not part of the record: a context for the channel's next point.
   last->gps_time_changed = time_changed != 0;
