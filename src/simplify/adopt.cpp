@@ -5,10 +5,9 @@
 // points as a triangle of part k's TIN lies in part k's hull (its corners are points of part
 // k), and that hull holds no point of another part (the parts are cells of a grid, and a
 // part's hull is within its cell). Every point of part k in it was in the same triangle there,
-// measured against the same plane (the same three corners, in the same order of slots' corners
-// up to rotation, and Gradient is taken from the slot's first corner in both). So its range, its
-// worst point and its sum of squares are those of part k's slot, and only the other (loose)
-// points are located and measured.
+// measured against the plane of the same three corners. So its range, its worst point and its
+// sum of squares are those of part k's slot, and only the other (loose) points are located and
+// measured.
 //
 // The arena: the parts' runs kept their ranges in this run's arena (the regions share one), so
 // an adopted triangle keeps its range where it is. A triangle with loose points gets a new

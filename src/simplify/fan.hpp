@@ -46,6 +46,7 @@ struct Fan {
   // Inlined: called, it took q and d through the stack as halves and read them back whole,
   // a failed store forwarding per point (14% of the stage on a 4096^2 grid).
   [[gnu::always_inline]] int classify(Point2 q, Point2 d, int hint) const {
+    assert(0 <= hint && hint < m);
     int i = hint;
     int left = side(i, d, q);
     for (int step = 0; step < m; ++step) {

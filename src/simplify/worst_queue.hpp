@@ -31,13 +31,17 @@ class WorstQueue {
   explicit WorstQueue(const Point2* xy) : xy_(xy) {}
 
   bool empty() const { return heap_.empty(); }
-  const Entry& top() const { return heap_.front(); }
+  const Entry& top() const {
+    assert(!heap_.empty());
+    return heap_.front();
+  }
   void grow(std::size_t slots) {
     if (pos_.size() < slots) pos_.resize(slots, kNoId);
   }
 
   // Adds an entry (its slot absent) without ordering; build() orders them all.
   void append(const Entry& e) {
+    assert(e.tri < pos_.size() && pos_[e.tri] == kNoId);
     pos_[e.tri] = static_cast<std::uint32_t>(heap_.size());
     heap_.push_back(e);
   }
@@ -48,6 +52,7 @@ class WorstQueue {
 
   // The entry of e.tri becomes e (added if absent).
   void set(const Entry& e) {
+    assert(e.tri < pos_.size());
     std::uint32_t i = pos_[e.tri];
     if (i == kNoId) {
       i = static_cast<std::uint32_t>(heap_.size());
@@ -66,6 +71,7 @@ class WorstQueue {
   void erase(TriangleId t) {
     const std::uint32_t i = pos_[t];
     if (i == kNoId) return;
+    assert(i < heap_.size() && heap_[i].tri == t);
     pos_[t] = kNoId;
     const Entry last = heap_.back();
     heap_.pop_back();
