@@ -50,7 +50,7 @@ void run(Job& job) {
 
   if (job.write.format == io::TinFormat::stl) {
     const std::string warning = io::stl_precision_warning(tin, job.write.offset);
-    if (!warning.empty()) job.warn(warning);
+    if (!warning.empty()) job.warn(warning + "; shift them with --offset (e.g. --offset auto)");
   }
   io::TinWriteOptions options = job.write;
   options.progress = job.stage_progress();
