@@ -26,7 +26,7 @@ enum class OptionKind {
 
 struct OptionSpec {
   std::string_view flags = {};       // "-o,--output"; the operands' name for a positional
-  std::string_view value_name = {};  // "Z", "FILE.tif"; "" for a flag
+  std::string_view value_name = {};  // "Z", "FILE.tif"; "" for a flag and a choice (its words)
   std::string_view help = {};        // '\n' where the help breaks the line
   std::string_view group = {};       // the help's heading (option_groups)
   OptionKind kind = OptionKind::value;

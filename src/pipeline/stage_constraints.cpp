@@ -96,7 +96,6 @@ constexpr constraints::Restore kRestores[] = {
 
 constexpr OptionSpec kOptions[] = {
     {.flags = "--on-crossing",
-     .value_name = "split|error",
      .help = "Crossing contours / hard lines: join them at a new vertex, or stop\n"
              "with an error (surface features always join)",
      .group = option_groups::triangulation,
@@ -114,7 +113,6 @@ constexpr OptionSpec kOptions[] = {
                                                                                          : "split");
          }},
     {.flags = "--restore",
-     .value_name = "delaunay|aspect|none",
      .help = "After each line is in: restore the constrained Delaunay property,\n"
              "improve aspect ratios (the paper's criterion), or leave the swaps",
      .group = option_groups::triangulation,

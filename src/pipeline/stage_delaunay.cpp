@@ -58,7 +58,6 @@ constexpr delaunay::DuplicatePolicy kDuplicatePolicies[] = {
 
 constexpr OptionSpec kOptions[] = {
     {.flags = "--on-duplicate",
-     .value_name = "first|min|max|mean",
      .help = "z of points with equal x, y: the first in input order,\nor their min, max or mean",
      .group = option_groups::triangulation,
      .kind = OptionKind::choice,
