@@ -1,5 +1,8 @@
-// The command line, bound directly to pipeline::BuildOptions: one CLI11 option per field, word
-// choices mapped to the library's enums, help groups in the order of the stages.
+// The command line: every option the pipeline declares (each stage's Stage::options, then
+// pipeline::job_options()) bound to CLI11 the same way, in the order of the stages, with its
+// help, group, checks and default from the table; the stage list after the examples in --help
+// comes from the stages' titles. Only the messages' verbosity, --help and --version are the
+// command line's own.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -21,8 +24,8 @@ struct Verbosity {
 };
 
 // Defines every option of APP, each writing its value into OPTIONS (TILING for a tile job's, or
-// VERBOSITY) as it is parsed. Values that a single option can check are checked here (CLI11
-// reports them as usage errors); rules between options are tiles::check_options()'s.
+// VERBOSITY) as it is parsed. Each value goes through its option's check (CLI11 reports a refusal
+// as a usage error); rules between options are tiles::check_options()'s.
 void define_options(CLI::App& app, pipeline::BuildOptions& options, tiles::TileOptions& tiling,
                     Verbosity& verbosity);
 

@@ -8,6 +8,8 @@
 #include <cstdio>
 #include <string>
 
+#include "io/mesh/tin_writer.hpp"
+
 namespace tincdt::cli {
 namespace {
 
@@ -103,13 +105,11 @@ void log_summary(const pipeline::BuildOptions& options, const pipeline::BuildRep
   t += ", total " + secs(r.timings_s.total);
   if (r.peak_rss_bytes > 0) t += "; peak memory " + bytes(r.peak_rss_bytes);
   spdlog::info(t);
-  const std::string format = r.output_format == "obj"       ? "OBJ"
-                             : r.output_format == "geojson" ? "GeoJSON"
-                             : r.output_format == "landxml" ? "LandXML"
-                             : r.output_format == "gpkg"    ? "GeoPackage"
-                             : r.output_format == "stl"     ? "STL"
-                             : options.write.ply_ascii      ? "PLY ASCII"
-                                                            : "PLY binary";
+  std::string format = r.output_format;
+  if (const auto f = io::format_from_name(r.output_format)) {
+    format = io::format_info(*f).title;
+    if (*f == io::TinFormat::ply) format += options.write.ply_ascii ? " ASCII" : " binary";
+  }
   std::string w = "wrote " + r.output + " (" + format + ", " + bytes(r.output_bytes) + ", " +
                   (r.crs.empty() ? (r.crs_wkt.empty() ? "no CRS" : "CRS unnamed") : "CRS " + r.crs);
   if (r.offset.x != 0 || r.offset.y != 0 || r.offset.z != 0) {

@@ -14,7 +14,7 @@ namespace tincdt::constraints {
 
 CrossingError::CrossingError(std::uint32_t a, std::uint32_t b, Point2 p)
     : GeometryError("constraints from features " + std::to_string(a) + " and " + std::to_string(b) +
-                    " cross (use --on-crossing split to join them)"),
+                    " cross, and crossings are refused"),
       source_a(a),
       source_b(b),
       at(p) {}

@@ -65,9 +65,13 @@ io::TinFormat check_outputs(const BuildOptions& o) {
   } else {
     try {
       format = io::format_from_path(o.output);
-    } catch (const Error& e) {
-      throw UsageError(e.file(), e.where(),
-                       e.detail() + "; use -f obj|ply|geojson|landxml|gpkg|stl");
+    } catch (const io::UnknownFormatError& e) {
+      std::string names;
+      for (std::string_view name : io::tin_format_names()) {
+        if (!names.empty()) names += '|';
+        names += name;
+      }
+      throw UsageError(e.file(), e.where(), e.detail() + "; use -f " + names);
     }
   }
   if (!o.write.target_srs.empty() && format != io::TinFormat::geojson)

@@ -1,7 +1,7 @@
 // A stage of a job: a name, whether the options ask for it, and what it does to the Job.
 // The stages and their order are one table, in stages.cpp; each stage is one file
-// (stage_<name>.cpp) that defines its Stage object. Adding a stage is a new file, a row in the
-// table and its options in BuildOptions.
+// (stage_<name>.cpp) that defines its Stage object with the options it reads (OptionSpec).
+// Adding a stage is a new file, a row in the table and its fields in BuildOptions.
 #pragma once
 
 #include <span>
@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "pipeline/job.hpp"
+#include "pipeline/option_spec.hpp"
 
 namespace tincdt::pipeline {
 
@@ -33,6 +34,11 @@ struct Stage {
   void (*run)(Job& job);
   // The files the stage reads or writes (may be null: none).
   void (*plan)(const BuildOptions& options, FilePlan& files) = nullptr;
+  // What the stage does, for the help's list of the stages in order ('\n' breaks the line);
+  // "" for a stage that is part of the one before it.
+  std::string_view title = {};
+  // The options the stage reads, declared beside its work.
+  std::span<const OptionSpec> options = {};
 };
 
 // The stages of a build, in order (stages.cpp).

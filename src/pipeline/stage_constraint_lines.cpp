@@ -44,8 +44,18 @@ void plan(const BuildOptions& o, FilePlan& files) {
   files.outputs.push_back({o.constraints_out, "the constraint lines (--constraints-out)"});
 }
 
+constexpr OptionSpec kOptions[] = {
+    {.flags = "--constraints-out",
+     .value_name = "FILE.geojson",
+     .help = "Write the TIN's constrained edges as GeoJSON lines with their\n"
+             "source file and feature id",
+     .group = option_groups::output,
+     .set = [](BuildOptions& o, std::string_view v) { o.constraints_out = v; }},
+};
+
 }  // namespace
 
-extern const Stage constraint_lines_stage{"constraint_lines", "write", wanted, run, plan};
+extern const Stage constraint_lines_stage{
+    "constraint_lines", "write", wanted, run, plan, "", kOptions};
 
 }  // namespace tincdt::pipeline

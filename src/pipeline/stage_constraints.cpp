@@ -87,8 +87,54 @@ void run(Job& job) {
   job.pieces = std::move(c.pieces);
 }
 
+// ---- options -----------------------------------------------------------------------------------
+
+constexpr std::string_view kCrossingWords[] = {"split", "error"};
+constexpr std::string_view kRestoreWords[] = {"delaunay", "aspect", "none"};
+constexpr constraints::Restore kRestores[] = {
+    constraints::Restore::delaunay, constraints::Restore::aspect, constraints::Restore::none};
+
+constexpr OptionSpec kOptions[] = {
+    {.flags = "--on-crossing",
+     .help = "Crossing contours / hard lines: join them at a new vertex, or stop\n"
+             "with an error (surface features always join)",
+     .group = option_groups::triangulation,
+     .kind = OptionKind::choice,
+     .words = kCrossingWords,
+     .default_text = "split",
+     .set =
+         [](BuildOptions& o, std::string_view v) {
+           o.constraint.on_crossing =
+               v == "error" ? constraints::OnCrossing::error : constraints::OnCrossing::split;
+         },
+     .shown =
+         [](const BuildOptions& o) {
+           return std::string(o.constraint.on_crossing == constraints::OnCrossing::error ? "error"
+                                                                                         : "split");
+         }},
+    {.flags = "--restore",
+     .help = "After each line is in: restore the constrained Delaunay property,\n"
+             "improve aspect ratios (the paper's criterion), or leave the swaps",
+     .group = option_groups::triangulation,
+     .kind = OptionKind::choice,
+     .words = kRestoreWords,
+     .default_text = "delaunay",
+     .set =
+         [](BuildOptions& o, std::string_view v) {
+           for (std::size_t i = 0; i < std::size(kRestoreWords); ++i)
+             if (v == kRestoreWords[i]) o.constraint.restore = kRestores[i];
+         },
+     .shown =
+         [](const BuildOptions& o) {
+           for (std::size_t i = 0; i < std::size(kRestoreWords); ++i)
+             if (o.constraint.restore == kRestores[i]) return std::string(kRestoreWords[i]);
+           return std::string();
+         }},
+};
+
 }  // namespace
 
-extern const Stage constraints_stage{"constraints", "constraints", wanted, run};
+extern const Stage constraints_stage{"constraints", "constraints", wanted, run, nullptr, "",
+                                     kOptions};
 
 }  // namespace tincdt::pipeline

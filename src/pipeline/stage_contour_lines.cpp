@@ -77,8 +77,35 @@ void plan(const BuildOptions& o, FilePlan& files) {
                                "a file of the contour lines' shapefile (--contour-lines)"});
 }
 
+// ---- options -----------------------------------------------------------------------------------
+
+constexpr OptionSpec kOptions[] = {
+    {.flags = "--contour-lines",
+     .value_name = "FILE",
+     .help = "Trace contour lines on the TIN into any OGR vector format, by\n"
+             "extension (.gpkg, .shp, .geojson, ...), with an elev field (needs --interval)",
+     .group = option_groups::products,
+     .set = [](BuildOptions& o, std::string_view v) { o.contour_lines.path = v; }},
+    {.flags = "--interval",
+     .value_name = "I",
+     .help = "Contour interval",
+     .group = option_groups::products,
+     .check = check_positive,
+     .set = [](BuildOptions& o,
+               std::string_view v) { o.contour_lines.interval = *parse_number(v); }},
+    {.flags = "--base",
+     .value_name = "B",
+     .help = "Contour levels are BASE + k * interval",
+     .group = option_groups::products,
+     .default_text = "0",
+     .check = check_number,
+     .set = [](BuildOptions& o, std::string_view v) { o.contour_lines.base = *parse_number(v); },
+     .shown = [](const BuildOptions& o) { return number_text(o.contour_lines.base); }},
+};
+
 }  // namespace
 
-extern const Stage contour_lines_stage{"contour_lines", "contours", wanted, run, plan};
+extern const Stage contour_lines_stage{"contour_lines", "contours", wanted, run, plan, "",
+                                       kOptions};
 
 }  // namespace tincdt::pipeline

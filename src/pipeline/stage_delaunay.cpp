@@ -49,8 +49,35 @@ void run(Job& job) {
     job.debug(std::to_string(job.mesh.duplicates_merged) + " duplicate points merged (same x, y)");
 }
 
+// ---- options -----------------------------------------------------------------------------------
+
+constexpr std::string_view kDuplicateWords[] = {"first", "min", "max", "mean"};
+constexpr delaunay::DuplicatePolicy kDuplicatePolicies[] = {
+    delaunay::DuplicatePolicy::first, delaunay::DuplicatePolicy::min,
+    delaunay::DuplicatePolicy::max, delaunay::DuplicatePolicy::mean};
+
+constexpr OptionSpec kOptions[] = {
+    {.flags = "--on-duplicate",
+     .help = "z of points with equal x, y: the first in input order,\nor their min, max or mean",
+     .group = option_groups::triangulation,
+     .kind = OptionKind::choice,
+     .words = kDuplicateWords,
+     .default_text = "mean",
+     .set =
+         [](BuildOptions& o, std::string_view v) {
+           for (std::size_t i = 0; i < std::size(kDuplicateWords); ++i)
+             if (v == kDuplicateWords[i]) o.on_duplicate = kDuplicatePolicies[i];
+         },
+     .shown =
+         [](const BuildOptions& o) {
+           for (std::size_t i = 0; i < std::size(kDuplicateWords); ++i)
+             if (o.on_duplicate == kDuplicatePolicies[i]) return std::string(kDuplicateWords[i]);
+           return std::string();
+         }},
+};
+
 }  // namespace
 
-extern const Stage delaunay_stage{"delaunay", "delaunay", wanted, run};
+extern const Stage delaunay_stage{"delaunay", "delaunay", wanted, run, nullptr, "", kOptions};
 
 }  // namespace tincdt::pipeline

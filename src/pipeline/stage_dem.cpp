@@ -114,8 +114,82 @@ void plan(const BuildOptions& o, FilePlan& files) {
   files.outputs.push_back({o.dem.path, "the DEM (--dem)"});
 }
 
+// ---- options -----------------------------------------------------------------------------------
+
+constexpr std::string_view kCellTypes[] = {"float32", "float64"};
+
+// "XMIN YMIN XMAX YMAX", each checked a number.
+BBox parse_extent(std::string_view text) {
+  double v[4] = {0, 0, 0, 0};
+  for (double& d : v) {
+    const std::size_t space = text.find(' ');
+    d = parse_number(text.substr(0, space)).value_or(0);
+    text.remove_prefix(space == std::string_view::npos ? text.size() : space + 1);
+  }
+  BBox box;
+  box.min_x = v[0];
+  box.min_y = v[1];
+  box.max_x = v[2];
+  box.max_y = v[3];
+  return box;
+}
+
+constexpr OptionSpec kOptions[] = {
+    {.flags = "--dem",
+     .value_name = "FILE.tif",
+     .help = "Rasterize the TIN to a Cloud-Optimized GeoTIFF: each cell centre gets\n"
+             "its triangle's linear interpolation, nodata outside (needs --resolution)",
+     .group = option_groups::products,
+     .set = [](BuildOptions& o, std::string_view v) { o.dem.path = v; }},
+    {.flags = "--resolution",
+     .value_name = "R",
+     .help = "DEM cell size, in the CRS's units",
+     .group = option_groups::products,
+     .check = check_positive,
+     .set = [](BuildOptions& o, std::string_view v) { o.dem.resolution = *parse_number(v); }},
+    {.flags = "--dem-extent",
+     .value_name = "XMIN YMIN XMAX YMAX",
+     .help = "DEM extent (default: the TIN's)",
+     .group = option_groups::products,
+     .arity = 4,
+     .check = check_number,
+     .set = [](BuildOptions& o, std::string_view v) { o.dem.extent = parse_extent(v); }},
+    {.flags = "--tap",
+     .help = "Snap the DEM extent out to multiples of the resolution (as gdalwarp -tap)",
+     .group = option_groups::products,
+     .kind = OptionKind::flag,
+     .set = [](BuildOptions& o, std::string_view) { o.dem.target_aligned = true; }},
+    {.flags = "--dem-nodata",
+     .value_name = "V",
+     .help = "Value of the DEM cells outside the TIN (or nan)",
+     .group = option_groups::products,
+     .default_text = "-9999",
+     .check =
+         [](std::string_view v) { return lower(v) == "nan" ? std::string() : check_number(v); },
+     .set =
+         [](BuildOptions& o, std::string_view v) {
+           o.dem.nodata = lower(v) == "nan" ? std::nan("") : *parse_number(v);
+         },
+     .shown = [](const BuildOptions& o) { return number_text(o.dem.nodata); }},
+    {.flags = "--dem-type",
+     .help = "DEM cell type",
+     .group = option_groups::products,
+     .kind = OptionKind::choice,
+     .words = kCellTypes,
+     .default_text = "float32",
+     .set = [](BuildOptions& o, std::string_view v) { o.dem.float64 = v == "float64"; },
+     .shown = [](const BuildOptions& o) { return std::string(kCellTypes[o.dem.float64 ? 1 : 0]); }},
+    {.flags = "--dem-co",
+     .value_name = "NAME=VALUE",
+     .help = "A GDAL COG creation option over the defaults (DEFLATE level 1,\n"
+             "predictor, average overviews), e.g. COMPRESS=ZSTD",
+     .group = option_groups::products,
+     .kind = OptionKind::repeated,
+     .set = [](BuildOptions& o, std::string_view v) { o.dem.creation_options.emplace_back(v); }},
+};
+
 }  // namespace
 
-extern const Stage dem_stage{"dem", "dem", wanted, run, plan};
+extern const Stage dem_stage{"dem", "dem", wanted, run, plan, "", kOptions};
 
 }  // namespace tincdt::pipeline

@@ -57,8 +57,17 @@ void plan(const BuildOptions& o, FilePlan& files) {
   files.outputs.push_back({o.diagnostics, "the diagnostics (--diagnostics)"});
 }
 
+constexpr OptionSpec kOptions[] = {
+    {.flags = "--diagnostics",
+     .value_name = "FILE.gpkg",
+     .help = "Write crossings, skipped segments and dropped features as\n"
+             "GeoPackage layers with the input feature ids",
+     .group = option_groups::output,
+     .set = [](BuildOptions& o, std::string_view v) { o.diagnostics = v; }},
+};
+
 }  // namespace
 
-extern const Stage diagnostics_stage{"diagnostics", "write", wanted, run, plan};
+extern const Stage diagnostics_stage{"diagnostics", "write", wanted, run, plan, "", kOptions};
 
 }  // namespace tincdt::pipeline

@@ -40,8 +40,17 @@ void run(Job& job) {
             std::to_string(f.vertices_added) + " new vertices");
 }
 
+constexpr OptionSpec kOptions[] = {
+    {.flags = "--fix-flats",
+     .help = "Remove flat triangles (3 corners on one contour level) by swaps,\n"
+             "then by vertices on the contours' medial axis (needs --contours)",
+     .group = option_groups::quality,
+     .kind = OptionKind::flag,
+     .set = [](BuildOptions& o, std::string_view) { o.fix_flats = true; }},
+};
+
 }  // namespace
 
-extern const Stage flats_stage{"flats", "terrain", wanted, run};
+extern const Stage flats_stage{"flats", "terrain", wanted, run, nullptr, "--fix-flats", kOptions};
 
 }  // namespace tincdt::pipeline

@@ -58,10 +58,56 @@ void run(Job& job) {
   if (S.removes) check_triangles_left(job);
 }
 
+// ---- options -----------------------------------------------------------------------------------
+
+constexpr OptionSpec kReplaceOptions[] = {
+    {.flags = "--replace",
+     .value_name = "POLYGONS",
+     .help = "Replace polygons: vertices on or inside get the polygon's one z\n"
+             "(--z-field, --z-from-m or 3D z); rings become TIN edges",
+     .group = option_groups::quality,
+     .kind = OptionKind::repeated,
+     .set = [](BuildOptions& o, std::string_view v) { o.replace.emplace_back(v); }},
+};
+constexpr OptionSpec kClipOptions[] = {
+    {.flags = "--clip",
+     .value_name = "POLYGONS",
+     .help = "Remove the triangles outside these polygons (2D: draped)",
+     .group = option_groups::boundary,
+     .kind = OptionKind::repeated,
+     .set = [](BuildOptions& o, std::string_view v) { o.clip.emplace_back(v); }},
+};
+constexpr OptionSpec kEraseOptions[] = {
+    {.flags = "--erase",
+     .value_name = "POLYGONS",
+     .help = "Remove the triangles inside these polygons (holes; wins over --clip)",
+     .group = option_groups::boundary,
+     .kind = OptionKind::repeated,
+     .set = [](BuildOptions& o, std::string_view v) { o.erase.emplace_back(v); }},
+};
+
 }  // namespace
 
-extern const Stage replace_stage{"replace", "terrain", wanted<kReplace>, run<kReplace>};
-extern const Stage clip_stage{"clip", "terrain", wanted<kClip>, run<kClip>};
-extern const Stage erase_stage{"erase", "terrain", wanted<kErase>, run<kErase>};
+extern const Stage replace_stage{"replace",
+                                 "terrain",
+                                 wanted<kReplace>,
+                                 run<kReplace>,
+                                 nullptr,
+                                 "--replace: vertices on or inside get the polygon's z (later "
+                                 "polygons win)",
+                                 kReplaceOptions};
+extern const Stage clip_stage{
+    "clip",      "terrain", wanted<kClip>,
+    run<kClip>,  nullptr,   "--clip: triangles outside every clip polygon are removed",
+    kClipOptions};
+extern const Stage erase_stage{"erase",
+                               "terrain",
+                               wanted<kErase>,
+                               run<kErase>,
+                               nullptr,
+                               "--erase: triangles inside an erase polygon are removed (erase "
+                               "wins over\nclip; replaced vertices inside an erase polygon go "
+                               "with their triangles)",
+                               kEraseOptions};
 
 }  // namespace tincdt::pipeline

@@ -3,6 +3,7 @@
 // Delaunay stage triangulates both; line and surface features get their constraint source ids
 // (Job::sources) in reading order, contours first.
 #include <algorithm>
+#include <cassert>
 #include <cctype>
 #include <filesystem>
 #include <new>
@@ -280,8 +281,101 @@ void plan(const BuildOptions& o, FilePlan& files) {
       files.inputs.push_back({p, std::string(option) + " source"});
 }
 
+// ---- options -----------------------------------------------------------------------------------
+
+namespace groups = option_groups;
+
+void append_classes(std::vector<std::uint8_t>& classes, std::string_view text) {
+  [[maybe_unused]] const auto bad = append_class_codes(text, classes);
+  assert(!bad && "checked before");
+}
+
+std::string check_classes(std::string_view text) {
+  std::vector<std::uint8_t> codes;
+  const auto bad = append_class_codes(text, codes);
+  return bad ? in_quotes(*bad) + " is not a LAS classification code (0-255)" : std::string();
+}
+
+constexpr OptionSpec kOptions[] = {
+    {.flags = "INPUT",
+     .value_name = "FILE",
+     .help = "Point files: LAS 1.0-1.4, LAZ, COPC or XYZ text ('-' = stdin)",
+     .kind = OptionKind::positional,
+     .set = [](BuildOptions& o, std::string_view v) { o.inputs.emplace_back(v); }},
+    {.flags = "--a-srs",
+     .value_name = "SRS",
+     .help = "Assign the inputs' CRS (EPSG:n, WKT, PROJ string or .prj file),\n"
+             "for files without one; overrides the files' own",
+     .group = groups::input,
+     .set = [](BuildOptions& o, std::string_view v) { o.assign_srs = v; }},
+    {.flags = "--keep-class",
+     .value_name = "N[,N...]",
+     .help = "Keep only these LAS classes (e.g. 2,8)",
+     .group = groups::input,
+     .kind = OptionKind::repeated,
+     .check = check_classes,
+     .set = [](BuildOptions& o, std::string_view v) { append_classes(o.filter.keep_classes, v); }},
+    {.flags = "--drop-class",
+     .value_name = "N[,N...]",
+     .help = "Drop these LAS classes (e.g. 7,18: noise)",
+     .group = groups::input,
+     .kind = OptionKind::repeated,
+     .check = check_classes,
+     .set = [](BuildOptions& o, std::string_view v) { append_classes(o.filter.drop_classes, v); }},
+    {.flags = "--first-only",
+     .help = "Keep only first returns (LAS)",
+     .group = groups::input,
+     .kind = OptionKind::flag,
+     .set = [](BuildOptions& o, std::string_view) { o.filter.first_return_only = true; }},
+    {.flags = "--last-only",
+     .help = "Keep only last returns (LAS)",
+     .group = groups::input,
+     .kind = OptionKind::flag,
+     .set = [](BuildOptions& o, std::string_view) { o.filter.last_return_only = true; }},
+    {.flags = "--contours",
+     .value_name = "LINES",
+     .help = "Contour lines: hard edges; their flats are what --fix-flats fixes",
+     .group = groups::lines,
+     .kind = OptionKind::repeated,
+     .set = [](BuildOptions& o, std::string_view v) { o.contours.emplace_back(v); }},
+    {.flags = "--hard-lines,--breaklines",
+     .value_name = "LINES",
+     .help = "Hard lines (breaklines): every segment is a TIN edge",
+     .group = groups::lines,
+     .kind = OptionKind::repeated,
+     .set = [](BuildOptions& o, std::string_view v) { o.breaklines.emplace_back(v); }},
+    {.flags = "--soft-lines",
+     .value_name = "LINES",
+     .help = "Soft lines: TIN edges with z draped from the TIN (own z ignored)",
+     .group = groups::lines,
+     .kind = OptionKind::repeated,
+     .set = [](BuildOptions& o, std::string_view v) { o.soft_lines.emplace_back(v); }},
+    {.flags = "--layer",
+     .value_name = "NAME",
+     .help = "Layer to read from each vector source",
+     .group = groups::lines,
+     .set = [](BuildOptions& o, std::string_view v) { o.lines.layer = v; }},
+    {.flags = "--z-field",
+     .value_name = "NAME",
+     .help = "Take z from this attribute (contours, lines, replace)",
+     .group = groups::lines,
+     .set = [](BuildOptions& o, std::string_view v) { o.lines.z_field = v; }},
+    {.flags = "--z-from-m",
+     .help = "Take z from the M values (contours, lines, replace)",
+     .group = groups::lines,
+     .kind = OptionKind::flag,
+     .set = [](BuildOptions& o, std::string_view) { o.lines.z_from_m = true; }},
+};
+
 }  // namespace
 
-extern const Stage read_stage{"read", "read", wanted, run, plan};
+extern const Stage read_stage{"read",
+                              "read",
+                              wanted,
+                              run,
+                              plan,
+                              "points, contours and hard lines: triangulated, the lines made TIN "
+                              "edges",
+                              kOptions};
 
 }  // namespace tincdt::pipeline

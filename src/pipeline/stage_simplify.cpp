@@ -58,8 +58,46 @@ void run(Job& job) {
             (r.report.stopped_at_max_vertices ? " (stopped at --max-vertices)" : ""));
 }
 
+// ---- options -----------------------------------------------------------------------------------
+
+constexpr std::size_t kFewestVertices = 3;  // a TIN
+
+constexpr OptionSpec kOptions[] = {
+    {.flags = "--max-error",
+     .value_name = "Z",
+     .help = "Keep only the points needed for every point to lie within Z\n"
+             "(vertically) of the TIN; contours and breaklines stay whole",
+     .group = option_groups::simplification,
+     .check =
+         [](std::string_view v) {
+           const auto d = parse_number(v);
+           return d && *d >= 0 ? std::string() : in_quotes(v) + " is not a number >= 0";
+         },
+     .set = [](BuildOptions& o, std::string_view v) { o.max_error = *parse_number(v); }},
+    {.flags = "--max-vertices",
+     .value_name = "N",
+     .help = "Stop simplifying at N vertices (alone: with --max-error 0)",
+     .group = option_groups::simplification,
+     .check =
+         [](std::string_view v) {
+           const auto n = parse_count(v);
+           return n && *n >= kFewestVertices ? std::string()
+                                             : in_quotes(v) + " is not a count >= 3";
+         },
+     .set = [](BuildOptions& o,
+               std::string_view v) { o.max_vertices = static_cast<std::size_t>(*parse_count(v)); }},
+};
+
 }  // namespace
 
-extern const Stage simplify_stage{"simplify", "simplify", wanted, run};
+extern const Stage simplify_stage{"simplify",
+                                  "simplify",
+                                  wanted,
+                                  run,
+                                  nullptr,
+                                  "--max-error, --max-vertices: only the points needed to stay "
+                                  "within\nthe tolerance are kept (every line vertex and segment "
+                                  "stays)",
+                                  kOptions};
 
 }  // namespace tincdt::pipeline

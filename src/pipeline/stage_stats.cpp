@@ -23,8 +23,16 @@ void plan(const BuildOptions& o, FilePlan& files) {
   files.outputs.push_back({o.stats_path, "the stats file (--stats)"});
 }
 
+constexpr OptionSpec kOptions[] = {
+    {.flags = "--stats",
+     .value_name = "FILE.json",
+     .help = "Write counts, quality, timings and memory as JSON",
+     .group = option_groups::output,
+     .set = [](BuildOptions& o, std::string_view v) { o.stats_path = v; }},
+};
+
 }  // namespace
 
-extern const Stage stats_stage{"stats", "", wanted, run, plan};
+extern const Stage stats_stage{"stats", "", wanted, run, plan, "", kOptions};
 
 }  // namespace tincdt::pipeline

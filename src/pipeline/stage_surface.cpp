@@ -50,6 +50,13 @@ void run(Job& job) {
 
 }  // namespace
 
-extern const Stage surface_stage{"surface", "surface", wanted, run};
+extern const Stage surface_stage{"surface",
+                                 "surface",
+                                 wanted,
+                                 run,
+                                 nullptr,
+                                 "soft lines, clip / erase / replace rings: 2D vertices draped on "
+                                 "that TIN,\nthen made TIN edges (a draped line crossing a hard "
+                                 "one takes its z there)"};
 
 }  // namespace tincdt::pipeline

@@ -19,8 +19,24 @@ void run(Job& job) {
   check_triangles_left(job);
 }
 
+constexpr OptionSpec kOptions[] = {
+    {.flags = "--max-edge",
+     .value_name = "LENGTH",
+     .help = "Trim boundary triangles with a longer edge, inward from the hull,\n"
+             "so concave outlines are not bridged",
+     .group = option_groups::boundary,
+     .check =
+         [](std::string_view v) {
+           const auto d = parse_number(v);
+           return d && *d > 0 ? std::string() : in_quotes(v) + " is not a length > 0";
+         },
+     .set = [](BuildOptions& o, std::string_view v) { o.max_edge = *parse_number(v); }},
+};
+
 }  // namespace
 
-extern const Stage trim_stage{"trim", "terrain", wanted, run};
+extern const Stage trim_stage{"trim",  "terrain", wanted,
+                              run,     nullptr,   "--max-edge: trims inward from the convex hull",
+                              kOptions};
 
 }  // namespace tincdt::pipeline

@@ -35,8 +35,17 @@ void run(Job& job) {
             ")");
 }
 
+constexpr OptionSpec kOptions[] = {
+    {.flags = "--validate",
+     .help = "Check the TIN's topology and Delaunay property",
+     .group = option_groups::checks,
+     .kind = OptionKind::flag,
+     .set = [](BuildOptions& o, std::string_view) { o.validate = true; }},
+};
+
 }  // namespace
 
-extern const Stage validate_stage{"validate", "validate", wanted, run};
+extern const Stage validate_stage{"validate", "validate",   wanted,  run,
+                                  nullptr,    "--validate", kOptions};
 
 }  // namespace tincdt::pipeline

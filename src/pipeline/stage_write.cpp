@@ -2,7 +2,9 @@
 // move into place with every other output at the end of the job (build()).
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string>
+#include <string_view>
 
 #include "io/mesh/tin_writer.hpp"
 #include "pipeline/stage.hpp"
@@ -50,7 +52,7 @@ void run(Job& job) {
 
   if (job.write.format == io::TinFormat::stl) {
     const std::string warning = io::stl_precision_warning(tin, job.write.offset);
-    if (!warning.empty()) job.warn(warning);
+    if (!warning.empty()) job.warn(warning + "; shift them with --offset (e.g. --offset auto)");
   }
   io::TinWriteOptions options = job.write;
   options.progress = job.stage_progress();
@@ -71,8 +73,85 @@ void plan(const BuildOptions& o, FilePlan& files) {
   files.outputs.push_back({o.output, "the TIN (-o)"});
 }
 
+// ---- options: the TIN's, and --overwrite for every output -------------------------------------
+
+// "auto", or three numbers X,Y,Z.
+std::optional<Point3> parse_offset(std::string_view text) {
+  double v[3];
+  for (int i = 0; i < 3; ++i) {
+    const std::size_t comma = text.find(',');
+    if ((i < 2) == (comma == std::string_view::npos)) return std::nullopt;
+    const auto d = parse_number(text.substr(0, comma));
+    if (!d) return std::nullopt;
+    v[i] = *d;
+    text.remove_prefix(i < 2 ? comma + 1 : text.size());
+  }
+  return Point3{v[0], v[1], v[2]};
+}
+
+const std::string kOutputHelp = "The TIN file: " + io::format_extensions_text();
+
+const OptionSpec kOptions[] = {
+    {.flags = "-o,--output",
+     .value_name = "FILE",
+     .help = kOutputHelp,
+     .group = option_groups::output,
+     .required = true,
+     .set = [](BuildOptions& o, std::string_view v) { o.output = v; }},
+    {.flags = "-f,--format",
+     .help = "Output format, overriding the extension",
+     .group = option_groups::output,
+     .kind = OptionKind::choice,
+     .words = io::tin_format_names(),
+     .set = [](BuildOptions& o, std::string_view v) { o.write.format = io::format_from_name(v); }},
+    {.flags = "--overwrite",
+     .help = "Replace existing outputs (TIN, stats, lines, diagnostics);\n"
+             "never an input, nor a file that belongs to one",
+     .group = option_groups::output,
+     .kind = OptionKind::flag,
+     .set = [](BuildOptions& o, std::string_view) { o.write.overwrite = true; }},
+    {.flags = "--ply-ascii",
+     .help = "Write PLY as text instead of binary",
+     .group = option_groups::output,
+     .kind = OptionKind::flag,
+     .set = [](BuildOptions& o, std::string_view) { o.write.ply_ascii = true; }},
+    {.flags = "--gpkg-tin",
+     .help = "GeoPackage: TIN Z features instead of POLYGON Z (not every GIS reads them)",
+     .group = option_groups::output,
+     .kind = OptionKind::flag,
+     .set = [](BuildOptions& o, std::string_view) { o.write.gpkg_tin = true; }},
+    {.flags = "--offset",
+     .value_name = "auto|X,Y,Z",
+     .help = "Subtract X,Y,Z from written coordinates (recorded in the file);\n"
+             "auto = the data's min corner, rounded down to 1000",
+     .group = option_groups::output,
+     .check =
+         [](std::string_view v) {
+           return lower(v) == "auto" || parse_offset(v)
+                      ? std::string()
+                      : in_quotes(v) + " is neither 'auto' nor three numbers X,Y,Z";
+         },
+     .set =
+         [](BuildOptions& o, std::string_view v) {
+           o.write.offset_auto = lower(v) == "auto";
+           if (!o.write.offset_auto) o.write.offset = *parse_offset(v);
+         }},
+    {.flags = "--t-srs",
+     .value_name = "SRS",
+     .help = "Reproject the GeoJSON output to SRS (e.g. EPSG:4326)",
+     .group = option_groups::output,
+     .set = [](BuildOptions& o, std::string_view v) { o.write.target_srs = v; }},
+};
+
 }  // namespace
 
-extern const Stage write_stage{"write", "write", wanted, run, plan};
+extern const Stage write_stage{"write",
+                               "write",
+                               wanted,
+                               run,
+                               plan,
+                               "the outputs (the TIN, then --dem and --contour-lines from it):\n"
+                               "all of them are written, or none",
+                               kOptions};
 
 }  // namespace tincdt::pipeline

@@ -948,15 +948,15 @@ TEST_F(Cli, HelpShowsSurfaceFeaturesAndTheirOrder) {
        {"Surface features",    "TIN boundary",   "Quality",           "--hard-lines",
         "--soft-lines",        "--clip",         "--erase",           "--replace",
         "--max-edge",          "--fix-flats",    "--constraints-out", "--diagnostics",
-        "Order of the stages", "3. --fix-flats", "4. --replace",      "5. --max-edge",
-        "6. --clip",           "7. --erase",     "erase wins over",   "--clip boundary.gpkg",
+        "Order of the stages", "4. --fix-flats", "5. --replace",      "6. --max-edge",
+        "7. --clip",           "8. --erase",     "erase wins over",   "--clip boundary.gpkg",
         "--erase lakes.shp",   "--fix-flats -o"})
     EXPECT_NE(r.out.find(needle), std::string::npos) << needle << "\n" << r.out;
-  // The order in the help is the order of the stages.
-  EXPECT_LT(r.out.find("3. --fix-flats"), r.out.find("4. --replace"));
-  EXPECT_LT(r.out.find("4. --replace"), r.out.find("5. --max-edge"));
-  EXPECT_LT(r.out.find("5. --max-edge"), r.out.find("6. --clip"));
-  EXPECT_LT(r.out.find("6. --clip"), r.out.find("7. --erase"));
+  // The order in the help is the order of the stages (simplification is step 3).
+  EXPECT_LT(r.out.find("4. --fix-flats"), r.out.find("5. --replace"));
+  EXPECT_LT(r.out.find("5. --replace"), r.out.find("6. --max-edge"));
+  EXPECT_LT(r.out.find("6. --max-edge"), r.out.find("7. --clip"));
+  EXPECT_LT(r.out.find("7. --clip"), r.out.find("8. --erase"));
 }
 
 TEST_F(Cli, SurfaceFeatureUsageErrors) {

@@ -1,7 +1,7 @@
 // Binary STL: an 80-byte header, the triangle count, then per triangle its unit normal and three
 // corners as little-endian float32 and a zero attribute word; counter-clockwise seen from above,
 // so every normal points up. STL has float32 only: at map coordinates (500000 m) a float is
-// 3 cm coarse, so the coordinates should be shifted by --offset; stl_precision_warning() says so
+// 3 cm coarse, so the coordinates should be shifted by an offset; stl_precision_warning() says so
 // when the rounding would exceed 1 mm.
 #include <algorithm>
 #include <cmath>
@@ -33,9 +33,8 @@ std::string stl_precision_warning(const mesh::Triangulation& tin, const Point3& 
   if (!(rounding > kQuietRounding)) return {};
   char text[200];
   std::snprintf(text, sizeof text,
-                "STL stores float32: coordinates up to %.0f are rounded by up to %.3g; shift them "
-                "with --offset (e.g. --offset auto)",
-                largest, rounding);
+                "STL stores float32: coordinates up to %.0f are rounded by up to %.3g", largest,
+                rounding);
   return text;
 }
 

@@ -70,42 +70,88 @@ void write_prj(OutputFile& out, const std::string& crs_wkt) {
   out.write(text);
 }
 
+namespace {
+
+constexpr std::string_view kObj[] = {".obj"};
+constexpr std::string_view kPly[] = {".ply"};
+constexpr std::string_view kGeojson[] = {".geojson", ".json"};
+constexpr std::string_view kLandxml[] = {".xml", ".landxml"};
+constexpr std::string_view kGpkg[] = {".gpkg"};
+constexpr std::string_view kStl[] = {".stl"};
+
+constexpr TinFormatInfo kFormats[] = {
+    {TinFormat::obj, "obj", "OBJ", kObj},
+    {TinFormat::ply, "ply", "PLY", kPly},
+    {TinFormat::geojson, "geojson", "GeoJSON", kGeojson},
+    {TinFormat::landxml, "landxml", "LandXML", kLandxml},
+    {TinFormat::gpkg, "gpkg", "GeoPackage", kGpkg},
+    {TinFormat::stl, "stl", "STL", kStl},
+};
+// The names again, as one array for a list of choices.
+constexpr std::string_view kNames[] = {"obj", "ply", "geojson", "landxml", "gpkg", "stl"};
+static_assert(std::size(kNames) == std::size(kFormats) && [] {
+  for (std::size_t i = 0; i < std::size(kNames); ++i)
+    if (kNames[i] != kFormats[i].name) return false;
+  return true;
+}());
+
+// The writer of each format, in the order of kFormats.
+detail::FormatWriter* const kWriters[] = {detail::write_obj,     detail::write_ply,
+                                          detail::write_geojson, detail::write_landxml,
+                                          detail::write_gpkg,    detail::write_stl};
+static_assert(std::size(kWriters) == std::size(kFormats));
+
+std::size_t index_of(TinFormat format) {
+  for (std::size_t i = 0; i < std::size(kFormats); ++i)
+    if (kFormats[i].format == format) return i;
+  throw InternalError("no writer for TinFormat " + std::to_string(static_cast<int>(format)));
+}
+
+}  // namespace
+
+std::span<const TinFormatInfo> tin_formats() {
+  return kFormats;
+}
+
+std::span<const std::string_view> tin_format_names() {
+  return kNames;
+}
+
+const TinFormatInfo& format_info(TinFormat format) {
+  return kFormats[index_of(format)];
+}
+
+std::optional<TinFormat> format_from_name(std::string_view name) {
+  const std::string key = lower(std::string(name));
+  for (const TinFormatInfo& f : kFormats)
+    if (f.name == key) return f.format;
+  return std::nullopt;
+}
+
+std::string format_extensions_text() {
+  std::string text;
+  for (std::size_t i = 0; i < std::size(kFormats); ++i) {
+    if (i > 0) text += i + 1 == std::size(kFormats) ? " or " : ", ";
+    for (std::size_t k = 0; k < kFormats[i].extensions.size(); ++k) {
+      if (k > 0) text += '/';
+      text += kFormats[i].extensions[k];
+    }
+  }
+  return text;
+}
+
 TinFormat format_from_path(const std::string& path) {
   const std::string ext = lower(std::filesystem::path(path).extension().string());
-  if (ext == ".obj") return TinFormat::obj;
-  if (ext == ".ply") return TinFormat::ply;
-  if (ext == ".geojson" || ext == ".json") return TinFormat::geojson;
-  if (ext == ".xml" || ext == ".landxml") return TinFormat::landxml;
-  if (ext == ".gpkg") return TinFormat::gpkg;
-  if (ext == ".stl") return TinFormat::stl;
-  const std::string known = "known: .obj, .ply, .geojson, .json, .xml, .landxml, .gpkg, .stl";
+  for (const TinFormatInfo& f : kFormats)
+    for (std::string_view known : f.extensions)
+      if (ext == known) return f.format;
+  const std::string known = "known: " + format_extensions_text();
   if (ext.empty())
-    throw OutputError(path, "", "no extension to tell the output format (" + known + ")");
-  throw OutputError(path, "", "unknown output format '" + ext + "' (" + known + ")");
+    throw UnknownFormatError(path, "", "no extension to tell the output format (" + known + ")");
+  throw UnknownFormatError(path, "", "unknown output format '" + ext + "' (" + known + ")");
 }
 
 namespace {
-
-// Every format: its name in reports and messages, and its writer.
-struct FormatEntry {
-  TinFormat format;
-  std::string_view name;
-  detail::FormatWriter* write;
-};
-constexpr FormatEntry kFormats[] = {
-    {TinFormat::obj, "obj", detail::write_obj},
-    {TinFormat::ply, "ply", detail::write_ply},
-    {TinFormat::geojson, "geojson", detail::write_geojson},
-    {TinFormat::landxml, "landxml", detail::write_landxml},
-    {TinFormat::gpkg, "gpkg", detail::write_gpkg},
-    {TinFormat::stl, "stl", detail::write_stl},
-};
-
-const FormatEntry& entry_of(TinFormat format) {
-  for (const FormatEntry& e : kFormats)
-    if (e.format == format) return e;
-  throw InternalError("no writer for TinFormat " + std::to_string(static_cast<int>(format)));
-}
 
 void check_reprojection(const std::string& path, TinFormat format, const TinWriteOptions& options) {
   if (!format_takes_offset(format) && !detail::is_zero(options.offset))
@@ -122,14 +168,14 @@ void check_reprojection(const std::string& path, TinFormat format, const TinWrit
 }  // namespace
 
 std::string_view format_name(TinFormat format) {
-  return entry_of(format).name;
+  return format_info(format).name;
 }
 
 TinWriteStats write_tin(OutputFile& out, const mesh::Triangulation& tin,
                         const TinWriteOptions& options) {
   const TinFormat format = options.format ? *options.format : format_from_path(out.path());
   check_reprojection(out.path(), format, options);
-  return entry_of(format).write(out, tin, options);
+  return kWriters[index_of(format)](out, tin, options);
 }
 
 TinWriteStats write_tin(const std::string& path, const mesh::Triangulation& tin,

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 
@@ -15,6 +16,25 @@
 namespace tincdt::io {
 
 enum class TinFormat { obj, ply, geojson, landxml, gpkg, stl };
+
+// One TIN format: every place that names the formats (the writers, the command line's -f and
+// help, the log) reads them from tin_formats().
+struct TinFormatInfo {
+  TinFormat format;
+  std::string_view name;   // "obj", "geojson": in reports, messages and the command line
+  std::string_view title;  // "OBJ", "GeoJSON": for people
+  std::span<const std::string_view> extensions;  // ".geojson", ".json": the first is the usual
+};
+
+// Every format, in the order the command line lists them.
+std::span<const TinFormatInfo> tin_formats();
+// Their names, in the same order.
+std::span<const std::string_view> tin_format_names();
+const TinFormatInfo& format_info(TinFormat format);
+// The format named NAME (any case), if any.
+std::optional<TinFormat> format_from_name(std::string_view name);
+// The extensions for a message or a help text: ".obj, .ply, .geojson/.json, ... or .stl".
+std::string format_extensions_text();
 
 struct TinWriteOptions {
   // Default: from the extension (.obj .ply .geojson/.json .xml/.landxml .gpkg .stl).
@@ -31,13 +51,18 @@ struct TinWriteOptions {
   const ProgressFn* progress = nullptr;
 };
 
+// An output path whose extension names no format: the caller may say how to name one.
+class UnknownFormatError : public OutputError {
+  using OutputError::OutputError;
+};
+
 struct TinWriteStats {
   std::uint64_t vertices = 0;
   std::uint64_t triangles = 0;
   std::uint64_t bytes = 0;
 };
 
-// Format from the path's extension; throws OutputError for an unknown one.
+// Format from the path's extension; throws UnknownFormatError for an unknown one.
 TinFormat format_from_path(const std::string& path);
 // "obj", "ply", "geojson", "landxml", "gpkg" or "stl": the name in reports and messages.
 std::string_view format_name(TinFormat format);
@@ -47,7 +72,8 @@ std::string_view format_name(TinFormat format);
 bool format_takes_offset(TinFormat format);
 
 // STL stores float32: "" when the kept vertices, shifted by OFFSET, round to floats within 1 mm
-// (1e-3 units), else a warning for the log that names the rounding and suggests --offset.
+// (1e-3 units), else a warning for the log that names the rounding (the caller says how to shift
+// the coordinates).
 std::string stl_precision_warning(const mesh::Triangulation& tin, const Point3& offset);
 
 // Writes the real triangles of `tin` (ghosts skipped; constrained edges as PLY `edge` elements
