@@ -29,6 +29,7 @@
 #include "support/files.hpp"
 #include "support/las_writer.hpp"
 #include "support/mesh_files.hpp"
+#include "support/shared_data.hpp"
 #include "support/stats_json.hpp"
 
 extern char** environ;
@@ -44,7 +45,7 @@ using tincdt::test::slurp;
 using tincdt::test::spit;
 
 std::string shared_data() {
-  return TINCDT_SHARED_DATA;
+  return ::tincdt::test::shared_data();
 }
 
 bool have_shared_data() {

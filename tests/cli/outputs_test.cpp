@@ -26,6 +26,7 @@
 #include "pipeline/stage.hpp"
 #include "support/files.hpp"
 #include "support/mesh_files.hpp"
+#include "support/shared_data.hpp"
 
 namespace {
 
@@ -424,7 +425,7 @@ TEST(Threads, OneThreadAndAllCoresGiveTheSameValidTin) {
 // Every shared LAS and XYZ file: the reader's warnings are shown (a file without a CRS says why),
 // and no other warning appears.
 TEST(Warnings, SharedFilesWarnAsExpectedAndOtherwiseNot) {
-  const fs::path data = fs::path(TINCDT_SHARED_DATA);
+  const fs::path data = fs::path(::tincdt::test::shared_data());
   if (!fs::is_directory(data / "las")) GTEST_SKIP() << "shared data not found at " << data;
   const std::map<std::string, std::string> expected = {
       {"mvk-thin.las", "override part of its definition"},

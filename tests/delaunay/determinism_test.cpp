@@ -22,6 +22,7 @@
 #include "support/determinism.hpp"
 #include "support/files.hpp"
 #include "support/perturbed_delaunay.hpp"
+#include "support/shared_data.hpp"
 
 namespace tincdt::delaunay {
 namespace {
@@ -286,7 +287,7 @@ TEST(DeterministicDelaunay, DefaultOptionsOnALargeLattice) {
 // ---- the shared LAS files -----------------------------------------------------------------------
 
 TEST(DeterministicDelaunay, SharedLasFiles) {
-  const fs::path las = fs::path(TINCDT_SHARED_DATA) / "las";
+  const fs::path las = fs::path(::tincdt::test::shared_data()) / "las";
   if (!fs::is_directory(las)) GTEST_SKIP() << "no shared data at " << las;
   int files = 0;
   for (const auto& entry : fs::directory_iterator(las)) {

@@ -20,6 +20,7 @@
 #include "pipeline/build.hpp"
 #include "support/files.hpp"
 #include "support/mesh_files.hpp"
+#include "support/shared_data.hpp"
 
 namespace {
 
@@ -371,7 +372,7 @@ TEST_F(Pipeline, LogReceivesDebugLines) {
 // ---- CRS handling on the shared LAS files ----------------------------------------------------
 
 std::string shared_las(const char* name) {
-  return (fs::path(TINCDT_SHARED_DATA) / "las" / name).string();
+  return (fs::path(::tincdt::test::shared_data()) / "las" / name).string();
 }
 
 // Builds O; the warnings it logged.
@@ -403,7 +404,8 @@ TEST_F(Pipeline, DifferentCrsIsAnErrorNamingBoth) {
 
 TEST_F(Pipeline, FileWithoutCrsTakesTheKnownOneWithAWarning) {
   if (!fs::exists(shared_las("Topography.las"))) GTEST_SKIP() << "shared data not found";
-  const std::string xyz = (fs::path(TINCDT_SHARED_DATA) / "xyz" / "Topography_ground.xyz").string();
+  const std::string xyz =
+      (fs::path(::tincdt::test::shared_data()) / "xyz" / "Topography_ground.xyz").string();
   pipeline::BuildOptions o;
   o.inputs = {xyz, shared_las("Topography.las")};
   o.output = path("t.ply");

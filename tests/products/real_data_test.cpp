@@ -20,12 +20,13 @@
 #include "predicates/predicates.hpp"
 #include "products/contours.hpp"
 #include "products/rasterize.hpp"
+#include "support/shared_data.hpp"
 #include "terrain/interpolate.hpp"
 
 namespace tincdt::products {
 namespace {
 
-const std::string kData = TINCDT_SHARED_DATA;
+const std::string kData = ::tincdt::test::shared_data();
 const std::string kPoints = kData + "/xyz/Topography_ground.xyz";
 const std::string kContours = kData + "/pair_topography/Topography_contours_1m_3d.shp";
 

@@ -16,13 +16,14 @@
 #include "pipeline/build.hpp"
 #include "support/files.hpp"
 #include "support/mesh_files.hpp"
+#include "support/shared_data.hpp"
 
 namespace tincdt::simplify {
 namespace {
 
 namespace fs = std::filesystem;
 
-const std::string kData = TINCDT_SHARED_DATA;
+const std::string kData = ::tincdt::test::shared_data();
 const std::string kLas = kData + "/las/Topography.las";
 const std::string kContours = kData + "/pair_topography/Topography_contours_1m_3d.shp";
 

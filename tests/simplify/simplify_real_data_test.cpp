@@ -13,11 +13,12 @@
 #include "io/vector/line_reader.hpp"
 #include "simplify/simplify.hpp"
 #include "simplify_checks.hpp"
+#include "support/shared_data.hpp"
 
 namespace tincdt::simplify {
 namespace {
 
-const std::string kData = TINCDT_SHARED_DATA;
+const std::string kData = ::tincdt::test::shared_data();
 
 struct Pair {
   const char* name;

@@ -14,7 +14,8 @@ namespace tincdt::test {
 // run the suite as a user's clone does), else the one configured at build time.
 inline std::string shared_data() {
   const char* env = std::getenv("TINCDT_SHARED_DATA");
-  return env != nullptr && *env != '\0' ? std::string(env) : std::string(TINCDT_SHARED_DATA);
+  return env != nullptr && *env != '\0' ? std::string(env)
+                                        : std::string(TINCDT_SHARED_DATA_DEFAULT);
 }
 
 }  // namespace tincdt::test

@@ -6,8 +6,8 @@
 #include <string>
 
 #include "core/error.hpp"
-#include "tiles/plan.hpp"
 #include "support/files.hpp"
+#include "tiles/plan.hpp"
 
 namespace {
 

@@ -19,6 +19,7 @@
 #include "io/mesh/ply_reader.hpp"
 #include "pipeline/build.hpp"
 #include "support/files.hpp"
+#include "support/shared_data.hpp"
 #include "support/vector_files.hpp"
 #include "tiles/merge.hpp"
 #include "tiles/plan.hpp"
@@ -330,7 +331,7 @@ fs::path scratch() {
 }
 
 std::string shared(const std::string& rel) {
-  return (fs::path(TINCDT_SHARED_DATA) / rel).string();
+  return (fs::path(::tincdt::test::shared_data()) / rel).string();
 }
 
 // ---- the merged tiles are the whole TIN
