@@ -19,10 +19,10 @@
 #include <vector>
 
 #include "core/error.hpp"
-#include "io/laz_test_encoder.hpp"
 #include "io/points/laz/chunk_table.hpp"
 #include "io/points/laz/laszip_vlr.hpp"
 #include "io/points/laz/laz_reader.hpp"
+#include "io/points/laz_test_encoder.hpp"
 #include "support/byte_fields.hpp"
 
 namespace {

@@ -15,11 +15,11 @@
 
 #include "core/error.hpp"
 #include "core/types.hpp"
-#include "io/laz_file_edits.hpp"
-#include "io/laz_test_encoder.hpp"
 #include "io/points/laz/chunk_table.hpp"
 #include "io/points/laz/laszip_vlr.hpp"
 #include "io/points/laz/laz_reader.hpp"
+#include "io/points/laz_file_edits.hpp"
+#include "io/points/laz_test_encoder.hpp"
 #include "io/points/point_reader.hpp"
 #include "support/files.hpp"
 #include "support/shared_data.hpp"

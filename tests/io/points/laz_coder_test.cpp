@@ -9,11 +9,11 @@
 #include <random>
 #include <vector>
 
-#include "io/laz_test_encoder.hpp"
 #include "io/points/laz/arithmetic_decoder.hpp"
 #include "io/points/laz/integer_decompressor.hpp"
 #include "io/points/laz/models.hpp"
 #include "io/points/laz/predictors.hpp"
+#include "io/points/laz_test_encoder.hpp"
 
 namespace tincdt::io::laz {
 namespace {

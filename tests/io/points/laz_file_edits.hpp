@@ -10,10 +10,10 @@
 #include <string>
 #include <vector>
 
-#include "io/laz_test_encoder.hpp"
 #include "io/points/laz/chunk_table.hpp"
 #include "io/points/laz/laszip_vlr.hpp"
 #include "io/points/laz/laz_reader.hpp"
+#include "io/points/laz_test_encoder.hpp"
 #include "support/byte_fields.hpp"
 
 namespace tincdt::test::laz_edits {
