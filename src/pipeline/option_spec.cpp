@@ -64,6 +64,11 @@ std::string check_positive(std::string_view text) {
   return v && *v > 0 ? std::string() : in_quotes(text) + " is not a number > 0";
 }
 
+std::string check_non_negative(std::string_view text) {
+  const auto v = parse_number(text);
+  return v && *v >= 0 ? std::string() : in_quotes(text) + " is not a number >= 0";
+}
+
 std::optional<std::string> append_class_codes(std::string_view text,
                                               std::vector<std::uint8_t>& classes) {
   while (true) {

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <iterator>
 #include <optional>
 #include <span>
 #include <string>
@@ -79,12 +80,103 @@ std::string lower(std::string_view text);
 std::string in_quotes(std::string_view text);
 // V as the help shows a number: "0", "-9999", "nan".
 std::string number_text(double v);
-// Checks that refuse with "'TEXT' is not a number" (> 0, >= 0).
+// Checks that refuse with "'TEXT' is not a number" (> 0, >= 0) as their names say.
 std::string check_number(std::string_view text);
 std::string check_positive(std::string_view text);
+std::string check_non_negative(std::string_view text);
 // Appends the LAS classification codes of TEXT ("2,8") to CLASSES; returns the first item that
 // is not a code (0-255), if any.
 std::optional<std::string> append_class_codes(std::string_view text,
                                               std::vector<std::uint8_t>& classes);
+
+// ---- a table's common entries -----------------------------------------------------------------
+// A field of BuildOptions by its path: field<&BuildOptions::write, &BuildOptions::Write::gpkg_tin>
+// is options.write.gpkg_tin. The set and shown functions below store into one, so that most
+// entries need no function of their own.
+template <auto... Path>
+auto& field(BuildOptions& options) {
+  return (options.*....*Path);
+}
+template <auto... Path>
+const auto& field(const BuildOptions& options) {
+  return (options.*....*Path);
+}
+
+template <auto... Path>
+void set_text(BuildOptions& options, std::string_view text) {
+  field<Path...>(options) = text;
+}
+template <auto... Path>
+void add_text(BuildOptions& options, std::string_view text) {
+  field<Path...>(options).emplace_back(text);
+}
+template <auto... Path>
+void set_true(BuildOptions& options, std::string_view) {
+  field<Path...>(options) = true;
+}
+template <auto... Path>
+void set_number(BuildOptions& options, std::string_view text) {
+  field<Path...>(options) = *parse_number(text);
+}
+template <auto... Path>
+std::string show_number(const BuildOptions& options) {
+  return number_text(field<Path...>(options));
+}
+// A choice whose word WORDS[i] stands for the value VALUES[i].
+template <const auto& Words, const auto& Values, auto... Path>
+void set_choice(BuildOptions& options, std::string_view word) {
+  static_assert(std::size(Words) == std::size(Values));
+  for (std::size_t i = 0; i < std::size(Words); ++i)
+    if (word == Words[i]) field<Path...>(options) = Values[i];
+}
+template <const auto& Words, const auto& Values, auto... Path>
+std::string show_choice(const BuildOptions& options) {
+  for (std::size_t i = 0; i < std::size(Values); ++i)
+    if (field<Path...>(options) == Values[i]) return std::string(Words[i]);
+  return {};
+}
+
+using OptionSetter = void (*)(BuildOptions& options, std::string_view text);
+
+// A flag (no value) that SET records.
+constexpr OptionSpec flag_option(std::string_view flags, std::string_view group, OptionSetter set,
+                                 std::string_view help) {
+  return {.flags = flags, .help = help, .group = group, .kind = OptionKind::flag, .set = set};
+}
+// An option of one VALUE_NAME that SET stores unchecked (a path, a name).
+constexpr OptionSpec text_option(std::string_view flags, std::string_view value_name,
+                                 std::string_view group, OptionSetter set, std::string_view help) {
+  return {.flags = flags, .value_name = value_name, .help = help, .group = group, .set = set};
+}
+// An option of one VALUE_NAME that CHECK accepts before SET stores it.
+constexpr OptionSpec checked_option(std::string_view flags, std::string_view value_name,
+                                    std::string_view group, std::string (*check)(std::string_view),
+                                    OptionSetter set, std::string_view help) {
+  OptionSpec spec = text_option(flags, value_name, group, set, help);
+  spec.check = check;
+  return spec;
+}
+// One of WORDS, stored at PATH as the VALUES[i] of the word given; DEFAULT_WORD is the word of
+// BuildOptions{}'s value.
+template <const auto& Words, const auto& Values, auto... Path>
+constexpr OptionSpec choice_option(std::string_view flags, std::string_view group,
+                                   std::string_view default_word, std::string_view help) {
+  return {.flags = flags,
+          .help = help,
+          .group = group,
+          .kind = OptionKind::choice,
+          .words = Words,
+          .default_text = default_word,
+          .set = set_choice<Words, Values, Path...>,
+          .shown = show_choice<Words, Values, Path...>};
+}
+// The same, given once or more: SET takes each value in turn.
+constexpr OptionSpec repeated_option(std::string_view flags, std::string_view value_name,
+                                     std::string_view group, OptionSetter set,
+                                     std::string_view help) {
+  OptionSpec spec = text_option(flags, value_name, group, set, help);
+  spec.kind = OptionKind::repeated;
+  return spec;
+}
 
 }  // namespace tincdt::pipeline

@@ -45,13 +45,10 @@ void plan(const BuildOptions& o, FilePlan& files) {
 }
 
 constexpr OptionSpec kOptions[] = {
-    {.flags = "--constraints-out",
-     .value_name = "FILE.geojson",
-     .help = "Write the TIN's constrained edges as GeoJSON lines with their\n"
-             "source file and feature id",
-     .group = option_groups::output,
-     .set = [](BuildOptions& o, std::string_view v) { o.constraints_out = v; }},
-};
+    text_option("--constraints-out", "FILE.geojson", option_groups::output,
+                set_text<&BuildOptions::constraints_out>,
+                "Write the TIN's constrained edges as GeoJSON lines with their\n"
+                "source file and feature id")};
 
 }  // namespace
 

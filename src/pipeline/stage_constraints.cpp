@@ -90,46 +90,23 @@ void run(Job& job) {
 // ---- options -----------------------------------------------------------------------------------
 
 constexpr std::string_view kCrossingWords[] = {"split", "error"};
+constexpr constraints::OnCrossing kCrossings[] = {constraints::OnCrossing::split,
+                                                  constraints::OnCrossing::error};
 constexpr std::string_view kRestoreWords[] = {"delaunay", "aspect", "none"};
 constexpr constraints::Restore kRestores[] = {
     constraints::Restore::delaunay, constraints::Restore::aspect, constraints::Restore::none};
 
+using Constraint = constraints::ConstraintOptions;
+
 constexpr OptionSpec kOptions[] = {
-    {.flags = "--on-crossing",
-     .help = "Crossing contours / hard lines: join them at a new vertex, or stop\n"
-             "with an error (surface features always join)",
-     .group = option_groups::triangulation,
-     .kind = OptionKind::choice,
-     .words = kCrossingWords,
-     .default_text = "split",
-     .set =
-         [](BuildOptions& o, std::string_view v) {
-           o.constraint.on_crossing =
-               v == "error" ? constraints::OnCrossing::error : constraints::OnCrossing::split;
-         },
-     .shown =
-         [](const BuildOptions& o) {
-           return std::string(o.constraint.on_crossing == constraints::OnCrossing::error ? "error"
-                                                                                         : "split");
-         }},
-    {.flags = "--restore",
-     .help = "After each line is in: restore the constrained Delaunay property,\n"
-             "improve aspect ratios (the paper's criterion), or leave the swaps",
-     .group = option_groups::triangulation,
-     .kind = OptionKind::choice,
-     .words = kRestoreWords,
-     .default_text = "delaunay",
-     .set =
-         [](BuildOptions& o, std::string_view v) {
-           for (std::size_t i = 0; i < std::size(kRestoreWords); ++i)
-             if (v == kRestoreWords[i]) o.constraint.restore = kRestores[i];
-         },
-     .shown =
-         [](const BuildOptions& o) {
-           for (std::size_t i = 0; i < std::size(kRestoreWords); ++i)
-             if (o.constraint.restore == kRestores[i]) return std::string(kRestoreWords[i]);
-           return std::string();
-         }},
+    choice_option<kCrossingWords, kCrossings, &BuildOptions::constraint, &Constraint::on_crossing>(
+        "--on-crossing", option_groups::triangulation, "split",
+        "Crossing contours / hard lines: join them at a new vertex, or stop\n"
+        "with an error (surface features always join)"),
+    choice_option<kRestoreWords, kRestores, &BuildOptions::constraint, &Constraint::restore>(
+        "--restore", option_groups::triangulation, "delaunay",
+        "After each line is in: restore the constrained Delaunay property,\n"
+        "improve aspect ratios (the paper's criterion), or leave the swaps"),
 };
 
 }  // namespace

@@ -80,27 +80,21 @@ void plan(const BuildOptions& o, FilePlan& files) {
 // ---- options -----------------------------------------------------------------------------------
 
 constexpr OptionSpec kOptions[] = {
-    {.flags = "--contour-lines",
-     .value_name = "FILE",
-     .help = "Trace contour lines on the TIN into any OGR vector format, by\n"
-             "extension (.gpkg, .shp, .geojson, ...), with an elev field (needs --interval)",
-     .group = option_groups::products,
-     .set = [](BuildOptions& o, std::string_view v) { o.contour_lines.path = v; }},
-    {.flags = "--interval",
-     .value_name = "I",
-     .help = "Contour interval",
-     .group = option_groups::products,
-     .check = check_positive,
-     .set = [](BuildOptions& o,
-               std::string_view v) { o.contour_lines.interval = *parse_number(v); }},
+    text_option("--contour-lines", "FILE", option_groups::products,
+                set_text<&BuildOptions::contour_lines, &BuildOptions::ContourLines::path>,
+                "Trace contour lines on the TIN into any OGR vector format, by\n"
+                "extension (.gpkg, .shp, .geojson, ...), with an elev field (needs --interval)"),
+    checked_option("--interval", "I", option_groups::products, check_positive,
+                   set_number<&BuildOptions::contour_lines, &BuildOptions::ContourLines::interval>,
+                   "Contour interval"),
     {.flags = "--base",
      .value_name = "B",
      .help = "Contour levels are BASE + k * interval",
      .group = option_groups::products,
      .default_text = "0",
      .check = check_number,
-     .set = [](BuildOptions& o, std::string_view v) { o.contour_lines.base = *parse_number(v); },
-     .shown = [](const BuildOptions& o) { return number_text(o.contour_lines.base); }},
+     .set = set_number<&BuildOptions::contour_lines, &BuildOptions::ContourLines::base>,
+     .shown = show_number<&BuildOptions::contour_lines, &BuildOptions::ContourLines::base>},
 };
 
 }  // namespace

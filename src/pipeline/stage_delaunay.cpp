@@ -57,23 +57,9 @@ constexpr delaunay::DuplicatePolicy kDuplicatePolicies[] = {
     delaunay::DuplicatePolicy::max, delaunay::DuplicatePolicy::mean};
 
 constexpr OptionSpec kOptions[] = {
-    {.flags = "--on-duplicate",
-     .help = "z of points with equal x, y: the first in input order,\nor their min, max or mean",
-     .group = option_groups::triangulation,
-     .kind = OptionKind::choice,
-     .words = kDuplicateWords,
-     .default_text = "mean",
-     .set =
-         [](BuildOptions& o, std::string_view v) {
-           for (std::size_t i = 0; i < std::size(kDuplicateWords); ++i)
-             if (v == kDuplicateWords[i]) o.on_duplicate = kDuplicatePolicies[i];
-         },
-     .shown =
-         [](const BuildOptions& o) {
-           for (std::size_t i = 0; i < std::size(kDuplicateWords); ++i)
-             if (o.on_duplicate == kDuplicatePolicies[i]) return std::string(kDuplicateWords[i]);
-           return std::string();
-         }},
+    choice_option<kDuplicateWords, kDuplicatePolicies, &BuildOptions::on_duplicate>(
+        "--on-duplicate", option_groups::triangulation, "mean",
+        "z of points with equal x, y: the first in input order,\nor their min, max or mean"),
 };
 
 }  // namespace

@@ -117,6 +117,7 @@ void plan(const BuildOptions& o, FilePlan& files) {
 // ---- options -----------------------------------------------------------------------------------
 
 constexpr std::string_view kCellTypes[] = {"float32", "float64"};
+constexpr bool kIsFloat64[] = {false, true};
 
 // "XMIN YMIN XMAX YMAX", each checked a number.
 BBox parse_extent(std::string_view text) {
@@ -134,19 +135,16 @@ BBox parse_extent(std::string_view text) {
   return box;
 }
 
+using Dem = BuildOptions::Dem;
+
 constexpr OptionSpec kOptions[] = {
-    {.flags = "--dem",
-     .value_name = "FILE.tif",
-     .help = "Rasterize the TIN to a Cloud-Optimized GeoTIFF: each cell centre gets\n"
-             "its triangle's linear interpolation, nodata outside (needs --resolution)",
-     .group = option_groups::products,
-     .set = [](BuildOptions& o, std::string_view v) { o.dem.path = v; }},
-    {.flags = "--resolution",
-     .value_name = "R",
-     .help = "DEM cell size, in the CRS's units",
-     .group = option_groups::products,
-     .check = check_positive,
-     .set = [](BuildOptions& o, std::string_view v) { o.dem.resolution = *parse_number(v); }},
+    text_option("--dem", "FILE.tif", option_groups::products,
+                set_text<&BuildOptions::dem, &Dem::path>,
+                "Rasterize the TIN to a Cloud-Optimized GeoTIFF: each cell centre gets\n"
+                "its triangle's linear interpolation, nodata outside (needs --resolution)"),
+    checked_option("--resolution", "R", option_groups::products, check_positive,
+                   set_number<&BuildOptions::dem, &Dem::resolution>,
+                   "DEM cell size, in the CRS's units"),
     {.flags = "--dem-extent",
      .value_name = "XMIN YMIN XMAX YMAX",
      .help = "DEM extent (default: the TIN's)",
@@ -154,11 +152,9 @@ constexpr OptionSpec kOptions[] = {
      .arity = 4,
      .check = check_number,
      .set = [](BuildOptions& o, std::string_view v) { o.dem.extent = parse_extent(v); }},
-    {.flags = "--tap",
-     .help = "Snap the DEM extent out to multiples of the resolution (as gdalwarp -tap)",
-     .group = option_groups::products,
-     .kind = OptionKind::flag,
-     .set = [](BuildOptions& o, std::string_view) { o.dem.target_aligned = true; }},
+    flag_option("--tap", option_groups::products,
+                set_true<&BuildOptions::dem, &Dem::target_aligned>,
+                "Snap the DEM extent out to multiples of the resolution (as gdalwarp -tap)"),
     {.flags = "--dem-nodata",
      .value_name = "V",
      .help = "Value of the DEM cells outside the TIN (or nan)",
@@ -170,22 +166,13 @@ constexpr OptionSpec kOptions[] = {
          [](BuildOptions& o, std::string_view v) {
            o.dem.nodata = lower(v) == "nan" ? std::nan("") : *parse_number(v);
          },
-     .shown = [](const BuildOptions& o) { return number_text(o.dem.nodata); }},
-    {.flags = "--dem-type",
-     .help = "DEM cell type",
-     .group = option_groups::products,
-     .kind = OptionKind::choice,
-     .words = kCellTypes,
-     .default_text = "float32",
-     .set = [](BuildOptions& o, std::string_view v) { o.dem.float64 = v == "float64"; },
-     .shown = [](const BuildOptions& o) { return std::string(kCellTypes[o.dem.float64 ? 1 : 0]); }},
-    {.flags = "--dem-co",
-     .value_name = "NAME=VALUE",
-     .help = "A GDAL COG creation option over the defaults (DEFLATE level 1,\n"
-             "predictor, average overviews), e.g. COMPRESS=ZSTD",
-     .group = option_groups::products,
-     .kind = OptionKind::repeated,
-     .set = [](BuildOptions& o, std::string_view v) { o.dem.creation_options.emplace_back(v); }},
+     .shown = show_number<&BuildOptions::dem, &Dem::nodata>},
+    choice_option<kCellTypes, kIsFloat64, &BuildOptions::dem, &Dem::float64>(
+        "--dem-type", option_groups::products, "float32", "DEM cell type"),
+    repeated_option("--dem-co", "NAME=VALUE", option_groups::products,
+                    add_text<&BuildOptions::dem, &Dem::creation_options>,
+                    "A GDAL COG creation option over the defaults (DEFLATE level 1,\n"
+                    "predictor, average overviews), e.g. COMPRESS=ZSTD"),
 };
 
 }  // namespace

@@ -57,14 +57,10 @@ void plan(const BuildOptions& o, FilePlan& files) {
   files.outputs.push_back({o.diagnostics, "the diagnostics (--diagnostics)"});
 }
 
-constexpr OptionSpec kOptions[] = {
-    {.flags = "--diagnostics",
-     .value_name = "FILE.gpkg",
-     .help = "Write crossings, skipped segments and dropped features as\n"
-             "GeoPackage layers with the input feature ids",
-     .group = option_groups::output,
-     .set = [](BuildOptions& o, std::string_view v) { o.diagnostics = v; }},
-};
+constexpr OptionSpec kOptions[] = {text_option(
+    "--diagnostics", "FILE.gpkg", option_groups::output, set_text<&BuildOptions::diagnostics>,
+    "Write crossings, skipped segments and dropped features as\n"
+    "GeoPackage layers with the input feature ids")};
 
 }  // namespace
 

@@ -41,13 +41,9 @@ void run(Job& job) {
 }
 
 constexpr OptionSpec kOptions[] = {
-    {.flags = "--fix-flats",
-     .help = "Remove flat triangles (3 corners on one contour level) by swaps,\n"
-             "then by vertices on the contours' medial axis (needs --contours)",
-     .group = option_groups::quality,
-     .kind = OptionKind::flag,
-     .set = [](BuildOptions& o, std::string_view) { o.fix_flats = true; }},
-};
+    flag_option("--fix-flats", option_groups::quality, set_true<&BuildOptions::fix_flats>,
+                "Remove flat triangles (3 corners on one contour level) by swaps,\n"
+                "then by vertices on the contours' medial axis (needs --contours)")};
 
 }  // namespace
 

@@ -60,31 +60,16 @@ void run(Job& job) {
 
 // ---- options -----------------------------------------------------------------------------------
 
-constexpr OptionSpec kReplaceOptions[] = {
-    {.flags = "--replace",
-     .value_name = "POLYGONS",
-     .help = "Replace polygons: vertices on or inside get the polygon's one z\n"
-             "(--z-field, --z-from-m or 3D z); rings become TIN edges",
-     .group = option_groups::quality,
-     .kind = OptionKind::repeated,
-     .set = [](BuildOptions& o, std::string_view v) { o.replace.emplace_back(v); }},
-};
+constexpr OptionSpec kReplaceOptions[] = {repeated_option(
+    "--replace", "POLYGONS", option_groups::quality, add_text<&BuildOptions::replace>,
+    "Replace polygons: vertices on or inside get the polygon's one z\n"
+    "(--z-field, --z-from-m or 3D z); rings become TIN edges")};
 constexpr OptionSpec kClipOptions[] = {
-    {.flags = "--clip",
-     .value_name = "POLYGONS",
-     .help = "Remove the triangles outside these polygons (2D: draped)",
-     .group = option_groups::boundary,
-     .kind = OptionKind::repeated,
-     .set = [](BuildOptions& o, std::string_view v) { o.clip.emplace_back(v); }},
-};
+    repeated_option("--clip", "POLYGONS", option_groups::boundary, add_text<&BuildOptions::clip>,
+                    "Remove the triangles outside these polygons (2D: draped)")};
 constexpr OptionSpec kEraseOptions[] = {
-    {.flags = "--erase",
-     .value_name = "POLYGONS",
-     .help = "Remove the triangles inside these polygons (holes; wins over --clip)",
-     .group = option_groups::boundary,
-     .kind = OptionKind::repeated,
-     .set = [](BuildOptions& o, std::string_view v) { o.erase.emplace_back(v); }},
-};
+    repeated_option("--erase", "POLYGONS", option_groups::boundary, add_text<&BuildOptions::erase>,
+                    "Remove the triangles inside these polygons (holes; wins over --clip)")};
 
 }  // namespace
 

@@ -13,17 +13,14 @@ bool wanted(const BuildOptions& o) {
 
 void run(Job& job) {
   // Beside the writers on one core fewer than the job's (the mesh writers use one); with one
-  // core in all, in turn, when the stats stage asks for it.
+  // core in all, here, in turn.
   const std::size_t cores = thread_count(job.options.threads);
   const auto threads = static_cast<unsigned>(std::max<std::size_t>(1, cores - 1));
-  const auto policy = cores > 1 ? std::launch::async : std::launch::deferred;
-  job.quality_pass = std::async(policy, [&job, threads] {
+  job.quality_pass = std::make_unique<BackgroundJob>(cores > 1, [&job, threads] {
     const auto t0 = std::chrono::steady_clock::now();
-    Job::MeasuredQuality m;
-    m.quality = terrain::measure_quality(
+    job.quality_measured.quality = terrain::measure_quality(
         job.tin(), job.on_contour.empty() ? nullptr : &job.on_contour, threads);
-    m.seconds = seconds_since(t0);
-    return m;
+    job.quality_measured.seconds = seconds_since(t0);
   });
 }
 

@@ -285,8 +285,9 @@ void plan(const BuildOptions& o, FilePlan& files) {
 
 namespace groups = option_groups;
 
-void append_classes(std::vector<std::uint8_t>& classes, std::string_view text) {
-  [[maybe_unused]] const auto bad = append_class_codes(text, classes);
+template <auto Classes>
+void add_classes(BuildOptions& o, std::string_view text) {
+  [[maybe_unused]] const auto bad = append_class_codes(text, o.filter.*Classes);
   assert(!bad && "checked before");
 }
 
@@ -296,75 +297,50 @@ std::string check_classes(std::string_view text) {
   return bad ? in_quotes(*bad) + " is not a LAS classification code (0-255)" : std::string();
 }
 
+// --keep-class or --drop-class: codes added to the filter's CLASSES.
+template <auto Classes>
+constexpr OptionSpec class_option(std::string_view flags, std::string_view help) {
+  OptionSpec spec =
+      checked_option(flags, "N[,N...]", groups::input, check_classes, add_classes<Classes>, help);
+  spec.kind = OptionKind::repeated;
+  return spec;
+}
+
 constexpr OptionSpec kOptions[] = {
     {.flags = "INPUT",
      .value_name = "FILE",
      .help = "Point files: LAS 1.0-1.4, LAZ, COPC or XYZ text ('-' = stdin)",
      .kind = OptionKind::positional,
-     .set = [](BuildOptions& o, std::string_view v) { o.inputs.emplace_back(v); }},
-    {.flags = "--a-srs",
-     .value_name = "SRS",
-     .help = "Assign the inputs' CRS (EPSG:n, WKT, PROJ string or .prj file),\n"
-             "for files without one; overrides the files' own",
-     .group = groups::input,
-     .set = [](BuildOptions& o, std::string_view v) { o.assign_srs = v; }},
-    {.flags = "--keep-class",
-     .value_name = "N[,N...]",
-     .help = "Keep only these LAS classes (e.g. 2,8)",
-     .group = groups::input,
-     .kind = OptionKind::repeated,
-     .check = check_classes,
-     .set = [](BuildOptions& o, std::string_view v) { append_classes(o.filter.keep_classes, v); }},
-    {.flags = "--drop-class",
-     .value_name = "N[,N...]",
-     .help = "Drop these LAS classes (e.g. 7,18: noise)",
-     .group = groups::input,
-     .kind = OptionKind::repeated,
-     .check = check_classes,
-     .set = [](BuildOptions& o, std::string_view v) { append_classes(o.filter.drop_classes, v); }},
-    {.flags = "--first-only",
-     .help = "Keep only first returns (LAS)",
-     .group = groups::input,
-     .kind = OptionKind::flag,
-     .set = [](BuildOptions& o, std::string_view) { o.filter.first_return_only = true; }},
-    {.flags = "--last-only",
-     .help = "Keep only last returns (LAS)",
-     .group = groups::input,
-     .kind = OptionKind::flag,
-     .set = [](BuildOptions& o, std::string_view) { o.filter.last_return_only = true; }},
-    {.flags = "--contours",
-     .value_name = "LINES",
-     .help = "Contour lines: hard edges; their flats are what --fix-flats fixes",
-     .group = groups::lines,
-     .kind = OptionKind::repeated,
-     .set = [](BuildOptions& o, std::string_view v) { o.contours.emplace_back(v); }},
-    {.flags = "--hard-lines,--breaklines",
-     .value_name = "LINES",
-     .help = "Hard lines (breaklines): every segment is a TIN edge",
-     .group = groups::lines,
-     .kind = OptionKind::repeated,
-     .set = [](BuildOptions& o, std::string_view v) { o.breaklines.emplace_back(v); }},
-    {.flags = "--soft-lines",
-     .value_name = "LINES",
-     .help = "Soft lines: TIN edges with z draped from the TIN (own z ignored)",
-     .group = groups::lines,
-     .kind = OptionKind::repeated,
-     .set = [](BuildOptions& o, std::string_view v) { o.soft_lines.emplace_back(v); }},
-    {.flags = "--layer",
-     .value_name = "NAME",
-     .help = "Layer to read from each vector source",
-     .group = groups::lines,
-     .set = [](BuildOptions& o, std::string_view v) { o.lines.layer = v; }},
-    {.flags = "--z-field",
-     .value_name = "NAME",
-     .help = "Take z from this attribute (contours, lines, replace)",
-     .group = groups::lines,
-     .set = [](BuildOptions& o, std::string_view v) { o.lines.z_field = v; }},
-    {.flags = "--z-from-m",
-     .help = "Take z from the M values (contours, lines, replace)",
-     .group = groups::lines,
-     .kind = OptionKind::flag,
-     .set = [](BuildOptions& o, std::string_view) { o.lines.z_from_m = true; }},
+     .set = add_text<&BuildOptions::inputs>},
+    text_option("--a-srs", "SRS", groups::input, set_text<&BuildOptions::assign_srs>,
+                "Assign the inputs' CRS (EPSG:n, WKT, PROJ string or .prj file),\n"
+                "for files without one; overrides the files' own"),
+    class_option<&io::PointFilter::keep_classes>("--keep-class",
+                                                 "Keep only these LAS classes (e.g. 2,8)"),
+    class_option<&io::PointFilter::drop_classes>("--drop-class",
+                                                 "Drop these LAS classes (e.g. 7,18: noise)"),
+    flag_option("--first-only", groups::input,
+                set_true<&BuildOptions::filter, &io::PointFilter::first_return_only>,
+                "Keep only first returns (LAS)"),
+    flag_option("--last-only", groups::input,
+                set_true<&BuildOptions::filter, &io::PointFilter::last_return_only>,
+                "Keep only last returns (LAS)"),
+    repeated_option("--contours", "LINES", groups::lines, add_text<&BuildOptions::contours>,
+                    "Contour lines: hard edges; their flats are what --fix-flats fixes"),
+    repeated_option("--hard-lines,--breaklines", "LINES", groups::lines,
+                    add_text<&BuildOptions::breaklines>,
+                    "Hard lines (breaklines): every segment is a TIN edge"),
+    repeated_option("--soft-lines", "LINES", groups::lines, add_text<&BuildOptions::soft_lines>,
+                    "Soft lines: TIN edges with z draped from the TIN (own z ignored)"),
+    text_option("--layer", "NAME", groups::lines,
+                set_text<&BuildOptions::lines, &io::LineReadOptions::layer>,
+                "Layer to read from each vector source"),
+    text_option("--z-field", "NAME", groups::lines,
+                set_text<&BuildOptions::lines, &io::LineReadOptions::z_field>,
+                "Take z from this attribute (contours, lines, replace)"),
+    flag_option("--z-from-m", groups::lines,
+                set_true<&BuildOptions::lines, &io::LineReadOptions::z_from_m>,
+                "Take z from the M values (contours, lines, replace)"),
 };
 
 }  // namespace

@@ -63,17 +63,10 @@ void run(Job& job) {
 constexpr std::size_t kFewestVertices = 3;  // a TIN
 
 constexpr OptionSpec kOptions[] = {
-    {.flags = "--max-error",
-     .value_name = "Z",
-     .help = "Keep only the points needed for every point to lie within Z\n"
-             "(vertically) of the TIN; contours and breaklines stay whole",
-     .group = option_groups::simplification,
-     .check =
-         [](std::string_view v) {
-           const auto d = parse_number(v);
-           return d && *d >= 0 ? std::string() : in_quotes(v) + " is not a number >= 0";
-         },
-     .set = [](BuildOptions& o, std::string_view v) { o.max_error = *parse_number(v); }},
+    checked_option("--max-error", "Z", option_groups::simplification, check_non_negative,
+                   set_number<&BuildOptions::max_error>,
+                   "Keep only the points needed for every point to lie within Z\n"
+                   "(vertically) of the TIN; contours and breaklines stay whole"),
     {.flags = "--max-vertices",
      .value_name = "N",
      .help = "Stop simplifying at N vertices (alone: with --max-error 0)",

@@ -24,12 +24,8 @@ void plan(const BuildOptions& o, FilePlan& files) {
 }
 
 constexpr OptionSpec kOptions[] = {
-    {.flags = "--stats",
-     .value_name = "FILE.json",
-     .help = "Write counts, quality, timings and memory as JSON",
-     .group = option_groups::output,
-     .set = [](BuildOptions& o, std::string_view v) { o.stats_path = v; }},
-};
+    text_option("--stats", "FILE.json", option_groups::output, set_text<&BuildOptions::stats_path>,
+                "Write counts, quality, timings and memory as JSON")};
 
 }  // namespace
 

@@ -20,17 +20,10 @@ void run(Job& job) {
 }
 
 constexpr OptionSpec kOptions[] = {
-    {.flags = "--max-edge",
-     .value_name = "LENGTH",
-     .help = "Trim boundary triangles with a longer edge, inward from the hull,\n"
-             "so concave outlines are not bridged",
-     .group = option_groups::boundary,
-     .check =
-         [](std::string_view v) {
-           const auto d = parse_number(v);
-           return d && *d > 0 ? std::string() : in_quotes(v) + " is not a length > 0";
-         },
-     .set = [](BuildOptions& o, std::string_view v) { o.max_edge = *parse_number(v); }},
+    checked_option("--max-edge", "LENGTH", option_groups::boundary, check_positive,
+                   set_number<&BuildOptions::max_edge>,
+                   "Trim boundary triangles with a longer edge, inward from the hull,\n"
+                   "so concave outlines are not bridged"),
 };
 
 }  // namespace

@@ -35,13 +35,9 @@ void run(Job& job) {
             ")");
 }
 
-constexpr OptionSpec kOptions[] = {
-    {.flags = "--validate",
-     .help = "Check the TIN's topology and Delaunay property",
-     .group = option_groups::checks,
-     .kind = OptionKind::flag,
-     .set = [](BuildOptions& o, std::string_view) { o.validate = true; }},
-};
+constexpr OptionSpec kOptions[] = {flag_option("--validate", option_groups::checks,
+                                               set_true<&BuildOptions::validate>,
+                                               "Check the TIN's topology and Delaunay property")};
 
 }  // namespace
 

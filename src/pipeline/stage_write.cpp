@@ -91,35 +91,31 @@ std::optional<Point3> parse_offset(std::string_view text) {
 
 const std::string kOutputHelp = "The TIN file: " + io::format_extensions_text();
 
+using Write = BuildOptions::Write;
+
 const OptionSpec kOptions[] = {
     {.flags = "-o,--output",
      .value_name = "FILE",
      .help = kOutputHelp,
      .group = option_groups::output,
      .required = true,
-     .set = [](BuildOptions& o, std::string_view v) { o.output = v; }},
+     .set = set_text<&BuildOptions::output>},
     {.flags = "-f,--format",
      .help = "Output format, overriding the extension",
      .group = option_groups::output,
      .kind = OptionKind::choice,
      .words = io::tin_format_names(),
      .set = [](BuildOptions& o, std::string_view v) { o.write.format = io::format_from_name(v); }},
-    {.flags = "--overwrite",
-     .help = "Replace existing outputs (TIN, stats, lines, diagnostics);\n"
-             "never an input, nor a file that belongs to one",
-     .group = option_groups::output,
-     .kind = OptionKind::flag,
-     .set = [](BuildOptions& o, std::string_view) { o.write.overwrite = true; }},
-    {.flags = "--ply-ascii",
-     .help = "Write PLY as text instead of binary",
-     .group = option_groups::output,
-     .kind = OptionKind::flag,
-     .set = [](BuildOptions& o, std::string_view) { o.write.ply_ascii = true; }},
-    {.flags = "--gpkg-tin",
-     .help = "GeoPackage: TIN Z features instead of POLYGON Z (not every GIS reads them)",
-     .group = option_groups::output,
-     .kind = OptionKind::flag,
-     .set = [](BuildOptions& o, std::string_view) { o.write.gpkg_tin = true; }},
+    flag_option("--overwrite", option_groups::output,
+                set_true<&BuildOptions::write, &Write::overwrite>,
+                "Replace existing outputs (TIN, stats, lines, diagnostics);\n"
+                "never an input, nor a file that belongs to one"),
+    flag_option("--ply-ascii", option_groups::output,
+                set_true<&BuildOptions::write, &Write::ply_ascii>,
+                "Write PLY as text instead of binary"),
+    flag_option("--gpkg-tin", option_groups::output,
+                set_true<&BuildOptions::write, &Write::gpkg_tin>,
+                "GeoPackage: TIN Z features instead of POLYGON Z (not every GIS reads them)"),
     {.flags = "--offset",
      .value_name = "auto|X,Y,Z",
      .help = "Subtract X,Y,Z from written coordinates (recorded in the file);\n"
@@ -136,11 +132,9 @@ const OptionSpec kOptions[] = {
            o.write.offset_auto = lower(v) == "auto";
            if (!o.write.offset_auto) o.write.offset = *parse_offset(v);
          }},
-    {.flags = "--t-srs",
-     .value_name = "SRS",
-     .help = "Reproject the GeoJSON output to SRS (e.g. EPSG:4326)",
-     .group = option_groups::output,
-     .set = [](BuildOptions& o, std::string_view v) { o.write.target_srs = v; }},
+    text_option("--t-srs", "SRS", option_groups::output,
+                set_text<&BuildOptions::write, &Write::target_srs>,
+                "Reproject the GeoJSON output to SRS (e.g. EPSG:4326)"),
 };
 
 }  // namespace
