@@ -15,15 +15,9 @@
 #include <string>
 #include <vector>
 
-#include "pipeline/build.hpp"
+#include "tiles/log.hpp"
 
 namespace tincdt::tiles {
-
-// Log lines as pipeline::build() gives them.
-using pipeline::log_debug;
-using pipeline::log_info;
-using pipeline::log_warn;
-using pipeline::LogFn;
 
 struct MergeOptions {
   std::vector<std::string> inputs;  // tile TINs (PLY), or outlines written with `outline`

@@ -16,15 +16,9 @@
 #include "core/types.hpp"
 #include "io/points/point_reader.hpp"
 #include "io/vector/line_reader.hpp"
-#include "pipeline/build.hpp"
+#include "tiles/log.hpp"
 
 namespace tincdt::tiles {
-
-// Log lines as pipeline::build() gives them.
-using pipeline::log_debug;
-using pipeline::log_info;
-using pipeline::log_warn;
-using pipeline::LogFn;
 
 struct PlanOptions {
   std::vector<std::string> inputs;      // point files (LAS, LAZ, XYZ)
