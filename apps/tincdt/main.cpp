@@ -19,6 +19,8 @@
 
 #include "cli_options.hpp"
 #include "core/error.hpp"
+#include "error_message.hpp"
+#include "io/mesh/tin_writer.hpp"
 #include "pipeline/build.hpp"
 #include "summary.hpp"
 #include "terminal.hpp"
@@ -157,15 +159,22 @@ int build(const pipeline::BuildOptions& options, const tiles::TileOptions& tilin
   }
 }
 
+// The help's first paragraph; the mesh formats from the one format table.
+std::string description() {
+  std::string titles;
+  for (const io::TinFormatInfo& f : io::tin_formats())
+    titles += (titles.empty() ? "" : ", ") + std::string(f.title);
+  return "tincdt " TINCDT_VERSION
+         ": exact constrained Delaunay TIN from LiDAR (LAS, LAZ) and XYZ points with breaklines, "
+         "as a mesh (" +
+         titles + "), a DEM and contour lines.";
+}
+
 int run(int argc, char** argv) {
   cli::setup_logging();
   if (argc > 1 && std::string_view(argv[1]) == "plan") return cli::run_plan(argc - 1, argv + 1);
   if (argc > 1 && std::string_view(argv[1]) == "merge") return cli::run_merge(argc - 1, argv + 1);
-  CLI::App app("tincdt " TINCDT_VERSION
-               ": exact constrained Delaunay TIN from LiDAR (LAS, LAZ) and XYZ points with "
-               "breaklines, as a mesh (OBJ, PLY, GeoJSON, LandXML, GeoPackage, STL), a DEM and "
-               "contour lines.",
-               "tincdt");
+  CLI::App app(description(), "tincdt");
   pipeline::BuildOptions options;
   tiles::TileOptions tiling;
   cli::Verbosity verbosity;
@@ -188,7 +197,7 @@ int run(int argc, char** argv) {
   try {
     tiles::check_options(tiling, options);  // build() checks again; this tells usage from failure
   } catch (const UsageError& e) {
-    return usage_error(e.what());
+    return usage_error(cli::error_message(e));
   }
   return build(options, tiling, verbosity.quiet);
 }
@@ -204,10 +213,10 @@ int main(int argc, char** argv) {
     return kExitInternal;
   } catch (const UsageError& e) {
     cli::Terminal::get().erase_progress();
-    return usage_error(e.what());
+    return usage_error(cli::error_message(e));
   } catch (const Error& e) {
     cli::Terminal::get().erase_progress();
-    spdlog::error(e.what());
+    spdlog::error(cli::error_message(e));
     return kExitFailure;
   } catch (const std::bad_alloc&) {
     cli::Terminal::get().erase_progress();

@@ -13,6 +13,7 @@
 
 #include "cli_options.hpp"
 #include "core/error.hpp"
+#include "error_message.hpp"
 #include "terminal.hpp"
 #include "tiles/merge.hpp"
 #include "tiles/plan.hpp"
@@ -40,6 +41,15 @@ int parse(CLI::App& app, const std::string& command, int argc, char** argv) {
     return usage_error(command, e.what());
   }
   return -1;
+}
+
+// An option given once per value: "--contours a.shp tile.las" leaves tile.las an operand.
+CLI::Option* add_repeated(CLI::App& app, const std::string& flags, std::vector<std::string>& values,
+                          const std::string& help) {
+  return app.add_option(flags, values, help)
+      ->expected(1)
+      ->allow_extra_args(false)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
 }
 
 void set_verbosity(bool quiet, bool verbose) {
@@ -75,9 +85,9 @@ int guarded(const std::string& command, F&& f) {
     f();
     return kExitOk;
   } catch (const UsageError& e) {
-    return usage_error(command, e.what());
+    return usage_error(command, error_message(e));
   } catch (const Error& e) {
-    spdlog::error(e.what());
+    spdlog::error(error_message(e));
   } catch (const std::bad_alloc&) {
     spdlog::error("out of memory");
   } catch (const std::exception& e) {
@@ -101,32 +111,19 @@ int run_plan(int argc, char** argv) {
   bool quiet = false, verbose = false;
   app.add_option("INPUT", o.inputs, "Point files: LAS, LAZ (header only) or XYZ (read whole)")
       ->type_name("FILE");
-  app.add_option("--contours", o.contours, "Contour lines (any OGR source: FILE or FILE:LAYER)")
-      ->type_name("LINES")
-      ->expected(1)
-      ->allow_extra_args(false)
-      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
-  app.add_option("--hard-lines,--breaklines", hard_lines, "Hard lines (breaklines)")
-      ->type_name("LINES")
-      ->expected(1)
-      ->allow_extra_args(false)
-      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  add_repeated(app, "--contours", o.contours, "Contour lines (any OGR source: FILE or FILE:LAYER)")
+      ->type_name("LINES");
+  add_repeated(app, "--hard-lines,--breaklines", hard_lines, "Hard lines (breaklines)")
+      ->type_name("LINES");
   app.add_option("--layer", o.lines.layer, "Layer to read from each vector source")
       ->type_name("NAME");
   app.add_option("--z-field", o.lines.z_field, "Take the lines' z from this attribute")
       ->type_name("NAME");
   app.add_flag("--z-from-m", o.lines.z_from_m, "Take the lines' z from the M values");
   std::vector<std::string> keep, drop;
-  app.add_option("--keep-class", keep, "Keep only these LAS classes (e.g. 2,8)")
-      ->type_name("N[,N...]")
-      ->expected(1)
-      ->allow_extra_args(false)
-      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
-  app.add_option("--drop-class", drop, "Drop these LAS classes")
-      ->type_name("N[,N...]")
-      ->expected(1)
-      ->allow_extra_args(false)
-      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  add_repeated(app, "--keep-class", keep, "Keep only these LAS classes (e.g. 2,8)")
+      ->type_name("N[,N...]");
+  add_repeated(app, "--drop-class", drop, "Drop these LAS classes")->type_name("N[,N...]");
   app.add_flag("--first-only", o.filter.first_return_only, "Keep only first returns (LAS)");
   app.add_flag("--last-only", o.filter.last_return_only, "Keep only last returns (LAS)");
   app.add_option("--rim", o.rim_width,

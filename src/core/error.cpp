@@ -17,10 +17,11 @@ std::string compose(const std::string& file, const std::string& where, const std
 
 }  // namespace
 
-Error::Error(std::string file, std::string where, std::string detail)
+Error::Error(std::string file, std::string where, std::string detail, Remedy remedy)
     : std::runtime_error(compose(file, where, detail)),
       file_(std::move(file)),
       where_(std::move(where)),
-      detail_(std::move(detail)) {}
+      detail_(std::move(detail)),
+      remedy_(remedy) {}
 
 }  // namespace tincdt

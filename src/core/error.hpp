@@ -6,21 +6,32 @@
 
 namespace tincdt {
 
+// What the user can change to get past an error. The library says which; a front end says how,
+// in its own terms (the command line names its option).
+enum class Remedy {
+  none,
+  overwrite,     // the output exists: allow replacing it
+  choose_layer,  // the vector source has several layers: name one
+  z_field,       // a feature has no usable z of its own: take z from an attribute
+};
+
 // what() is a single line: "FILE: WHERE: DETAIL", leaving out the parts that are empty.
 class Error : public std::runtime_error {
  public:
   explicit Error(const std::string& detail) : Error({}, {}, detail) {}
   // file: the input or output path; where: "line 12", "byte 4096", "layer contours, feature 7".
-  Error(std::string file, std::string where, std::string detail);
+  Error(std::string file, std::string where, std::string detail, Remedy remedy = Remedy::none);
 
   const std::string& file() const { return file_; }
   const std::string& where() const { return where_; }
   const std::string& detail() const { return detail_; }
+  Remedy remedy() const { return remedy_; }
 
  private:
   std::string file_;
   std::string where_;
   std::string detail_;
+  Remedy remedy_;
 };
 
 // Unreadable, malformed or unsupported input.
@@ -28,7 +39,7 @@ class InputError : public Error {
   using Error::Error;
 };
 
-// An output that cannot be written (permissions, disk full, exists without --overwrite).
+// An output that cannot be written (permissions, disk full, exists and may not be replaced).
 class OutputError : public Error {
   using Error::Error;
 };

@@ -164,7 +164,7 @@ OutputFile::OutputFile(std::string path, bool overwrite)
   struct stat st {};
   if (::stat(path_.c_str(), &st) == 0) {
     if (S_ISDIR(st.st_mode)) throw OutputError(path_, "", "is a folder");
-    if (!overwrite_) throw OutputError(path_, "", "already exists (use --overwrite to replace it)");
+    if (!overwrite_) throw OutputError(path_, "", "already exists", Remedy::overwrite);
     if (!S_ISREG(st.st_mode))
       throw OutputError(path_, "", "is not a regular file and cannot be replaced");
   }
@@ -298,8 +298,7 @@ void OutputFile::commit() {
     }
   } else if (const int err = detail::move_without_replacing(temp_path_, path_); err != 0) {
     // Never replace a file that appeared since the constructor looked.
-    if (err == EEXIST)
-      throw OutputError(path_, "", "already exists (use --overwrite to replace it)");
+    if (err == EEXIST) throw OutputError(path_, "", "already exists", Remedy::overwrite);
     throw OutputError(path_, "", "cannot create the file: " + error_text(err));
   }
   committed_ = true;

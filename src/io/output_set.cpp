@@ -64,7 +64,7 @@ Undo move_into_place(const std::string& from, const std::string& to, bool overwr
   int err = detail::move_without_replacing(from, to);
   if (err == 0) return Undo::remove;
   if (err != EEXIST) throw OutputError(to, "", "cannot create the file: " + error_text(err));
-  if (!overwrite) throw OutputError(to, "", "already exists (use --overwrite to replace it)");
+  if (!overwrite) throw OutputError(to, "", "already exists", Remedy::overwrite);
   struct stat st {};
   if (::lstat(to.c_str(), &st) == 0 && !S_ISREG(st.st_mode) && !S_ISLNK(st.st_mode))
     throw OutputError(to, "", "is not a regular file and cannot be replaced");

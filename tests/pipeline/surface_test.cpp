@@ -155,10 +155,7 @@ using test::read_ply_ascii;
 
 class Surface : public ::testing::Test {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = test::fresh_dir(fs::path(TINCDT_TEST_TMP) / "surface" / info->name());
-  }
+  void SetUp() override { dir_ = test::scratch_dir("surface"); }
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
   std::string write(const std::string& name, const std::string& text) const {
     spit(path(name), text);
@@ -341,9 +338,10 @@ TEST_F(Surface, ReplaceSetsThePolygonZ) {
 TEST_F(Surface, ReplacePolygonWithoutZIsAnInputError) {
   auto o = plane_job();
   o.replace = {write("pad.geojson", collection({{polygon({rectangle(10, 10, 20, 20)}), ""}}))};
-  const std::string e = error_of([&] { pipeline::build(o); });
-  EXPECT_NE(e.find("pad.geojson"), std::string::npos) << e;
-  EXPECT_NE(e.find("--z-field"), std::string::npos) << e;
+  const auto e = test::thrown<InputError>([&] { pipeline::build(o); });
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->file(), o.replace[0]);
+  EXPECT_EQ(e->remedy(), Remedy::z_field);
 }
 
 // Precedence: erase wins over clip where they overlap.

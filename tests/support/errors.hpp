@@ -35,13 +35,13 @@ std::optional<E> thrown(const std::function<void()>& f) {
 }
 
 // WRITE, aimed at PATH where a file already is, must refuse with an OutputError naming PATH
-// ("already exists", and --overwrite as the way out) and leave that file as it was.
+// ("already exists", and replacing it as the way out) and leave that file as it was.
 inline void expect_no_overwrite(const std::string& path, const std::function<void()>& write) {
   spit(path, "precious");
   if (const auto e = thrown<OutputError>(write)) {
     EXPECT_EQ(e->file(), path);
     EXPECT_NE(e->detail().find("already exists"), std::string::npos) << e->what();
-    EXPECT_NE(e->detail().find("--overwrite"), std::string::npos) << e->what();
+    EXPECT_EQ(e->remedy(), Remedy::overwrite) << e->what();
   }
   EXPECT_EQ(slurp(path), "precious");
 }

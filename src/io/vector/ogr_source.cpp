@@ -126,9 +126,10 @@ OgrLayer::OgrLayer(const std::string& spec, const std::string& layer_option, std
   } else if (layers.empty()) {
     throw InputError(file, "", "no vector layer");
   } else if (layers.size() > 1) {
-    throw InputError(file, "",
-                     std::to_string(layers.size()) + " layers (" + join(layers) +
-                         "): name one as FILE:LAYER or with --layer");
+    throw InputError(
+        file, "",
+        std::to_string(layers.size()) + " layers (" + join(layers) + "): name one as FILE:LAYER",
+        Remedy::choose_layer);
   } else {
     layer_ = ds_->GetLayer(0);
   }
@@ -229,7 +230,7 @@ void OgrLayer::check_usable(const Yield& yield, const std::vector<LineDrop>& dro
     w += std::to_string(yield.degenerate_parts) + " " + yield.part +
          (yield.degenerate_parts == 1 ? "" : "s") + " with too few distinct vertices skipped";
   }
-  warnings.push_back(w + " (--diagnostics lists them)");
+  warnings.push_back(w + " (the diagnostics output lists them)");
 }
 
 // ---- FeatureReader ----
@@ -339,15 +340,14 @@ void FeatureReader::drop(const OGRGeometry* geometry) {
   dropped_.push_back({file_index_, fid_, drop_reason(geometry), at_, has_at_});
 }
 
-void FeatureReader::fail(const std::string& detail) const {
-  throw InputError(file_, "layer " + layer_ + ", feature " + std::to_string(fid_), detail);
+void FeatureReader::fail(const std::string& detail, Remedy remedy) const {
+  throw InputError(file_, "layer " + layer_ + ", feature " + std::to_string(fid_), detail, remedy);
 }
 
 void FeatureReader::check_z(ZSource source, bool has_z, bool has_m, const char* no_z_what) const {
   if (source == ZSource::kMeasure && !has_m) fail("the geometry has no M values to take z from");
   if (source == ZSource::kGeometry && !has_z) {
-    fail(std::string(no_z_what) + ": pass --z-field NAME (fields: " + fields_ +
-         ") or use a 3D layer");
+    fail(std::string(no_z_what) + " (fields: " + fields_ + "): use a 3D layer", Remedy::z_field);
   }
 }
 

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "core/error.hpp"
 #include "core/types.hpp"
 #include "io/gdal_support.hpp"
 #include "io/vector/line_reader.hpp"
@@ -153,7 +154,7 @@ class FeatureReader {
   // Records the feature as dropped, with why (GEOMETRY: what walk returned).
   void drop(const OGRGeometry* geometry);
 
-  [[noreturn]] void fail(const std::string& detail) const;
+  [[noreturn]] void fail(const std::string& detail, Remedy remedy = Remedy::none) const;
   // Throws unless z can come from SOURCE for a part with(out) Z and M values; NO_Z_WHAT starts
   // the message for a 2D part that needs the geometry's Z ("2D geometry has no elevation").
   void check_z(ZSource source, bool has_z, bool has_m, const char* no_z_what) const;

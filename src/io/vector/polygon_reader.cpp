@@ -93,7 +93,7 @@ class LayerReader : public detail::FeatureReader {
   void note_heights(bool has_z, bool has_m, const std::vector<Point3>& p,
                     const std::vector<double>& m) {
     if (*z_source_ == ZSource::kField) return;
-    check_z(*z_source_, has_z, has_m, "2D polygon has no z for --replace");
+    check_z(*z_source_, has_z, has_m, "2D polygon has no z to replace with");
     if (*z_source_ == ZSource::kMeasure) {
       for (const double v : m) {
         if (!coordinate_in_range(v)) fail("an M value is not finite or beyond +-1e15");
@@ -114,8 +114,9 @@ class LayerReader : public detail::FeatureReader {
       char range[96];
       std::snprintf(range, sizeof range, "%.17g to %.17g", z_min_, z_max_);
       fail(std::string("a replace polygon has one z, but its ") +
-           (*z_source_ == ZSource::kMeasure ? "M values" : "vertices' z") + " range from " + range +
-           " (give the level in an attribute with --z-field NAME)");
+               (*z_source_ == ZSource::kMeasure ? "M values" : "vertices' z") + " range from " +
+               range,
+           Remedy::z_field);
     }
     return z_min_;
   }

@@ -127,9 +127,10 @@ TEST(PolygonReader, ReplaceZFromFieldGeometryOrM) {
 
   // Geometry z: the first feature has one (7), the second is 2D (M only).
   ShapeData by_geometry;
-  const std::string e = error_of([&] { read_polygons(path, feature_z(), by_geometry); });
-  EXPECT_THAT(e, HasSubstr("feature 2"));
-  EXPECT_THAT(e, HasSubstr("--z-field"));
+  const auto e = test::thrown<InputError>([&] { read_polygons(path, feature_z(), by_geometry); });
+  ASSERT_TRUE(e);
+  EXPECT_THAT(e->what(), HasSubstr("feature 2"));
+  EXPECT_EQ(e->remedy(), Remedy::z_field);
   EXPECT_TRUE(by_geometry.features.empty());  // left as it was
   EXPECT_TRUE(by_geometry.files.empty());
 
@@ -189,8 +190,10 @@ TEST(PolygonReader, LayersAndErrors) {
                  {{"a", {{"POLYGON ((0 0, 1 0, 1 1, 0 0))"}}},
                   {"b", {{"POLYGON ((0 0, 2 0, 2 2, 0 0))"}, {"POLYGON ((5 5, 6 5, 6 6, 5 5))"}}}});
   ShapeData data;
-  EXPECT_THAT(error_of([&] { read_polygons(path, {}, data); }),
-              HasSubstr("2 layers (a, b): name one as FILE:LAYER or with --layer"));
+  const auto several = test::thrown<InputError>([&] { read_polygons(path, {}, data); });
+  ASSERT_TRUE(several);
+  EXPECT_THAT(several->what(), HasSubstr("2 layers (a, b): name one as FILE:LAYER"));
+  EXPECT_EQ(several->remedy(), Remedy::choose_layer);
   read_polygons(path + ":b", {}, data);
   EXPECT_EQ(data.features.size(), 2u);
   EXPECT_EQ(data.files.back(), path + ":b");

@@ -1,0 +1,23 @@
+#include "error_message.hpp"
+
+namespace tincdt::cli {
+
+std::string error_message(const Error& e) {
+  std::string message = e.what();
+  switch (e.remedy()) {
+    case Remedy::none:
+      break;
+    case Remedy::overwrite:
+      message += " (use --overwrite to replace it)";
+      break;
+    case Remedy::choose_layer:
+      message += " or with --layer";
+      break;
+    case Remedy::z_field:
+      message += ", or take z from an attribute with --z-field NAME";
+      break;
+  }
+  return message;
+}
+
+}  // namespace tincdt::cli
