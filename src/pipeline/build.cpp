@@ -29,7 +29,7 @@ std::uint64_t peak_rss_bytes() {
 }
 
 BuildReport run_job(Job& job, std::span<const Stage* const> list, const FilePlan& files) {
-  detail::check_files(job.options, files);
+  check_files(files, job.options.write.overwrite);
   run_stages(job, list);
   job.enter_stage("commit");
   job.outputs.commit([&job] {

@@ -77,7 +77,7 @@ void check_output_path(const std::string& path, bool overwrite) {
   const fs::file_status st = fs::status(target, ec);
   if (fs::exists(st)) {
     if (fs::is_directory(st)) throw OutputError(path, "", "is a folder");
-    if (!overwrite) throw OutputError(path, "", "already exists (use --overwrite to replace it)");
+    if (!overwrite) throw OutputError(path, "", "already exists", Remedy::overwrite);
     if (!fs::is_regular_file(st))
       throw OutputError(path, "", "is not a regular file and cannot be replaced");
   }
@@ -109,23 +109,6 @@ void refuse_input(const FilePlan& plan, const std::string& output, const std::st
   }
 }
 
-void check_files(const BuildOptions& options, const FilePlan& plan) {
-  const bool overwrite = options.write.overwrite;
-  const std::vector<FilePlan::File>& outputs = plan.outputs;
-  // An input first: that it exists already is then beside the point.
-  for (const FilePlan::File& output : outputs) refuse_input(plan, output.path, output.what);
-  for (std::size_t i = 0; i < outputs.size(); ++i) {
-    check_output_path(outputs[i].path, overwrite);
-    for (std::size_t j = 0; j < i; ++j)
-      if (same_file(outputs[i].path, outputs[j].path))
-        throw OutputError(outputs[i].path, "",
-                          outputs[i].what + " and " + outputs[j].what + " are the same file");
-  }
-  if (std::count_if(plan.inputs.begin(), plan.inputs.end(),
-                    [](const FilePlan::File& f) { return f.path == "-"; }) > 1)
-    throw InputError("-", "", "standard input can be read only once");
-}
-
 bool prj_holds(const std::string& path, const std::string& wkt) {
   std::ifstream in(path, std::ios::binary);
   std::ostringstream text;
@@ -141,3 +124,23 @@ bool prj_holds(const std::string& path, const std::string& wkt) {
 }
 
 }  // namespace tincdt::pipeline::detail
+
+namespace tincdt::pipeline {
+
+void check_files(const FilePlan& plan, bool overwrite) {
+  const std::vector<FilePlan::File>& outputs = plan.outputs;
+  // An input first: that it exists already is then beside the point.
+  for (const FilePlan::File& output : outputs) detail::refuse_input(plan, output.path, output.what);
+  for (std::size_t i = 0; i < outputs.size(); ++i) {
+    detail::check_output_path(outputs[i].path, overwrite);
+    for (std::size_t j = 0; j < i; ++j)
+      if (detail::same_file(outputs[i].path, outputs[j].path))
+        throw OutputError(outputs[i].path, "",
+                          outputs[i].what + " and " + outputs[j].what + " are the same file");
+  }
+  if (std::count_if(plan.inputs.begin(), plan.inputs.end(),
+                    [](const FilePlan::File& f) { return f.path == "-"; }) > 1)
+    throw InputError("-", "", "standard input can be read only once");
+}
+
+}  // namespace tincdt::pipeline

@@ -1,20 +1,26 @@
-// Internal to the pipeline: the checks on a job's files that run before any work, so that a long
-// job never fails at its end over a file it could have refused at its start.
+// The checks on a job's files that run before any work, so that a long job never fails at its
+// end over a file it could have refused at its start, and never writes over an input. The tiled
+// commands (plan, merge) run check_files() on their own files too.
 #pragma once
 
 #include <string>
 
 #include "pipeline/stage.hpp"
 
+namespace tincdt::pipeline {
+
+// Every planned output writable (as check_output_path), no two of them the same file, and none
+// of them (with its sidecars) an input or an input's sidecar, whatever OVERWRITE says; standard
+// input read once.
+void check_files(const FilePlan& plan, bool overwrite);
+
+}  // namespace tincdt::pipeline
+
 namespace tincdt::pipeline::detail {
 
 // Refuses an output the writers would refuse at the end: a folder, an existing file without
 // OVERWRITE, something that is not a regular file, a folder that is missing or not writable.
 void check_output_path(const std::string& path, bool overwrite);
-
-// Every planned output writable, no two of them the same file, and none of them (with its
-// sidecars) an input or an input's sidecar, whatever --overwrite says; standard input read once.
-void check_files(const BuildOptions& options, const FilePlan& plan);
 
 // Refuses OUTPUT when it is one of the planned inputs or their sidecars (a shapefile's .prj).
 void refuse_input(const FilePlan& plan, const std::string& output, const std::string& what);

@@ -14,6 +14,7 @@
 #include "io/output_set.hpp"
 #include "mesh/geometry.hpp"
 #include "mesh/triangulation.hpp"
+#include "pipeline/file_checks.hpp"
 #include "predicates/predicates.hpp"
 #include "tiles/merge_outline.hpp"
 
@@ -442,6 +443,13 @@ MergeReport merge_whole(const MergeOptions& options, const LogFn& log) {
 
 MergeReport merge_tiles(const MergeOptions& options, const LogFn& log) {
   if (options.inputs.empty()) throw UsageError("no tiles to merge");
+  if (!options.check_only) {
+    pipeline::FilePlan files;
+    for (const std::string& p : options.inputs) files.inputs.push_back({p, "a tile"});
+    files.outputs.push_back(
+        {options.output, options.outline ? "the outline (-o)" : "the TIN (-o)"});
+    pipeline::check_files(files, options.overwrite);
+  }
   if (options.check_only || options.outline) return merge_outlines(options, log);
   return merge_whole(options, log);
 }

@@ -19,6 +19,7 @@
 #include "io/points/point_summary.hpp"
 #include "io/vector/line_reader.hpp"
 #include "io/vector/vector_extent.hpp"
+#include "pipeline/file_checks.hpp"
 #include "tiles/plan_rim.hpp"
 #include "tiles/tile_rules.hpp"
 
@@ -428,8 +429,22 @@ void lay_tiles(TilePlan& plan, const tiles::TileGrid& grid, const BBox& all,
 
 }  // namespace
 
+// The plan and its rim file are outputs like a job's: never an input, and refused before any
+// work when they cannot be written.
+void check_plan_files(const PlanOptions& options) {
+  pipeline::FilePlan files;
+  for (const std::string& p : options.inputs) files.inputs.push_back({p, "a point file"});
+  for (const std::string& p : options.contours) files.inputs.push_back({p, "--contours source"});
+  for (const std::string& p : options.breaklines)
+    files.inputs.push_back({p, "--hard-lines source"});
+  files.outputs.push_back({options.output, "the plan (-o)"});
+  if (options.rim_width != 0) files.outputs.push_back({rim_path(options.output), "the plan's rim"});
+  pipeline::check_files(files, options.overwrite);
+}
+
 TilePlan make_plan(const PlanOptions& options, std::vector<Point3>& rim, const LogFn& log) {
   check_plan_options(options);
+  check_plan_files(options);
   std::vector<Point2> line_vertices;
   TilePlan plan = summarize_inputs(options, line_vertices);
   const DataBox data = data_box(plan.inputs);

@@ -399,6 +399,7 @@ pipeline::BuildReport build_tile(const TileOptions& tiling, const BuildOptions& 
   for (const std::string& warning : checked.warnings) job.warn(warning);
   const std::vector<const pipeline::Stage*> list = tile_stages();
   pipeline::FilePlan files = pipeline::plan_files(job_options, list);
+  files.inputs.push_back({tiling.plan, "the plan (--plan)"});
   if (!tiling.outline.empty()) {
     // Among the outputs in the tile stage's place, so that they are checked in stage order.
     const auto at =

@@ -158,6 +158,39 @@ TEST_F(TilesCli, BadPlansGiveOneLineAndExitOne) {
   EXPECT_EQ(tincdt_run(dir_, {"merge", "a.ply"}).exit_code, 2);  // neither -o nor --check
 }
 
+// plan, a tile job and merge never write over their own inputs, --overwrite or not: a usage
+// error naming both files, before any work, and every file as it was.
+TEST_F(TilesCli, NoCommandWritesOverItsInputs) {
+  const auto refused = [&](std::vector<std::string> args, const std::string& victim) {
+    const std::string before = tincdt::test::slurp(dir_ / victim);
+    args.insert(args.end(), {"--overwrite", "-q"});
+    const Outcome r = tincdt_run(dir_, args);
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find("would overwrite an input, " + victim), std::string::npos) << r.err;
+    EXPECT_EQ(tincdt::test::slurp(dir_ / victim), before) << victim;
+  };
+  const std::vector<std::string> plan = {"plan", "cloud.xyz", "--tile-size",
+                                         "100",  "--buffer",  "40"};
+  auto with = [](std::vector<std::string> a, std::initializer_list<std::string> more) {
+    a.insert(a.end(), more);
+    return a;
+  };
+  refused(with(plan, {"-o", "cloud.xyz"}), "cloud.xyz");
+  // The rim file of plan "cloud.json" is cloud.rim.xyz: here an input.
+  fs::copy_file(dir_ / "cloud.xyz", dir_ / "cloud.rim.xyz");
+  refused(with(plan, {"cloud.rim.xyz", "-o", "cloud.json"}), "cloud.rim.xyz");
+  EXPECT_FALSE(fs::exists(dir_ / "cloud.json"));
+
+  ASSERT_EQ(tincdt_run(dir_, with(plan, {"-o", "plan.json", "-q"})).exit_code, 0);
+  refused({"--plan", "plan.json", "--tile", "0", "-o", "plan.json", "-f", "ply"}, "plan.json");
+  for (const std::string t : {"0", "1"})
+    ASSERT_EQ(tincdt_run(dir_, {"--plan", "plan.json", "--tile", t, "-o", "t" + t + ".ply", "-q"})
+                  .exit_code,
+              0);
+  refused({"merge", "t0.ply", "t1.ply", "-o", "t1.ply"}, "t1.ply");
+  refused({"merge", "t0.ply", "t1.ply", "--outline", "-o", "t0.ply"}, "t0.ply");
+}
+
 // The engine recipe examples/tiles/parallel.sh, as CI runs it: every tile of a plan through GNU
 // parallel, then merged, against the one-job TIN.
 TEST_F(TilesCli, GnuParallelRecipeBuildsTheWholeTin) {
