@@ -43,11 +43,12 @@ Job::Job(const BuildOptions& job_options, const CheckedOptions& checked, const P
 }
 
 void Job::wait_for_quality() {
-  if (!quality_pass.valid()) return;
-  MeasuredQuality measured = quality_pass.get();
-  report.quality = std::move(measured.quality);
+  if (!quality_pass) return;
+  quality_pass->wait();
+  quality_pass.reset();
+  report.quality = std::move(quality_measured.quality);
   report.quality_measured = true;
-  report.timings_s.quality = measured.seconds;
+  report.timings_s.quality = quality_measured.seconds;
 }
 
 void Job::finish_output(io::OutputFile& out) {

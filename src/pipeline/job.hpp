@@ -6,14 +6,15 @@
 #include <chrono>
 #include <cstdint>
 #include <functional>
-#include <future>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "constraints/constraints.hpp"
+#include "core/parallel.hpp"
 #include "core/progress.hpp"
 #include "core/types.hpp"
 #include "delaunay/delaunay.hpp"
@@ -89,7 +90,8 @@ struct Job {
     terrain::QualityReport quality;
     double seconds = 0;
   };
-  std::future<MeasuredQuality> quality_pass;
+  MeasuredQuality quality_measured;
+  std::unique_ptr<BackgroundJob> quality_pass;  // fills quality_measured
   // Joins quality_pass, if running, and files its result in the report.
   void wait_for_quality();
 
