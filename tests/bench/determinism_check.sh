@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 13's determinism check at full size: one input built four ways — --threads 1, --threads 2,
+# The determinism check at full size: one input built four ways — --threads 1, --threads 2,
 # its points shuffled (as XYZ), and 16 tile jobs merged — must give the same triangle set
 # (triangle_set.py: exact corner coordinates, any vertex or face order).
 #

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The tiled-job scale run (issue 13): a synthetic LAS tiling made by make_tiles, planned and
+# The tiled-job scale run: a synthetic LAS tiling made by make_tiles, planned and
 # built tile by tile with GNU parallel, every seam checked from the tiles' outlines, a 2 x 2 block
 # of tiles also checked from its PLY files, and a table of the figures.
 #

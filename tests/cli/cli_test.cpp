@@ -879,7 +879,7 @@ TEST_F(Cli, RestoreModesAreAccepted) {
   EXPECT_EQ(bad.exit_code, 2) << bad;
 }
 
-// ---- surface features, TIN boundary, quality (issue 5) --------------------------------------
+// ---- surface features, TIN boundary, quality --------------------------------------
 
 namespace {
 

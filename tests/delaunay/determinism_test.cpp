@@ -357,7 +357,7 @@ TEST(DeterministicDelaunay, FirstDuplicateIsFirstInInputOrder) {
 }
 
 TEST(DeterministicDelaunay, NegativeZeroIsZero) {
-  // Issue 9 item 5: -0 and 0 are one point, whatever the order or the path.
+  // -0 and 0 are one point, whatever the order or the path.
   const std::vector<Point3> points = {{5, 5, 1}, {-0.0, -0.0, 2}, {0, 0, 3}, {5, 0, 0}};
   for (const Way& way : {kSequential, kHalvesOneThread, kHalvesTwoThreads}) {
     std::vector<Point3> p = points;

@@ -1,4 +1,4 @@
-// The readers against hostile input (issue 9): signed zeros, coordinates whose differences
+// The readers against hostile input: signed zeros, coordinates whose differences
 // overflow, lines without end, CR-only text, lying counts, short CRS records, format bytes that
 // are no format, and vector sources that give nothing or lose features. Every input is made here.
 

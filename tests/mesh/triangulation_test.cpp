@@ -102,7 +102,7 @@ TEST(Triangulation, ValidateFindsBrokenTopologyAndOrientation) {
   }
 }
 
-// Issue 9: a point inserted outside the hull flips edges between ghosts, whose vertex is
+// A point inserted outside the hull flips edges between ghosts, whose vertex is
 // kInfinite; with the vertex index on (the surface-feature stage), flip() wrote past its end.
 TEST(Triangulation, InsertingOutsideTheHullKeepsTheVertexIndex) {
   Triangulation tin = square(0.8);  // not cocircular: its diagonal 0-2 is the Delaunay one
@@ -120,7 +120,7 @@ TEST(Triangulation, InsertingOutsideTheHullKeepsTheVertexIndex) {
   EXPECT_NE(tin.find_edge(4, 2), kNoId);
 }
 
-// Issue 9: a LAS X scale of 5e-324 makes every x a multiple of the smallest subnormal. The TIN
+// A LAS X scale of 5e-324 makes every x a multiple of the smallest subnormal. The TIN
 // is valid (checked exactly), but summing atan2 turning angles called its thin hull unwound.
 TEST(Triangulation, ValidateIsExactForAHullOfSubnormalWidth) {
   constexpr double kTiny = 4.9406564584124654e-324;  // 2^-1074

@@ -1,5 +1,5 @@
 // The surface-feature stage (pipeline/surface.hpp) on its own, with polygons that do what users
-// do (issue 9 item 1): clip and erase rings larger than the data, bow-ties, overlaps, rings
+// do: clip and erase rings larger than the data, bow-ties, overlaps, rings
 // wholly outside, 2D and 3D. The TIN must stay valid and inside its hull, the kept triangles must
 // be exactly those inside the polygons by an even-odd test written here, and a 3D ring's z must
 // reach the TIN only where the ring itself runs.

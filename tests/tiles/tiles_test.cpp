@@ -382,7 +382,7 @@ TEST(Tiles, TopographyWithItsContoursMatchesTheWholeTin) {
 }
 
 // Cocircular ties: the same triangles need ties broken by a rule of the points alone
-// (symbolic perturbation, issue 13 item 1).
+// (symbolic perturbation).
 TEST(Tiles, LatticeMatchesTheWholeTin) {
   const fs::path dir = scratch();
   const Inputs in{{write_xyz(dir / "grid.xyz", lattice(60, 500000, 4000000, 2))}, {}};
@@ -502,7 +502,7 @@ TEST(Tiles, MergeFindsAMissingTileAndAnOverlap) {
   EXPECT_FALSE(fs::exists(dir / "merged.ply"));
 }
 
-// ---- DEM tiles join pixel-aligned into the whole job's DEM (issue 13 item 5)
+// ---- DEM tiles join pixel-aligned into the whole job's DEM
 
 TEST(TileDems, RandomPointsMatchTheWholeDem) {
   const fs::path dir = scratch();
