@@ -38,6 +38,7 @@
 #include <vector>
 
 #include "support/las_writer.hpp"
+#include "support/splitmix.hpp"
 
 namespace {
 
@@ -77,18 +78,13 @@ double terrain(double u, double v) {
          + 1.2 * std::sin(u / 23.0) * std::cos(v / 17.0);
 }
 
-// SplitMix64: tiny, well-mixed and fully specified, so the sample is the same everywhere.
+// SplitMix64, so the sample is the same everywhere.
 class Rng {
  public:
-  explicit Rng(std::uint64_t seed) : state_(seed) {}
-  std::uint64_t next() {
-    std::uint64_t z = (state_ += 0x9E3779B97F4A7C15ULL);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-    return z ^ (z >> 31);
-  }
+  explicit Rng(std::uint64_t seed) : bits_{seed} {}
+  std::uint64_t next() { return bits_.next(); }
   // Uniform in [0, 1).
-  double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
+  double uniform() { return bits_.unit(); }
   double uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
   int uniform_int(int lo, int hi) {  // inclusive
     return lo + static_cast<int>(next() % static_cast<std::uint64_t>(hi - lo + 1));
@@ -101,7 +97,7 @@ class Rng {
   }
 
  private:
-  std::uint64_t state_;
+  tincdt::test::SplitMix64 bits_;
 };
 
 // ---------------------------------------------------------------------------------------------

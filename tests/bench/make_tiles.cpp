@@ -1,10 +1,10 @@
-// Writes a tiling of synthetic LiDAR-like LAS files for the tiled-job benchmarks (issue 13: a
-// billion points as 100 tiles of 10M): COLS x ROWS files of POINTS points each, tile (c, r)
-// covering [x0 + c * SIDE, x0 + (c + 1) * SIDE) x [y0 + r * SIDE, ...) in WGS 84 / UTM 32N, x0 =
-// 500000, y0 = 4000000. Points are uniform, their coordinates whole centimetres (scale 0.01), z a
-// smooth terrain over the whole area plus centimetre noise; LAS 1.2, point format 0 (20 bytes),
-// class 2, header bounds exact. Each tile has its own seed: any subset of tiles can be written
-// at once (one process per core), and the same arguments give the same bytes.
+// Writes a tiling of synthetic LiDAR-like LAS files for the tiled-job benchmarks (a billion
+// points as 100 tiles of 10M): COLS x ROWS files of POINTS points each, tile (c, r) covering [x0 +
+// c * SIDE, x0 + (c + 1) * SIDE) x [y0 + r * SIDE, ...) in WGS 84 / UTM 32N, x0 = 500000, y0 =
+// 4000000. Points are uniform, their coordinates whole centimetres (scale 0.01), z a smooth terrain
+// over the whole area plus centimetre noise; LAS 1.2, point format 0 (20 bytes), class 2, header
+// bounds exact. Each tile has its own seed: any subset of tiles can be written at once (one process
+// per core), and the same arguments give the same bytes.
 //   make_tiles COLS ROWS POINTS SIDE OUT_DIR [FIRST [LAST]]   (tiles FIRST..LAST, row-major)
 #include <algorithm>
 #include <array>
@@ -15,6 +15,8 @@
 #include <cstring>
 #include <string>
 #include <vector>
+
+#include "support/splitmix.hpp"
 
 namespace {
 
@@ -32,16 +34,7 @@ void put_text(std::vector<unsigned char>& out, const char* text, std::size_t wid
     out.push_back(i < n ? static_cast<unsigned char>(text[i]) : 0);
 }
 
-struct SplitMix64 {
-  std::uint64_t state;
-  std::uint64_t next() {
-    std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
-  }
-  double unit() { return static_cast<double>(next() >> 11) * 0x1p-53; }
-};
+using tincdt::test::SplitMix64;
 
 // Metres, continuous over the whole tiling: hills of a few km, ridges of a few hundred m.
 double terrain(double x, double y) {

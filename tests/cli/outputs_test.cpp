@@ -214,10 +214,9 @@ TEST_F(FullJob, WantsEveryStage) {
   const Outcome r = run_in(dir_, args());
   ASSERT_EQ(r.exit_code, 0) << r;
   const std::string stats = slurp(path("s.json"));
-  // The stats document lists the stages that ran, all but itself; a tile job refuses most of
-  // these options (tests/tiles covers it).
+  // The stats document lists the stages that ran, all but itself.
   for (const tincdt::pipeline::Stage* stage : tincdt::pipeline::stages()) {
-    if (stage->name == "stats" || stage->name == "tile") continue;
+    if (stage->name == "stats") continue;
     EXPECT_NE(stats.find("\"name\": \"" + std::string(stage->name) + "\""), std::string::npos)
         << stage->name << " did not run:\n"
         << stats;
@@ -236,7 +235,7 @@ TEST_F(FullJob, SignalAtAnyStageChangesNoFile) {
   const auto before = snapshot(dir_);
   std::vector<std::string> points;
   for (const tincdt::pipeline::Stage* stage : tincdt::pipeline::stages())
-    if (stage->name != "tile") points.emplace_back(stage->name);  // not in this job
+    points.emplace_back(stage->name);
   points.emplace_back("commit");
   for (const std::string& at : points) {
     for (const char* hook : {":INT", ":TERM:2", ":INT:2", ":HUP"}) {

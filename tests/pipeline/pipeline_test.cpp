@@ -83,10 +83,7 @@ Tri canonical(std::pair<double, double> a, std::pair<double, double> b,
 
 class Pipeline : public ::testing::Test {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = test::fresh_dir(fs::path(TINCDT_TEST_TMP) / "pipeline" / info->name());
-  }
+  void SetUp() override { dir_ = test::scratch_dir("pipeline"); }
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
 
   pipeline::BuildOptions options_for(const std::vector<Point3>& pts, const std::string& out) {

@@ -489,12 +489,18 @@ TEST(PlyWriter, LargeAsciiMeshReadsBack) {
   EXPECT_EQ(ply.faces, faces_of(tin));
 }
 
+// A TIN in EPSG:2949, written with OFFSET subtracted.
+TinWriteOptions offset_in_2949(const Point3& offset) {
+  TinWriteOptions o;
+  o.offset = offset;
+  o.crs_wkt = wkt_of("EPSG:2949");
+  return o;
+}
+
 TEST(PlyWriter, CommentsRecordOffsetAndCrs) {
   const std::string dir = scratch();
   const Triangulation tin = unit_square();
-  TinWriteOptions o;
-  o.offset = {500000, 4000000, 0};
-  o.crs_wkt = wkt_of("EPSG:2949");
+  const TinWriteOptions o = offset_in_2949({500000, 4000000, 0});
   write_tin(dir + "/tin.ply", tin, o);
   const PlyFile ply = read_ply(dir + "/tin.ply");
   EXPECT_NE(ply.header.find("\ncomment offset 500000 4000000 0\n"), std::string::npos)
@@ -738,9 +744,7 @@ TEST(GeoJsonWriter, ReprojectionRefusesAnOffsetAndOtherFormats) {
 TEST(GeoJsonWriter, OffsetIsRecordedAndSubtracted) {
   const std::string dir = scratch();
   const Triangulation tin = unit_square();
-  TinWriteOptions o;
-  o.offset = {500000, 4000000, 0};
-  o.crs_wkt = wkt_of("EPSG:2949");
+  const TinWriteOptions o = offset_in_2949({500000, 4000000, 0});
   write_tin(dir + "/tin.geojson", tin, o);
   EXPECT_NE(slurp(dir + "/tin.geojson").find("\n\"tincdt_offset\": [500000,4000000,0],\n"),
             std::string::npos);
