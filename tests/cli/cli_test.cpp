@@ -964,8 +964,8 @@ TEST_F(Cli, SurfaceFeatureUsageErrors) {
   spit(s.path("a.xyz"), grid_xyz());
   const std::string a = s.path("a.xyz"), out = s.path("tin.ply");
   for (const auto& [args, pattern] : std::vector<std::pair<std::vector<std::string>, std::string>>{
-           {{a, "-o", out, "--max-edge", "0"}, "--max-edge.*length > 0"},
-           {{a, "-o", out, "--max-edge", "-3"}, "--max-edge.*length > 0"},
+           {{a, "-o", out, "--max-edge", "0"}, "--max-edge.*is not a number > 0"},
+           {{a, "-o", out, "--max-edge", "-3"}, "--max-edge.*is not a number > 0"},
            {{a, "-o", out, "--max-edge", "ten"}, "--max-edge"},
            {{a, "-o", out, "--fix-flats"}, "--fix-flats needs --contours"},
            {{a, "-o", out, "--constraints-out", s.path("c.txt")}, "--constraints-out.*GeoJSON"},
