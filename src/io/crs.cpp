@@ -318,6 +318,13 @@ bool same_crs(const std::string& wkt_a, const std::string& wkt_b) {
   return same_proj_parameters(a, b);
 }
 
+bool is_geographic(const std::string& wkt) {
+  if (wkt.empty()) return false;
+  const detail::GdalQuiet quiet;
+  OGRSpatialReference srs = detail::gis_order_srs();
+  return detail::import_wkt(srs, wkt) && srs.IsGeographic();
+}
+
 std::string crs_label(const std::string& wkt) {
   if (wkt.empty()) return {};
   const detail::GdalQuiet quiet;

@@ -9,6 +9,8 @@ namespace tincdt::io {
 bool same_crs(const std::string& wkt_a, const std::string& wkt_b);
 // A short name for logs and stats: "EPSG:2949" when identifiable, else the CRS name, else "".
 std::string crs_label(const std::string& wkt);
+// True for a CRS in longitude and latitude (angles), false for a projected or unreadable one.
+bool is_geographic(const std::string& wkt);
 // User input ("EPSG:4326", a WKT string, a PROJ string, a .prj path) to WKT; throws InputError.
 std::string crs_from_user(const std::string& text);
 // WKT1 in the ESRI flavour, as a .prj beside OBJ/PLY wants it.

@@ -94,6 +94,15 @@ io::TinFormat check_outputs(const BuildOptions& o) {
   return format;
 }
 
+// --preview: a PNG, its size only with it.
+void check_preview(const BuildOptions& o) {
+  const BuildOptions::Preview& p = o.preview;
+  if (p.path.empty() && p.size != BuildOptions::Preview{}.size)
+    throw UsageError("--preview-size needs --preview");
+  if (!p.path.empty() && lower_extension(p.path) != ".png")
+    throw UsageError(p.path, "", "--preview writes a PNG: give a name ending in .png");
+}
+
 // --dem and --contour-lines: their settings only with them, and the ones each needs.
 void check_products(const BuildOptions& o) {
   const BuildOptions::Dem& dem = o.dem;
@@ -135,6 +144,7 @@ CheckedOptions check_options(const BuildOptions& options) {
   check_simplify(options);
   check_terrain(options);
   check_products(options);
+  check_preview(options);
   CheckedOptions checked;
   checked.format = check_outputs(options);
   checked.assign_crs_wkt = srs_option(options.assign_srs, "--a-srs");

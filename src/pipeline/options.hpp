@@ -103,6 +103,10 @@ struct BuildOptions {
     bool float64 = false;         // --dem-type Float64 (default Float32)
     std::vector<std::string> creation_options;  // --dem-co NAME=VALUE: GDAL COG options
   } dem;
+  struct Preview {
+    std::string path;           // --preview FILE.png: a hillshade with the edges drawn; "" = none
+    std::uint32_t size = 1024;  // --preview-size: pixels on the longer side
+  } preview;
   struct ContourLines {
     std::string path;     // --contour-lines FILE (any OGR vector format); "" = none
     std::string format;   // GDAL driver name; "" = from the extension

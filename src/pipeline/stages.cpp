@@ -22,6 +22,7 @@ extern const Stage quality_stage;      // the quality block of --stats
 extern const Stage write_stage;        // the TIN (-o) and its .prj
 extern const Stage dem_stage;          // --dem: the final TIN rasterized
 extern const Stage contour_lines_stage;     // --contour-lines: traced on the final TIN
+extern const Stage preview_stage;           // --preview: a hillshade PNG of the final TIN
 extern const Stage constraint_lines_stage;  // --constraints-out
 extern const Stage diagnostics_stage;       // --diagnostics
 extern const Stage stats_stage;             // --stats, last: it reports on all the others
@@ -29,11 +30,25 @@ extern const Stage stats_stage;             // --stats, last: it reports on all 
 namespace {
 
 const Stage* const kStages[] = {
-    &read_stage,        &delaunay_stage, &constraints_stage,   &surface_stage,
-    &simplify_stage,    &flats_stage,    &replace_stage,       &trim_stage,
-    &clip_stage,        &erase_stage,    &validate_stage,      &quality_stage,
-    &write_stage,       &dem_stage,      &contour_lines_stage, &constraint_lines_stage,
-    &diagnostics_stage, &stats_stage,
+    &read_stage,
+    &delaunay_stage,
+    &constraints_stage,
+    &surface_stage,
+    &simplify_stage,
+    &flats_stage,
+    &replace_stage,
+    &trim_stage,
+    &clip_stage,
+    &erase_stage,
+    &validate_stage,
+    &quality_stage,
+    &write_stage,
+    &dem_stage,
+    &contour_lines_stage,
+    &preview_stage,
+    &constraint_lines_stage,
+    &diagnostics_stage,
+    &stats_stage,
 };
 
 }  // namespace

@@ -1,0 +1,77 @@
+// preview: --preview, a PNG to look the final TIN over (products::render_preview): a hillshade
+// with the constrained edges and the outline drawn, transparent where there is no surface.
+#include <string>
+
+#include "io/crs.hpp"
+#include "io/raster/png_writer.hpp"
+#include "pipeline/stage.hpp"
+#include "products/preview.hpp"
+
+namespace tincdt::pipeline {
+namespace {
+
+// Metres on the ground per degree of latitude, as gdaldem's -s 111120.
+constexpr double kMetresPerDegree = 111120;
+constexpr std::uint32_t kLargestPreview = 16384;
+
+bool wanted(const BuildOptions& o) {
+  return !o.preview.path.empty();
+}
+
+void run(Job& job) {
+  const BuildOptions::Preview& o = job.options.preview;
+  products::PreviewOptions p;
+  p.size = o.size;
+  p.threads = job.options.threads;
+  // Heights in metres over longitude and latitude: shade as gdaldem -s 111120 does.
+  if (io::is_geographic(job.crs_wkt)) p.z_factor = 1 / kMetresPerDegree;
+  products::PreviewImage image;
+  try {
+    image = products::render_preview(job.tin(), p);
+  } catch (const Error& e) {
+    throw OutputError(o.path, "", e.detail());
+  }
+  io::OutputFile& out = job.add_output(o.path, "preview");
+  io::write_png(out, image.grid.width, image.grid.height, image.rgba);
+  job.finish_output(out);
+  job.info("preview: " + std::to_string(image.grid.width) + " x " +
+           std::to_string(image.grid.height) + " pixels");
+}
+
+void plan(const BuildOptions& o, FilePlan& files) {
+  files.outputs.push_back({o.preview.path, "the preview (--preview)"});
+}
+
+std::string check_size(std::string_view text) {
+  const auto n = parse_count(text);
+  return n && *n >= 2 && *n <= kLargestPreview ? std::string()
+                                               : in_quotes(text) + " is not a size in pixels (2-" +
+                                                     std::to_string(kLargestPreview) + ")";
+}
+
+void set_size(BuildOptions& o, std::string_view text) {
+  o.preview.size = static_cast<std::uint32_t>(*parse_count(text));
+}
+
+using Preview = BuildOptions::Preview;
+
+constexpr OptionSpec kOptions[] = {
+    text_option("--preview", "FILE.png", option_groups::products,
+                set_text<&BuildOptions::preview, &Preview::path>,
+                "Draw the TIN as a PNG: a hillshade with the constrained edges (blue)\n"
+                "and the outline (red), transparent where there is no surface"),
+    {.flags = "--preview-size",
+     .value_name = "PX",
+     .help = "The preview's size in pixels on its longer side",
+     .group = option_groups::products,
+     .default_text = "1024",
+     .check = check_size,
+     .set = set_size,
+     .shown = [](const BuildOptions& o) { return std::to_string(o.preview.size); }},
+};
+
+}  // namespace
+
+extern const Stage preview_stage{"preview", "preview", wanted, run, plan, "", kOptions};
+
+}  // namespace tincdt::pipeline

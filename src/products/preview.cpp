@@ -1,0 +1,127 @@
+#include "products/preview.hpp"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <numbers>
+#include <span>
+
+#include "core/error.hpp"
+#include "products/rasterize.hpp"
+
+namespace tincdt::products {
+namespace {
+
+constexpr double kAltitude = 45 * std::numbers::pi / 180;
+constexpr double kAzimuths[] = {225, 270, 315, 360};  // degrees clockwise from north
+
+// The grid: SIZE cells on the longer side of the kept extent.
+Grid preview_grid(const mesh::Triangulation& tin, std::uint32_t size) {
+  const BBox extent = kept_extent(tin);
+  if (!(extent.min_x <= extent.max_x)) throw Error("the TIN has no triangle to draw");
+  const double longer = std::max(extent.max_x - extent.min_x, extent.max_y - extent.min_y);
+  return grid_over(extent, longer > 0 ? longer / size : 1, false);
+}
+
+// Brightness 0..1 of the surface with gradient (dzdx, dzdy) (z up, y north).
+double multidirectional_shade(double dzdx, double dzdy) {
+  const double slope = std::atan(std::hypot(dzdx, dzdy));
+  // The downslope direction as an azimuth (clockwise from north), the angle lights are
+  // weighted against.
+  const double aspect = std::atan2(-dzdx, -dzdy);
+  double shade = 0;
+  for (const double degrees : kAzimuths) {
+    const double azimuth = degrees * std::numbers::pi / 180;
+    const double weight = std::pow(std::sin(aspect - azimuth), 2);
+    // Lambert's cosine between the light and the surface normal: brightest facing the light.
+    const double lit = std::sin(kAltitude) * std::cos(slope) +
+                       std::cos(kAltitude) * std::sin(slope) * std::cos(azimuth - aspect);
+    shade += weight * std::max(0.0, lit);
+  }
+  return shade / 2;  // the four weights, 45 degrees apart, sum to 2
+}
+
+void shade_cells(const Grid& g, std::span<const double> z, double z_factor,
+                 std::vector<std::uint8_t>& rgba) {
+  const auto at = [&](std::int64_t row, std::int64_t col, double centre) {
+    if (row < 0 || col < 0 || row >= g.height || col >= g.width) return centre;
+    const double v = z[static_cast<std::size_t>(row) * g.width + static_cast<std::size_t>(col)];
+    return std::isnan(v) ? centre : v;
+  };
+  const double scale = z_factor / (8 * g.resolution);
+  for (std::uint32_t row = 0; row < g.height; ++row) {
+    for (std::uint32_t col = 0; col < g.width; ++col) {
+      const std::size_t i = std::size_t{row} * g.width + col;
+      if (std::isnan(z[i])) continue;  // transparent, as rgba was made
+      const std::int64_t r = row, c = col;
+      const double e = z[i];
+      const double a = at(r - 1, c - 1, e), b = at(r - 1, c, e), cc = at(r - 1, c + 1, e);
+      const double d = at(r, c - 1, e), f = at(r, c + 1, e);
+      const double gg = at(r + 1, c - 1, e), h = at(r + 1, c, e), k = at(r + 1, c + 1, e);
+      // Horn's 3 x 3 gradient; rows go south, so north is row - 1.
+      const double dzdx = ((cc + 2 * f + k) - (a + 2 * d + gg)) * scale;
+      const double dzdy = ((a + 2 * b + cc) - (gg + 2 * h + k)) * scale;
+      const auto grey =
+          static_cast<std::uint8_t>(std::lround(255 * multidirectional_shade(dzdx, dzdy)));
+      std::uint8_t* px = &rgba[4 * i];
+      px[0] = px[1] = px[2] = grey;
+      px[3] = 255;
+    }
+  }
+}
+
+// Draws the segment P-Q (TIN coordinates) in COLOUR, pixel by pixel (Bresenham), clipped to
+// the grid.
+void draw_segment(const Grid& g, Point2 p, Point2 q, const Rgba& colour,
+                  std::vector<std::uint8_t>& rgba) {
+  const auto col_of = [&](double x) { return std::floor((x - g.min_x) / g.resolution); };
+  const auto row_of = [&](double y) { return std::floor((g.max_y - y) / g.resolution); };
+  auto x0 = static_cast<std::int64_t>(col_of(p.x)), y0 = static_cast<std::int64_t>(row_of(p.y));
+  const auto x1 = static_cast<std::int64_t>(col_of(q.x)),
+             y1 = static_cast<std::int64_t>(row_of(q.y));
+  const std::int64_t dx = std::abs(x1 - x0), dy = -std::abs(y1 - y0);
+  const std::int64_t sx = x0 < x1 ? 1 : -1, sy = y0 < y1 ? 1 : -1;
+  std::int64_t err = dx + dy;
+  while (true) {
+    if (x0 >= 0 && y0 >= 0 && x0 < g.width && y0 < g.height) {
+      const std::size_t i = static_cast<std::size_t>(y0) * g.width + static_cast<std::size_t>(x0);
+      std::copy(colour.begin(), colour.end(), rgba.begin() + static_cast<std::ptrdiff_t>(4 * i));
+    }
+    if (x0 == x1 && y0 == y1) break;
+    const std::int64_t e2 = 2 * err;
+    if (e2 >= dy) err += dy, x0 += sx;
+    if (e2 <= dx) err += dx, y0 += sy;
+  }
+}
+
+// The outline first, the constrained edges over it: a contour along a clip edge shows as a line.
+void draw_edges(const mesh::Triangulation& tin, const Grid& g, std::vector<std::uint8_t>& rgba) {
+  tin.for_each_triangle([&](TriangleId t, const std::array<VertexId, 3>&) {
+    for (int k = 0; k < 3; ++k) {
+      const auto e = static_cast<EdgeId>(3 * t + static_cast<std::uint32_t>(k));
+      if (!tin.is_kept(mesh::triangle_of(tin.twin(e))))
+        draw_segment(g, tin.point(tin.origin(e)), tin.point(tin.dest(e)), kOutlineColour, rgba);
+    }
+  });
+  tin.for_each_constrained_edge([&](EdgeId e) {
+    if (tin.is_kept(mesh::triangle_of(e)) || tin.is_kept(mesh::triangle_of(tin.twin(e))))
+      draw_segment(g, tin.point(tin.origin(e)), tin.point(tin.dest(e)), kConstraintColour, rgba);
+  });
+}
+
+}  // namespace
+
+PreviewImage render_preview(const mesh::Triangulation& tin, const PreviewOptions& options) {
+  if (options.size < 2) throw Error("a preview needs at least 2 pixels a side");
+  PreviewImage image;
+  image.grid = preview_grid(tin, options.size);
+  const Grid& g = image.grid;
+  std::vector<double> z(g.cells());
+  rasterize<double>(tin, g, std::nan(""), z, {.threads = options.threads});
+  image.rgba.assign(4 * g.cells(), 0);
+  shade_cells(g, z, options.z_factor, image.rgba);
+  draw_edges(tin, g, image.rgba);
+  return image;
+}
+
+}  // namespace tincdt::products

@@ -1,0 +1,67 @@
+// --preview on the command line: a PNG of the sample that GDAL reads as 4 bands of bytes (alpha
+// last) at the size asked for, and usage errors for a name that is no PNG or a size without it.
+#include <gdal_priv.h>
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <set>
+#include <string>
+
+#include "support/files.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Outcome {
+  int exit_code;
+  std::string messages;  // standard error
+};
+
+Outcome run(const std::string& dir, const std::string& args) {
+  const std::string err = dir + "/stderr.txt";
+  const int status = std::system(
+      ("cd '" + dir + "' && '" TINCDT_EXE "' " + args + " 2> '" + err + "' > /dev/null").c_str());
+  Outcome r{WIFEXITED(status) ? WEXITSTATUS(status) : -1, tincdt::test::slurp(err)};
+  fs::remove(err);
+  return r;
+}
+
+const std::string kSample = "'" TINCDT_SOURCE_DIR "/data/sample.las'";
+
+TEST(PreviewCli, WritesAPngGdalReads) {
+  const std::string dir = tincdt::test::scratch_dir("preview_cli");
+  const Outcome r =
+      run(dir, kSample + " -o t.ply --max-edge 20 --preview p.png --preview-size 300");
+  ASSERT_EQ(r.exit_code, 0) << r.messages;
+  EXPECT_NE(r.messages.find("wrote p.png"), std::string::npos) << r.messages;
+  GDALAllRegister();
+  GDALDatasetUniquePtr png(GDALDataset::Open((dir + "/p.png").c_str(), GDAL_OF_RASTER));
+  ASSERT_TRUE(png);
+  EXPECT_STREQ(png->GetDriver()->GetDescription(), "PNG");
+  EXPECT_EQ(std::max(png->GetRasterXSize(), png->GetRasterYSize()), 300);
+  ASSERT_EQ(png->GetRasterCount(), 4);
+  EXPECT_EQ(png->GetRasterBand(1)->GetRasterDataType(), GDT_Byte);
+  EXPECT_EQ(png->GetRasterBand(4)->GetColorInterpretation(), GCI_AlphaBand);
+}
+
+TEST(PreviewCli, UsageErrors) {
+  const std::string dir = tincdt::test::scratch_dir("preview_cli");
+  const std::pair<std::string, std::string> cases[] = {
+      {"--preview p.jpg", "--preview writes a PNG"},
+      {"--preview-size 200", "--preview-size needs --preview"},
+      {"--preview p.png --preview-size 1", "--preview-size"},
+      {"--preview p.png --preview-size 99999", "--preview-size"},
+  };
+  for (const auto& [args, named] : cases) {
+    SCOPED_TRACE(args);
+    const Outcome r = run(dir, kSample + " -o t.ply " + args);
+    EXPECT_EQ(r.exit_code, 2) << r.messages;
+    EXPECT_NE(r.messages.find(named), std::string::npos) << r.messages;
+  }
+  EXPECT_EQ(tincdt::test::names_in(dir), std::set<std::string>{});
+}
+
+}  // namespace
