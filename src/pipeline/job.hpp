@@ -109,6 +109,8 @@ struct Job {
   // dem: removed triangles the DEM fills cells from all the same (removed for the mesh outputs
   // only); a stage after the polygon stages sets them.
   std::vector<TriangleId> dem_extra_triangles;
+  // preview: the picture's extent, drawn as a frame over it, instead of the kept triangles'.
+  std::optional<BBox> preview_frame;
 
   // ---- outputs --------------------------------------------------------------------------------
   // The TIN's write options: from the options, crs_wkt (read), the automatic offset (write);

@@ -23,6 +23,7 @@ void run(Job& job) {
   products::PreviewOptions p;
   p.size = o.size;
   p.threads = job.options.threads;
+  p.frame = job.preview_frame;
   // Heights in metres over longitude and latitude: shade as gdaldem -s 111120 does.
   if (io::is_geographic(job.crs_wkt)) p.z_factor = 1 / kMetresPerDegree;
   products::PreviewImage image;

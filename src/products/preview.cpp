@@ -15,9 +15,10 @@ namespace {
 constexpr double kAltitude = 45 * std::numbers::pi / 180;
 constexpr double kAzimuths[] = {225, 270, 315, 360};  // degrees clockwise from north
 
-// The grid: SIZE cells on the longer side of the kept extent.
-Grid preview_grid(const mesh::Triangulation& tin, std::uint32_t size) {
-  const BBox extent = kept_extent(tin);
+// The grid: SIZE cells on the longer side of the frame, or of the kept extent.
+Grid preview_grid(const mesh::Triangulation& tin, const PreviewOptions& options) {
+  const std::uint32_t size = options.size;
+  const BBox extent = options.frame ? *options.frame : kept_extent(tin);
   if (!(extent.min_x <= extent.max_x)) throw Error("the TIN has no triangle to draw");
   const double longer = std::max(extent.max_x - extent.min_x, extent.max_y - extent.min_y);
   return grid_over(extent, longer > 0 ? longer / size : 1, false);
@@ -109,18 +110,30 @@ void draw_edges(const mesh::Triangulation& tin, const Grid& g, std::vector<std::
   });
 }
 
+// The grid's border pixels, all round.
+void draw_frame(const Grid& g, std::vector<std::uint8_t>& rgba) {
+  const auto put = [&](std::uint32_t col, std::uint32_t row) {
+    const std::size_t i = std::size_t{row} * g.width + col;
+    std::copy(kFrameColour.begin(), kFrameColour.end(),
+              rgba.begin() + static_cast<std::ptrdiff_t>(4 * i));
+  };
+  for (std::uint32_t col = 0; col < g.width; ++col) put(col, 0), put(col, g.height - 1);
+  for (std::uint32_t row = 0; row < g.height; ++row) put(0, row), put(g.width - 1, row);
+}
+
 }  // namespace
 
 PreviewImage render_preview(const mesh::Triangulation& tin, const PreviewOptions& options) {
   if (options.size < 2) throw Error("a preview needs at least 2 pixels a side");
   PreviewImage image;
-  image.grid = preview_grid(tin, options.size);
+  image.grid = preview_grid(tin, options);
   const Grid& g = image.grid;
   std::vector<double> z(g.cells());
   rasterize<double>(tin, g, std::nan(""), z, {.threads = options.threads});
   image.rgba.assign(4 * g.cells(), 0);
   shade_cells(g, z, options.z_factor, image.rgba);
   draw_edges(tin, g, image.rgba);
+  if (options.frame) draw_frame(g, image.rgba);
   return image;
 }
 

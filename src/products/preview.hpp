@@ -11,6 +11,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "mesh/triangulation.hpp"
@@ -24,18 +25,22 @@ struct PreviewOptions {
   // for heights in metres on longitude/latitude, as gdaldem's -s 111120.
   double z_factor = 1;
   unsigned threads = 0;  // 0 = every hardware thread (the rasterization)
+  // The picture's extent, drawn as a rectangle over it (a tile job's tile); unset: the kept
+  // triangles' extent.
+  std::optional<BBox> frame = std::nullopt;
 };
 
 using Rgba = std::array<std::uint8_t, 4>;
 inline constexpr Rgba kConstraintColour = {0, 92, 230, 255};  // contours, hard and soft lines
 inline constexpr Rgba kOutlineColour = {230, 40, 20, 255};    // hull, clip, erase, trim edges
+inline constexpr Rgba kFrameColour = {255, 200, 0, 255};      // PreviewOptions::frame
 
 struct PreviewImage {
   Grid grid;                       // the pixels' footprint in the TIN's coordinates
   std::vector<std::uint8_t> rgba;  // grid.cells() pixels, 4 bytes each, row-major from the top
 };
 
-// Throws Error when the TIN has no kept triangle or SIZE is below 2.
+// Throws Error when the TIN has no kept triangle (and no frame is given), or SIZE is below 2.
 PreviewImage render_preview(const mesh::Triangulation& tin, const PreviewOptions& options = {});
 
 }  // namespace tincdt::products

@@ -377,6 +377,7 @@ TileJob::TileJob(const BuildOptions& job_options, const pipeline::CheckedOptions
   read_hooks.point_files_read = [this](Job&) { detail::add_tile_rim(*this); };
   read_hooks.line_sources_read = [this](Job&) { detail::keep_tile_lines(*this); };
   if (!job_options.dem.path.empty()) dem_grid = tile_grid(setup.box, job_options.dem.resolution);
+  preview_frame = setup.box;  // the tiles' pictures join into a mosaic, each tile framed
 }
 
 std::vector<const pipeline::Stage*> tile_stages() {

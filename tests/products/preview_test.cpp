@@ -121,5 +121,22 @@ TEST(Preview, ConstrainedEdgesAreDrawnOverTheSurface) {
   EXPECT_NE(pixel_at(image, 3.0, 4.0), kConstraintColour);
 }
 
+TEST(Preview, AFrameSetsTheExtentAndIsDrawnAllRound) {
+  const mesh::Triangulation tin = lattice(10, 10, [](double, double) { return 1.0; });
+  const BBox frame{-5, -5, 15, 25};  // min_x, min_y, max_x, max_y: beyond the TIN
+  const PreviewImage image = render_preview(tin, {.size = 60, .frame = frame});
+  EXPECT_EQ(image.grid.width, 40u);
+  EXPECT_EQ(image.grid.height, 60u);
+  EXPECT_EQ(image.grid.min_x, -5);
+  EXPECT_EQ(image.grid.max_y, 25);
+  for (std::uint32_t col = 0; col < image.grid.width; ++col) {
+    EXPECT_EQ(pixel(image, col, 0), kFrameColour);
+    EXPECT_EQ(pixel(image, col, image.grid.height - 1), kFrameColour);
+  }
+  EXPECT_EQ(pixel(image, 0, 30), kFrameColour);
+  EXPECT_EQ(pixel_at(image, 12, 20)[3], 0);  // inside the frame, outside the TIN
+  EXPECT_EQ(pixel_at(image, 5, 5)[3], 255);
+}
+
 }  // namespace
 }  // namespace tincdt::products

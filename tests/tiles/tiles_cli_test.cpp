@@ -191,6 +191,29 @@ TEST_F(TilesCli, NoCommandWritesOverItsInputs) {
   refused({"merge", "t0.ply", "t1.ply", "--outline", "-o", "t0.ply"}, "t0.ply");
 }
 
+// Each tile job draws its own tile, framed, so that the pictures of a plan join into a mosaic.
+TEST_F(TilesCli, TilePreviewsCoverTheirTiles) {
+  ASSERT_EQ(tincdt_run(dir_, {"plan", "cloud.xyz", "--tile-size", "100", "--buffer", "40", "-o",
+                              "plan.json", "-q"})
+                .exit_code,
+            0);
+  const Outcome r = tincdt_run(dir_, {"--plan", "plan.json", "--tile", "0", "-o", "t0.ply",
+                                      "--preview", "t0.png", "--preview-size", "200", "-q"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  // A PNG of 200 x 200 pixels: the tile is a square.
+  const std::string png = tincdt::test::slurp(dir_ / "t0.png");
+  ASSERT_GT(png.size(), 24u);
+  EXPECT_EQ(png.substr(1, 3), "PNG");
+  const auto be32 = [&](std::size_t at) {
+    return (std::uint32_t(std::uint8_t(png[at])) << 24) |
+           (std::uint32_t(std::uint8_t(png[at + 1])) << 16) |
+           (std::uint32_t(std::uint8_t(png[at + 2])) << 8) |
+           std::uint32_t(std::uint8_t(png[at + 3]));
+  };
+  EXPECT_EQ(be32(16), 200u);  // IHDR width
+  EXPECT_EQ(be32(20), 200u);  // IHDR height
+}
+
 // The engine recipe examples/tiles/parallel.sh, as CI runs it: every tile of a plan through GNU
 // parallel, then merged, against the one-job TIN.
 TEST_F(TilesCli, GnuParallelRecipeBuildsTheWholeTin) {
