@@ -94,6 +94,10 @@ struct Job {
   std::unique_ptr<BackgroundJob> quality_pass;  // fills quality_measured
   // Joins quality_pass, if running, and files its result in the report.
   void wait_for_quality();
+  // Runs DRAW with dem_extra_triangles back in the TIN, then removes them again (also when DRAW
+  // throws). The quality pass, which reads the removed flags, is joined first.
+  template <class F>
+  void with_extra_triangles(F&& draw);
 
   // ---- set by the caller of a job over part of its data (empty: none) ------------------------
   // read: called after point file INPUT is read (EXTENT: its points'), after every point file
@@ -106,8 +110,8 @@ struct Job {
   } read_hooks;
   // dem: the grid of the DEM, instead of one over the kept triangles and the DEM options.
   std::optional<products::Grid> dem_grid;
-  // dem: removed triangles the DEM fills cells from all the same (removed for the mesh outputs
-  // only); a stage after the polygon stages sets them.
+  // dem, preview: removed triangles the rasters fill cells from all the same (removed for the
+  // mesh outputs only); a stage after the polygon stages sets them. with_extra_triangles().
   std::vector<TriangleId> dem_extra_triangles;
   // preview: the picture's extent, drawn as a frame over it, instead of the kept triangles'.
   std::optional<BBox> preview_frame;
@@ -168,5 +172,27 @@ void check_triangles_left(Job& job);
 
 // Seconds since T0.
 double seconds_since(std::chrono::steady_clock::time_point t0);
+
+template <class F>
+void Job::with_extra_triangles(F&& draw) {
+  if (dem_extra_triangles.empty()) {
+    draw();
+    return;
+  }
+  wait_for_quality();
+  struct PutBack {
+    mesh::Triangulation& tin;
+    const std::vector<TriangleId>& triangles;
+    PutBack(mesh::Triangulation& m, const std::vector<TriangleId>& t) : tin(m), triangles(t) {
+      for (const TriangleId id : triangles) tin.set_removed(id, false);
+    }
+    ~PutBack() {
+      for (const TriangleId id : triangles) tin.set_removed(id, true);
+    }
+    PutBack(const PutBack&) = delete;
+    PutBack& operator=(const PutBack&) = delete;
+  } put_back(tin(), dem_extra_triangles);
+  draw();
+}
 
 }  // namespace tincdt::pipeline

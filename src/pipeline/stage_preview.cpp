@@ -27,11 +27,15 @@ void run(Job& job) {
   // Heights in metres over longitude and latitude: shade as gdaldem -s 111120 does.
   if (io::is_geographic(job.crs_wkt)) p.z_factor = 1 / kMetresPerDegree;
   products::PreviewImage image;
-  try {
-    image = products::render_preview(job.tin(), p);
-  } catch (const Error& e) {
-    throw OutputError(o.path, "", e.detail());
-  }
+  // A tile job draws its neighbours' final triangles inside its frame too, as its DEM fills
+  // cells from them: the tiles' pictures then join without gaps.
+  job.with_extra_triangles([&] {
+    try {
+      image = products::render_preview(job.tin(), p);
+    } catch (const Error& e) {
+      throw OutputError(o.path, "", e.detail());
+    }
+  });
   io::OutputFile& out = job.add_output(o.path, "preview");
   io::write_png(out, image.grid.width, image.grid.height, image.rgba);
   job.finish_output(out);

@@ -19,6 +19,8 @@
 #include <string>
 #include <vector>
 
+#include <gdal_priv.h>
+
 #include "support/files.hpp"
 #include "support/mesh_files.hpp"
 
@@ -197,21 +199,30 @@ TEST_F(TilesCli, TilePreviewsCoverTheirTiles) {
                               "plan.json", "-q"})
                 .exit_code,
             0);
-  const Outcome r = tincdt_run(dir_, {"--plan", "plan.json", "--tile", "0", "-o", "t0.ply",
-                                      "--preview", "t0.png", "--preview-size", "200", "-q"});
+  // Tile 2 is [300000, 300100] x [5000000, 5000100]: the data's south-west corner.
+  const Outcome r = tincdt_run(dir_, {"--plan", "plan.json", "--tile", "2", "-o", "t2.ply",
+                                      "--preview", "t2.png", "--preview-size", "200", "-q"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  // A PNG of 200 x 200 pixels: the tile is a square.
-  const std::string png = tincdt::test::slurp(dir_ / "t0.png");
-  ASSERT_GT(png.size(), 24u);
-  EXPECT_EQ(png.substr(1, 3), "PNG");
-  const auto be32 = [&](std::size_t at) {
-    return (std::uint32_t(std::uint8_t(png[at])) << 24) |
-           (std::uint32_t(std::uint8_t(png[at + 1])) << 16) |
-           (std::uint32_t(std::uint8_t(png[at + 2])) << 8) |
-           std::uint32_t(std::uint8_t(png[at + 3]));
-  };
-  EXPECT_EQ(be32(16), 200u);  // IHDR width
-  EXPECT_EQ(be32(20), 200u);  // IHDR height
+  EXPECT_NE(tincdt::test::slurp(dir_ / "plan.json")
+                .find("\"index\": 2, \"col\": 3000, \"row\": 50000, \"box\": [300000, 5000000, "
+                      "300100, 5000100]"),
+            std::string::npos);
+  // 200 x 200 pixels (the tile is a square), and no gap: the neighbours' final triangles fill
+  // the tile's picture where the tile does not own them. The tile's west and south sides are the
+  // data's, whose hull the random points reach only within a few metres.
+  GDALAllRegister();
+  GDALDatasetUniquePtr png(GDALDataset::Open((dir_ / "t2.png").c_str(), GDAL_OF_RASTER));
+  ASSERT_TRUE(png);
+  ASSERT_EQ(png->GetRasterXSize(), 200);
+  ASSERT_EQ(png->GetRasterYSize(), 200);
+  std::vector<std::uint8_t> alpha(200 * 200);
+  ASSERT_EQ(png->GetRasterBand(4)->RasterIO(GF_Read, 0, 0, 200, 200, alpha.data(), 200, 200,
+                                            GDT_Byte, 0, 0, nullptr),
+            CE_None);
+  int gaps = 0;
+  for (int row = 0; row < 190; ++row)
+    for (int col = 10; col < 200; ++col) gaps += alpha[std::size_t(row) * 200 + col] == 0;
+  EXPECT_EQ(gaps, 0);
 }
 
 // The engine recipe examples/tiles/parallel.sh, as CI runs it: every tile of a plan through GNU
