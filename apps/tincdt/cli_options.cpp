@@ -95,6 +95,9 @@ class Group {
   CLI::Option* option(const char* flags, std::string& target, const char* help, const char* type) {
     return app_.add_option(flags, target, help)->type_name(type)->group(name_);
   }
+  CLI::Option* flag(const char* flags, bool& target, const char* help) {
+    return app_.add_flag(flags, target, help)->group(name_);
+  }
   // A value that CHECK accepts, stored by CLI11 in TARGET.
   template <class T>
   CLI::Option* checked(const char* flags, T& target, const char* help, const char* type,
@@ -183,6 +186,13 @@ void tile_options(CLI::App& app, tiles::TileOptions& o) {
             "Read this far around the tile instead of the plan's buffer\n"
             "(the tiles already built stay valid)",
             "LENGTH", CLI::NonNegativeNumber);
+  g.checked("--max-buffer", o.max_buffer,
+            "A buffer too small grows, reading more, up to this\n"
+            "(default: one tile size)",
+            "LENGTH", CLI::NonNegativeNumber);
+  g.flag("--buffer-fixed", o.buffer_fixed,
+         "Stop when the buffer is too small, saying what it needs,\n"
+         "instead of reading more (for schedulers that promise memory)");
   g.option("--outline", o.outline,
            "Also write the tile's outline, for 'tincdt merge --check'\n"
            "when the tiles are too many to keep or to merge",

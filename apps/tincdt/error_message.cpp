@@ -16,6 +16,11 @@ std::string error_message(const Error& e) {
     case Remedy::z_field:
       message += ", or take z from an attribute with --z-field NAME";
       break;
+    case Remedy::larger_buffer:
+      message +=
+          " (run this tile with a larger --buffer or --max-buffer; the tiles already "
+          "built stay valid)";
+      break;
   }
   return message;
 }

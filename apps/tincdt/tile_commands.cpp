@@ -136,7 +136,7 @@ int run_plan(int argc, char** argv) {
       ->required();
   app.add_option("--buffer", o.buffer,
                  "How far around its tile each job reads: enough that every triangle near\n"
-                 "the tile is settled (a tile that needs more fails and says how much)")
+                 "the tile is settled (a first guess: a tile that needs more reads more)")
       ->type_name("B")
       ->required();
   app.add_option("-o,--output", o.output, "The plan (JSON)")->type_name("PLAN.json")->required();

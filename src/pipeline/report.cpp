@@ -199,6 +199,11 @@ std::string BuildReport::to_json() const {
   put(j, member("peak_rss_bytes", peak_rss_bytes), member("crs", crs), member("crs_wkt", crs_wkt));
   put_outputs(j, *this);
   put_products(j, *this);
+  if (!figures.empty()) {
+    j.key("figures").begin_object();
+    for (const auto& [name, value] : figures) j.field(name, value);
+    j.end_object();
+  }
   j.key("offset").array(std::array{offset.x, offset.y, offset.z});
   put_inputs(j, inputs);
   j.end_object();

@@ -183,15 +183,15 @@ void check_triangle(TileJob& job, const BBox& near, const tiles::Polygon& near_p
   // estimate from the circles is then a lower bound.
   if (tally.failed_reach > 0) {
     detail += "; a buffer of " + number(suggested_buffer(tally.failed_reach)) +
-              (tally.unbounded ? " or more" : "") +
-              " is needed (make the plan again with --buffer, or run this tile with --buffer: "
-              "tiles already built stay valid)";
+              (tally.unbounded ? " or more" : "") + " is needed";
   } else {
     detail +=
         "; the data's outline near the tile is not settled within the buffer: try a "
         "buffer of a tile size or more";
   }
-  throw InputError(tile.plan_path, name, detail);
+  throw BufferTooSmall(tile.plan_path, name, detail, tile.buffer,
+                       tally.failed_reach > 0 ? suggested_buffer(tally.failed_reach) : 0,
+                       tile.grid.size);
 }
 
 void run(TileJob& job) {

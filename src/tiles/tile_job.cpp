@@ -291,9 +291,10 @@ products::Grid tile_grid(const BBox& box, double resolution) {
 
 void check_tile_options(const TileOptions& t, const BuildOptions& o) {
   if (t.plan.empty()) {
-    if (t.tile >= 0 || t.buffer >= 0 || !t.outline.empty())
+    if (t.tile >= 0 || t.buffer >= 0 || t.max_buffer >= 0 || t.buffer_fixed || !t.outline.empty())
       throw UsageError(
-          "--tile, --buffer and --outline need --plan: the plan that defines the tiles");
+          "--tile, --buffer, --max-buffer, --buffer-fixed and --outline need --plan: the plan "
+          "that defines the tiles");
     return;
   }
   const auto refuse = [](const std::string& option, const std::string& why) {
@@ -309,6 +310,10 @@ void check_tile_options(const TileOptions& t, const BuildOptions& o) {
         "return filters (give them to 'tincdt plan')");
   if (t.tile < 0) throw UsageError("--plan needs --tile N: the index of the tile to build");
   if (!(t.buffer >= 0) && t.buffer != -1) throw UsageError("--buffer must be a length >= 0");
+  if (!(t.max_buffer >= 0) && t.max_buffer != -1)
+    throw UsageError("--max-buffer must be a length >= 0");
+  if (t.buffer_fixed && t.max_buffer >= 0)
+    throw UsageError("--max-buffer and --buffer-fixed exclude each other");
   if (o.max_edge > 0)
     refuse("--max-edge", "it trims inward from the whole TIN's hull, which a tile does not see");
   if (o.fix_flats) refuse("--fix-flats", "its new vertices depend on triangles beyond the tile");
@@ -390,10 +395,11 @@ std::vector<const pipeline::Stage*> tile_stages() {
   return list;
 }
 
-pipeline::BuildReport build_tile(const TileOptions& tiling, const BuildOptions& options,
-                                 const ProgressFn* progress, const pipeline::LogFn& log) {
-  const pipeline::CheckedOptions checked = check_options(tiling, options);
-  if (tiling.plan.empty()) throw UsageError("a tile job needs --plan and --tile");
+namespace {
+
+pipeline::BuildReport build_tile_once(const TileOptions& tiling, const BuildOptions& options,
+                                      const pipeline::CheckedOptions& checked,
+                                      const ProgressFn* progress, const pipeline::LogFn& log) {
   TileSetup setup;
   const BuildOptions job_options = tile_options(tiling, options, setup);
   TileJob job(job_options, checked, setup, tiling.outline, progress, log);
@@ -410,7 +416,44 @@ pipeline::BuildReport build_tile(const TileOptions& tiling, const BuildOptions& 
     files.outputs.insert(files.outputs.begin() + static_cast<std::ptrdiff_t>(before),
                          {tiling.outline, "the tile's outline (--outline)"});
   }
-  return pipeline::run_job(job, list, files);
+  pipeline::BuildReport report = pipeline::run_job(job, list, files);
+  report.figures.emplace_back("buffer", setup.buffer);
+  return report;
+}
+
+// The buffer after USED proved too small: what the unsettled triangles ask for, at least twice
+// USED (an eighth of a tile from 0), at most LIMIT.
+double next_buffer(const BufferTooSmall& e, double limit) {
+  const double doubled = e.used() > 0 ? 2 * e.used() : e.tile_size() / 8;
+  return std::min(limit, std::max(e.needed(), doubled));
+}
+
+}  // namespace
+
+pipeline::BuildReport build_tile(const TileOptions& tiling, const BuildOptions& options,
+                                 const ProgressFn* progress, const pipeline::LogFn& log) {
+  const pipeline::CheckedOptions checked = check_options(tiling, options);
+  if (tiling.plan.empty()) throw UsageError("a tile job needs --plan and --tile");
+  TileOptions attempt = tiling;
+  while (true) {
+    try {
+      return build_tile_once(attempt, options, checked, progress, log);
+    } catch (const BufferTooSmall& e) {
+      const double limit = tiling.max_buffer >= 0 ? tiling.max_buffer : e.tile_size();
+      const double next = next_buffer(e, limit);
+      if (tiling.buffer_fixed || !(next > e.used()))
+        throw BufferTooSmall(
+            e.file(), e.where(),
+            e.detail() + (tiling.buffer_fixed
+                              ? ""
+                              : "; the buffer may grow to " + number(limit) + " at the most"),
+            e.used(), e.needed(), e.tile_size(), Remedy::larger_buffer);
+      if (log)
+        log(pipeline::log_info, e.where() + ": buffer " + number(e.used()) +
+                                    " is too small; reading to " + number(next));
+      attempt.buffer = next;
+    }
+  }
 }
 
 namespace detail {

@@ -9,8 +9,10 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "core/error.hpp"
 #include "core/progress.hpp"
 #include "core/types.hpp"
 #include "pipeline/build.hpp"
@@ -29,8 +31,31 @@ namespace tincdt::tiles {
 struct TileOptions {
   std::string plan;
   std::int64_t tile = -1;
-  double buffer = -1;
+  double buffer = -1;  // the first buffer read; -1: the plan's
+  // A buffer too small is grown (to what the unsettled triangles ask, at least doubled) up to
+  // max_buffer (-1: one tile size); with buffer_fixed the job stops instead and says how much
+  // it needs, for schedulers that promise memory.
+  double max_buffer = -1;
+  bool buffer_fixed = false;
   std::string outline;
+};
+
+// A tile job whose buffer USED is too small: some triangles near the tile could still change.
+// NEEDED is what they ask for (0: unknown); TILE_SIZE the plan's.
+class BufferTooSmall : public InputError {
+ public:
+  BufferTooSmall(std::string file, std::string where, std::string detail, double used,
+                 double needed, double tile_size, Remedy remedy = Remedy::none)
+      : InputError(std::move(file), std::move(where), std::move(detail), remedy),
+        used_(used),
+        needed_(needed),
+        tile_size_(tile_size) {}
+  double used() const { return used_; }
+  double needed() const { return needed_; }
+  double tile_size() const { return tile_size_; }
+
+ private:
+  double used_, needed_, tile_size_;
 };
 
 struct TileSetup {

@@ -142,9 +142,10 @@ TEST_F(TilesCli, BadPlansGiveOneLineAndExitOne) {
   // A tile index the plan does not have.
   expect_one_error(tincdt_run(dir_, {"--plan", "plan.json", "--tile", "4", "-o", "t.ply"}), 1,
                    "plan.json: no tile 4: the plan has tiles 0 to 3");
-  // Too small a buffer: the tile and the buffer it needs.
-  expect_one_error(tincdt_run(dir_, {"--plan", "plan.json", "--tile", "1", "-o", "t.ply"}), 1,
-                   "plan.json: tile 1: buffer 2 is too small");
+  // Too small a buffer, and told not to grow it: the tile and the buffer it needs.
+  expect_one_error(
+      tincdt_run(dir_, {"--plan", "plan.json", "--tile", "1", "--buffer-fixed", "-o", "t.ply"}), 1,
+      "plan.json: tile 1: buffer 2 is too small");
   // A plan from other inputs: the cloud changed since.
   tincdt::test::spit(dir_ / "cloud.xyz",
                      tincdt::test::slurp(dir_ / "cloud.xyz") + "300050 5000050 1\n");

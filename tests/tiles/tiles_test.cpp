@@ -379,6 +379,9 @@ TEST(Tiles, TopographyWithItsContoursMatchesTheWholeTin) {
                   {shared("pair_topography/Topography_contours_1m_3d.shp")}};
   const std::string w = whole(in, dir);
   expect_same_tin(w, tiled(in, dir, 100, 130));
+  // A plan whose buffer is too small for some tiles (40: tile 1 asks for 73): each such tile
+  // reads more until it is settled, and the whole is the same.
+  expect_same_tin(w, tiled(in, dir, 100, 40));
 }
 
 // Cocircular ties: the same triangles need ties broken by a rule of the points alone
@@ -421,10 +424,47 @@ TEST(Tiles, TooSmallABufferNamesTheTileAndWhatItNeeds) {
   const Inputs in{{write_xyz(dir / "points.xyz", random_points(3000, 500000, 4000000, 300, 6))},
                   {}};
   const std::string p = plan(in, dir, 100, 1);
-  const std::string e = error_of<InputError>([&] { build_tile(p, 4, dir); });
+  tiles::TileOptions t;
+  t.plan = p;
+  t.tile = 4;
+  t.buffer_fixed = true;  // else it grows
+  pipeline::BuildOptions o;
+  o.output = (dir / "tile_4.ply").string();
+  const std::string e = error_of<InputError>([&] { tiles::build_tile(t, o); });
   EXPECT_NE(e.find("plan.json: tile 4: buffer 1 is too small"), std::string::npos) << e;
   EXPECT_NE(e.find("is needed"), std::string::npos) << e;
   EXPECT_FALSE(fs::exists(dir / "tile_4.ply"));
+}
+
+TEST(Tiles, ABufferTooSmallGrowsUntilEveryTriangleIsFinal) {
+  const fs::path dir = scratch();
+  const Inputs in{{write_xyz(dir / "points.xyz", random_points(3000, 500000, 4000000, 300, 6))},
+                  {}};
+  const std::string w = whole(in, dir);
+  expect_same_tin(w, tiled(in, dir, 100, 1));
+  // The buffer read is in the stats: more than the plan's.
+  tiles::TileOptions t;
+  t.plan = (dir / "plan.json").string();
+  t.tile = 4;
+  pipeline::BuildOptions o;
+  o.output = (dir / "t4.ply").string();
+  o.write.overwrite = true;
+  std::vector<std::string> lines;
+  const pipeline::LogFn log = [&](int, const std::string& line) { lines.push_back(line); };
+  const pipeline::BuildReport r = tiles::build_tile(t, o, nullptr, log);
+  ASSERT_EQ(r.figures.size(), 1u);
+  EXPECT_EQ(r.figures[0].first, "buffer");
+  EXPECT_GT(r.figures[0].second, 1);
+  EXPECT_LE(r.figures[0].second, 100);
+  bool said = false;
+  for (const std::string& line : lines)
+    said = said || line.find("tile 4: buffer 1 is too small; reading to ") != std::string::npos;
+  EXPECT_TRUE(said);
+  // Up to --max-buffer only.
+  t.max_buffer = 1.5;
+  const auto capped = [&] { tiles::build_tile(t, o); };
+  EXPECT_NE(error_of<tiles::BufferTooSmall>(capped).find("may grow to 1.5 at the most"),
+            std::string::npos);
 }
 
 TEST(Tiles, AMissingTileAndAChangedInputAreRefused) {
