@@ -169,6 +169,20 @@ double cells_across(double size, double resolution) {
   return whole >= 1 && std::fabs(n - whole) <= 1e-9 * whole ? whole : 0;
 }
 
+// A tile job's own --buffer, at most the plan's extent's larger side plus the tile size: the
+// buffered box of a tile that meets the data then holds all of it, and a larger one reads
+// nothing more, only grows the rounding margins of the tile's tests (at 1e308 they swallow it).
+void check_buffer(double buffer, const TilePlan& plan) {
+  if (tiles::empty(plan.extent)) return;
+  const BBox& e = plan.extent;
+  const double side = std::max(e.max_x - e.min_x, e.max_y - e.min_y);
+  const double most = side + plan.tile_size;
+  if (buffer > most)
+    throw UsageError("--buffer: " + number(buffer) + " reaches beyond the plan's data: " +
+                     number(most) + " (the extent's larger side, " + number(side) +
+                     ", plus the tile size) already reads all of it");
+}
+
 const PlanTile& tile_of_plan(const TilePlan& plan, const TileOptions& options) {
   const std::string& plan_path = options.plan;
   if (plan.tiles.empty()) throw InputError(plan_path, "", "the plan has no tiles");
@@ -192,6 +206,7 @@ void place_tile(TileSetup& setup, const TilePlan& plan, const PlanTile& tile,
                      " does not divide the plan's tile size " + number(plan.tile_size) +
                      ": a tile's DEM covers exactly its tile, in whole cells (give a resolution "
                      "that divides the tile size)");
+  if (tiling.buffer >= 0) check_buffer(tiling.buffer, plan);
   setup.buffer = tiling.buffer >= 0 ? tiling.buffer : plan.buffer;
   setup.box = setup.grid.box(tile.col, tile.row);
   setup.buffered = setup.grid.buffered(tile.col, tile.row, setup.buffer);
