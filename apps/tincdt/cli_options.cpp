@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <cstdint>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -25,11 +27,17 @@ using pipeline::OptionSpec;
 
 class UsageFormatter : public CLI::Formatter {
  public:
-  std::string make_usage(const CLI::App*, std::string) const override {
-    return "Usage: tincdt [OPTIONS] [INPUT...] [--contours LINES]... -o OUTPUT\n"
-           "       tincdt --plan PLAN.json --tile N [OPTIONS] -o OUTPUT\n"
-           "       tincdt plan INPUT... --tile-size S --buffer B -o PLAN.json  (plan --help)\n"
-           "       tincdt merge TILE... -o OUTPUT                              (merge --help)\n";
+  std::string make_usage(const CLI::App*, std::string) const override { return usage(); }
+  // The value names as the option tables write them: no " x 4" after the four words of
+  // "XMIN YMIN XMAX YMAX" (the checks have no names to add after them either).
+  std::string make_option_opts(const CLI::Option* opt) const override {
+    if (opt->get_type_size() == 0) return "";
+    std::string text;
+    if (!opt->get_type_name().empty()) text += " " + opt->get_type_name();
+    if (!opt->get_default_str().empty()) text += "=" + opt->get_default_str();
+    if (opt->get_expected_max() == CLI::detail::expected_max_vector_size) text += " ...";
+    if (opt->get_required()) text += " REQUIRED";
+    return text;
   }
 };
 
@@ -58,9 +66,14 @@ constexpr const char* kExamples = R"(Examples:
   On one core of a shared machine:
     tincdt big.las -o big.ply --threads 1)";
 
+constexpr const char* kGdalWords =
+    R"(GDAL spellings: -a_srs, -t_srs and -co are read as --a-srs, --t-srs and --dem-co.)";
+
 constexpr const char* kExitStatus =
     R"(Exit status: 0 success, 1 input, output or runtime error, 2 usage error,
-3 internal error (a bug: please report it with the input).)";
+3 internal error (a bug: please report it with the input). Interrupted by SIGINT (Ctrl-C),
+SIGTERM or SIGHUP, tincdt changes no file and ends by that signal: a shell reports 130, 143
+or 129.)";
 
 // "1. points, ...": the stages with a title, numbered in their order, each continued line
 // indented under its text.
@@ -98,11 +111,14 @@ class Group {
   CLI::Option* flag(const char* flags, bool& target, const char* help) {
     return app_.add_flag(flags, target, help)->group(name_);
   }
-  // A value that CHECK accepts, stored by CLI11 in TARGET.
+  // A value that CHECK accepts (it returns "" or why not), stored by CLI11 in TARGET.
   template <class T>
   CLI::Option* checked(const char* flags, T& target, const char* help, const char* type,
-                       const CLI::Validator& check) {
-    return app_.add_option(flags, target, help)->check(check)->type_name(type)->group(name_);
+                       std::string (*check)(std::string_view)) {
+    return app_.add_option(flags, target, help)
+        ->check(CLI::Validator([check](std::string& v) { return check(v); }, ""))
+        ->type_name(type)
+        ->group(name_);
   }
 
  private:
@@ -177,19 +193,26 @@ void bind(CLI::App& app, const OptionSpec& spec, BuildOptions& o) {
     option->each([&spec, &o](const std::string& v) { spec.set(o, v); });
 }
 
+std::string check_tile_index(std::string_view text) {
+  const auto n = pipeline::parse_count(text);
+  return n && *n <= static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())
+             ? std::string()
+             : pipeline::in_quotes(text) + " is not a tile index (0, 1, ...)";
+}
+
 void tile_options(CLI::App& app, tiles::TileOptions& o) {
   Group g(app, "Tiled jobs (one tile of a plan made by 'tincdt plan')");
   g.option("--plan", o.plan, "The plan; the inputs and how to read them come from it", "PLAN.json");
   g.checked("--tile", o.tile, "The tile to build: its index in the plan (0, 1, ...)", "N",
-            CLI::NonNegativeNumber);
+            check_tile_index);
   g.checked("--buffer", o.buffer,
             "Read this far around the tile instead of the plan's buffer\n"
             "(the tiles already built stay valid)",
-            "LENGTH", CLI::NonNegativeNumber);
+            "LENGTH", pipeline::check_non_negative);
   g.checked("--max-buffer", o.max_buffer,
             "A buffer too small grows, reading more, up to this\n"
             "(default: one tile size)",
-            "LENGTH", CLI::NonNegativeNumber);
+            "LENGTH", pipeline::check_non_negative);
   g.flag("--buffer-fixed", o.buffer_fixed,
          "Stop when the buffer is too small, saying what it needs,\n"
          "instead of reading more (for schedulers that promise memory)");
@@ -211,6 +234,13 @@ void run_options(CLI::App& app, BuildOptions& o, Verbosity& v) {
 
 }  // namespace
 
+std::string usage() {
+  return "Usage: tincdt [OPTIONS] [INPUT...] [--contours LINES]... -o OUTPUT\n"
+         "       tincdt --plan PLAN.json --tile N [OPTIONS] -o OUTPUT\n"
+         "       tincdt plan INPUT... --tile-size S --buffer B -o PLAN.json  (plan --help)\n"
+         "       tincdt merge TILE... -o OUTPUT                              (merge --help)\n";
+}
+
 std::optional<std::string> append_class_codes(const std::string& text,
                                               std::vector<std::uint8_t>& classes) {
   return pipeline::append_class_codes(text, classes);
@@ -220,7 +250,8 @@ void define_options(CLI::App& app, BuildOptions& options, tiles::TileOptions& ti
                     Verbosity& verbosity) {
   app.formatter(std::make_shared<UsageFormatter>());
   app.get_formatter()->column_width(26);
-  app.footer(std::string(kExamples) + "\n\n" + stage_order() + "\n" + kExitStatus);
+  app.footer(std::string(kExamples) + "\n\n" + stage_order() + "\n" + kGdalWords + "\n\n" +
+             kExitStatus);
   app.set_help_flag();  // defined last, in the "Run" group
   for (const pipeline::Stage* stage : pipeline::stages())
     for (const OptionSpec& spec : stage->options) bind(app, spec, options);

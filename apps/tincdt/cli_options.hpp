@@ -23,6 +23,9 @@ struct Verbosity {
   bool verbose = false;
 };
 
+// The help's "Usage:" lines, each ending with '\n'.
+std::string usage();
+
 // Defines every option of APP, each writing its value into OPTIONS (TILING for a tile job's, or
 // VERBOSITY) as it is parsed. Each value goes through its option's check (CLI11 reports a refusal
 // as a usage error); rules between options are tiles::check_options()'s.

@@ -1,7 +1,8 @@
 // tincdt: the command line over pipeline::build (tiles::build_tile for a tile of a plan).
 // Options -> BuildOptions and TileOptions (cli_options.cpp),
 // spdlog on stderr, tincdt::Error -> one-line message and exit code (0 ok, 1 error, 2 usage,
-// 3 internal error), Ctrl-C -> the job stops and leaves every file as it was.
+// 3 internal error), Ctrl-C -> the job stops, leaves every file as it was and ends by the signal.
+// Standard output carries only what was asked for there: the help, the version, --stats -.
 #include <signal.h>
 #include <unistd.h>
 
@@ -16,12 +17,15 @@
 #include <new>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "cli_options.hpp"
+#include "command_words.hpp"
 #include "core/error.hpp"
 #include "error_message.hpp"
 #include "io/mesh/tin_writer.hpp"
 #include "pipeline/build.hpp"
+#include "pipeline/stage.hpp"
 #include "summary.hpp"
 #include "terminal.hpp"
 #include "tile_commands.hpp"
@@ -96,6 +100,17 @@ struct SignalHook {
 
 // ---- running ---------------------------------------------------------------------------------
 
+// The help's first paragraph; the mesh formats from the one format table.
+std::string description() {
+  std::string titles;
+  for (const io::TinFormatInfo& f : io::tin_formats())
+    titles += (titles.empty() ? "" : ", ") + std::string(f.title);
+  return "tincdt " TINCDT_VERSION
+         ": exact constrained Delaunay TIN from LiDAR (LAS, LAZ) and XYZ points with breaklines, "
+         "as a mesh (" +
+         titles + "), a DEM and contour lines.";
+}
+
 int usage_error(const std::string& message) {
   spdlog::error(message);
   cli::Terminal::get().line("Try 'tincdt --help' for more information.");
@@ -114,6 +129,40 @@ void log_line(int level, const std::string& message) {
       spdlog::warn(message);
       break;
   }
+}
+
+// --stats -: the JSON document on standard output, once every file is in place.
+int print_stats(const pipeline::BuildReport& report) {
+  std::string json = report.to_json();
+  if (json.empty() || json.back() != '\n') json += '\n';
+  if (std::fwrite(json.data(), 1, json.size(), stdout) != json.size() || std::fflush(stdout) != 0) {
+    spdlog::error("cannot write the stats to standard output");
+    return kExitFailure;
+  }
+  return kExitOk;
+}
+
+// "-" names standard input among the inputs; as an output it would be a file named "-". Every
+// output is a temporary moved into place with the others at the end, which a stream cannot be,
+// so only --stats (printed once the files are in place) takes "-".
+std::string standard_output_refused(const pipeline::BuildOptions& options,
+                                    const tiles::TileOptions& tiling) {
+  const std::string why =
+      " cannot be standard output ('-'): tincdt writes every output to a temporary file and "
+      "moves them into place together at the end; give a file name (only --stats takes '-')";
+  for (const pipeline::FilePlan::File& output :
+       pipeline::plan_files(options, pipeline::stages()).outputs)
+    if (output.path == "-") return output.what + why;
+  if (tiling.outline == "-") return "the tile's outline (--outline)" + why;
+  return {};
+}
+
+// tincdt alone: what it does and how to call it, as GDAL's tools answer no arguments.
+int no_arguments() {
+  std::string usage = description() + "\n" + cli::usage();
+  usage.pop_back();
+  cli::Terminal::get().line(usage);
+  return usage_error("no input and no output: give INPUT... (or --contours LINES) and -o OUTPUT");
 }
 
 // Runs the job, a tile of a plan when TILING names one; the exit code.
@@ -138,7 +187,7 @@ int build(const pipeline::BuildOptions& options, const tiles::TileOptions& tilin
                             : tiles::build_tile(tiling, options, &progress, log_line);
     cli::Terminal::get().erase_progress();
     cli::log_summary(options, report);
-    return kExitOk;
+    return options.stats_path == "-" ? print_stats(report) : kExitOk;
   } catch (const Cancelled& e) {
     cli::Terminal::get().erase_progress();
     if (g_signal == 0) {
@@ -159,17 +208,6 @@ int build(const pipeline::BuildOptions& options, const tiles::TileOptions& tilin
   }
 }
 
-// The help's first paragraph; the mesh formats from the one format table.
-std::string description() {
-  std::string titles;
-  for (const io::TinFormatInfo& f : io::tin_formats())
-    titles += (titles.empty() ? "" : ", ") + std::string(f.title);
-  return "tincdt " TINCDT_VERSION
-         ": exact constrained Delaunay TIN from LiDAR (LAS, LAZ) and XYZ points with breaklines, "
-         "as a mesh (" +
-         titles + "), a DEM and contour lines.";
-}
-
 int run(int argc, char** argv) {
   cli::setup_logging();
   if (argc > 1 && std::string_view(argv[1]) == "plan") return cli::run_plan(argc - 1, argv + 1);
@@ -179,8 +217,11 @@ int run(int argc, char** argv) {
   tiles::TileOptions tiling;
   cli::Verbosity verbosity;
   cli::define_options(app, options, tiling, verbosity);
+  if (argc <= 1) return no_arguments();
+  const std::vector<std::string> words = cli::with_gdal_words(argc, argv);
+  if (const auto unknown = cli::unknown_long_option(app, words)) return usage_error(*unknown);
   try {
-    app.parse(argc, argv);
+    cli::parse_words(app, words);
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
@@ -194,6 +235,8 @@ int run(int argc, char** argv) {
     return usage_error("-q/--quiet and -v/--verbose exclude each other");
   if (verbosity.quiet) spdlog::set_level(spdlog::level::warn);
   if (verbosity.verbose) spdlog::set_level(spdlog::level::debug);
+  if (const std::string refused = standard_output_refused(options, tiling); !refused.empty())
+    return usage_error(refused);
   try {
     tiles::check_options(tiling, options);  // build() checks again; this tells usage from failure
   } catch (const UsageError& e) {

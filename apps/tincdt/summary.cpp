@@ -133,7 +133,10 @@ void log_summary(const pipeline::BuildOptions& options, const pipeline::BuildRep
       spdlog::info("wrote {}", o.path);
     }
   }
-  if (!options.stats_path.empty()) spdlog::info("wrote {}", options.stats_path);
+  if (options.stats_path == "-")
+    spdlog::info("wrote the stats to standard output");
+  else if (!options.stats_path.empty())
+    spdlog::info("wrote {}", options.stats_path);
 }
 
 }  // namespace tincdt::cli

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "cli_options.hpp"
+#include "command_words.hpp"
 #include "core/error.hpp"
 #include "error_message.hpp"
 #include "terminal.hpp"
@@ -33,14 +34,24 @@ int usage_error(const std::string& command, const std::string& message) {
 
 // Parses ARGV into APP; a return value >= 0 is the exit code to return at once.
 int parse(CLI::App& app, const std::string& command, int argc, char** argv) {
+  const std::vector<std::string> words = words_of(argc, argv);
+  if (const auto unknown = unknown_long_option(app, words)) return usage_error(command, *unknown);
   try {
-    app.parse(argc, argv);
+    parse_words(app, words);
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     return usage_error(command, e.what());
   }
   return -1;
+}
+
+// OUTPUT "-" would be a file named "-": refused, as the build's outputs are.
+int refuse_standard_output(const std::string& command, const std::string& output) {
+  if (output != "-") return -1;
+  return usage_error(command,
+                     "-o cannot be standard output ('-'): tincdt writes to a temporary file and "
+                     "moves it into place at the end; give a file name");
 }
 
 // An option given once per value: "--contours a.shp tile.las" leaves tile.las an operand.
@@ -146,6 +157,7 @@ int run_plan(int argc, char** argv) {
   app.add_flag("-q,--quiet", quiet, "Only warnings and errors");
   app.add_flag("-v,--verbose", verbose, "Also debug messages");
   if (const int code = parse(app, "plan", argc, argv); code >= 0) return code;
+  if (const int code = refuse_standard_output("plan", o.output); code >= 0) return code;
   o.breaklines = hard_lines;
   set_verbosity(quiet, verbose);
   return guarded("plan", [&] {
@@ -188,6 +200,7 @@ int run_merge(int argc, char** argv) {
   app.add_flag("-q,--quiet", quiet, "Only warnings and errors");
   app.add_flag("-v,--verbose", verbose, "Also debug messages");
   if (const int code = parse(app, "merge", argc, argv); code >= 0) return code;
+  if (const int code = refuse_standard_output("merge", o.output); code >= 0) return code;
   set_verbosity(quiet, verbose);
   if (o.check_only && !o.output.empty())
     return usage_error("merge", "--check writes nothing: give no -o");

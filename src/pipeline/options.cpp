@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <string>
 
@@ -120,9 +121,12 @@ void check_products(const BuildOptions& o) {
     const double v = dem.nodata;
     const bool fits_float = std::isnan(v) || (std::fabs(v) <= 3.4028234663852886e38 &&
                                               static_cast<double>(static_cast<float>(v)) == v);
-    if (!dem.float64 && !fits_float)
-      throw UsageError("--dem-nodata: " + std::to_string(v) +
+    if (!dem.float64 && !fits_float) {
+      char shown[32];
+      std::snprintf(shown, sizeof shown, "%g", v);
+      throw UsageError("--dem-nodata: " + std::string(shown) +
                        " cannot be stored in Float32 cells (use --dem-type Float64)");
+    }
     for (const std::string& co : dem.creation_options)
       if (co.find('=') == std::string::npos || co.front() == '=')
         throw UsageError("--dem-co: '" + co + "' is not NAME=VALUE");

@@ -25,14 +25,18 @@ void run(Job& job) {
   if (problem.empty())
     problem = constraints::check_segments(job.tin(), job.given_segments, job.pieces);
   if (!problem.empty()) throw InternalError("the TIN failed validation: " + problem);
+  // The verdict is what --validate was asked for: said at the normal level, not only with -v.
+  const std::string verdict = "TIN is valid: " + std::to_string(job.tin().triangle_count()) +
+                              " triangles, " + std::to_string(job.given_segments.size()) +
+                              " constraint segments; checked the topology, the constrained edges";
   if (delaunay) {
-    job.debug("validate: TIN is valid");
+    job.info(verdict + " and the Delaunay property");
     return;
   }
-  job.debug(std::string("validate: TIN is valid (topology; the Delaunay check is off for ") +
-            (restore == constraints::Restore::delaunay ? "--restore delaunay with --fix-flats swaps"
-                                                       : "--restore aspect/none") +
-            ")");
+  job.info(verdict + " (not the Delaunay property: " +
+           (restore == constraints::Restore::delaunay ? "--fix-flats swaps edges off it"
+                                                      : "--restore aspect/none does not keep it") +
+           ")");
 }
 
 constexpr OptionSpec kOptions[] = {flag_option("--validate", option_groups::checks,

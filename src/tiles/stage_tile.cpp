@@ -189,9 +189,11 @@ void check_triangle(TileJob& job, const BBox& near, const tiles::Polygon& near_p
         "; the data's outline near the tile is not settled within the buffer: try a "
         "buffer of a tile size or more";
   }
-  throw BufferTooSmall(tile.plan_path, name, detail, tile.buffer,
-                       tally.failed_reach > 0 ? suggested_buffer(tally.failed_reach) : 0,
-                       tile.grid.size);
+  throw BufferTooSmall(tile.plan_path, name, detail,
+                       {.used = tile.buffer,
+                        .needed = tally.failed_reach > 0 ? suggested_buffer(tally.failed_reach) : 0,
+                        .tile_size = tile.grid.size,
+                        .largest = tile.largest_buffer});
 }
 
 void run(TileJob& job) {

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <span>
 #include <string>
 #include <utility>
@@ -169,6 +170,25 @@ double cells_across(double size, double resolution) {
   return whole >= 1 && std::fabs(n - whole) <= 1e-9 * whole ? whole : 0;
 }
 
+// A tile job's own --buffer, at most the plan's extent's larger side plus the tile size: the
+// buffered box of a tile that meets the data then holds all of it, and a larger one reads
+// nothing more, only grows the rounding margins of the tile's tests (at 1e308 they swallow it).
+double largest_buffer(const TilePlan& plan) {
+  if (tiles::empty(plan.extent)) return std::numeric_limits<double>::infinity();
+  const BBox& e = plan.extent;
+  return std::max(e.max_x - e.min_x, e.max_y - e.min_y) + plan.tile_size;
+}
+
+void check_buffer(double buffer, const TilePlan& plan) {
+  const double most = largest_buffer(plan);
+  const BBox& e = plan.extent;
+  const double side = std::max(e.max_x - e.min_x, e.max_y - e.min_y);
+  if (buffer > most)
+    throw UsageError("--buffer: " + number(buffer) + " reaches beyond the plan's data: " +
+                     number(most) + " (the extent's larger side, " + number(side) +
+                     ", plus the tile size) already reads all of it");
+}
+
 const PlanTile& tile_of_plan(const TilePlan& plan, const TileOptions& options) {
   const std::string& plan_path = options.plan;
   if (plan.tiles.empty()) throw InputError(plan_path, "", "the plan has no tiles");
@@ -192,7 +212,9 @@ void place_tile(TileSetup& setup, const TilePlan& plan, const PlanTile& tile,
                      " does not divide the plan's tile size " + number(plan.tile_size) +
                      ": a tile's DEM covers exactly its tile, in whole cells (give a resolution "
                      "that divides the tile size)");
+  if (tiling.buffer >= 0) check_buffer(tiling.buffer, plan);
   setup.buffer = tiling.buffer >= 0 ? tiling.buffer : plan.buffer;
+  setup.largest_buffer = largest_buffer(plan);
   setup.box = setup.grid.box(tile.col, tile.row);
   setup.buffered = setup.grid.buffered(tile.col, tile.row, setup.buffer);
   for (const PlanInput& in : plan.inputs)
@@ -439,7 +461,8 @@ pipeline::BuildReport build_tile(const TileOptions& tiling, const BuildOptions& 
     try {
       return build_tile_once(attempt, options, checked, progress, log);
     } catch (const BufferTooSmall& e) {
-      const double limit = tiling.max_buffer >= 0 ? tiling.max_buffer : e.tile_size();
+      const double limit =
+          std::min(tiling.max_buffer >= 0 ? tiling.max_buffer : e.tile_size(), e.largest());
       const double next = next_buffer(e, limit);
       if (tiling.buffer_fixed || !(next > e.used()))
         throw BufferTooSmall(
@@ -447,7 +470,7 @@ pipeline::BuildReport build_tile(const TileOptions& tiling, const BuildOptions& 
             e.detail() + (tiling.buffer_fixed
                               ? ""
                               : "; the buffer may grow to " + number(limit) + " at the most"),
-            e.used(), e.needed(), e.tile_size(), Remedy::larger_buffer);
+            e.sizes(), Remedy::larger_buffer);
       if (log)
         log(pipeline::log_info, e.where() + ": buffer " + number(e.used()) +
                                     " is too small; reading to " + number(next));

@@ -41,21 +41,24 @@ struct TileOptions {
 };
 
 // A tile job whose buffer USED is too small: some triangles near the tile could still change.
-// NEEDED is what they ask for (0: unknown); TILE_SIZE the plan's.
+// NEEDED is what they ask for (0: unknown); TILE_SIZE the plan's; LARGEST a buffer that reads
+// all the plan's data.
 class BufferTooSmall : public InputError {
  public:
-  BufferTooSmall(std::string file, std::string where, std::string detail, double used,
-                 double needed, double tile_size, Remedy remedy = Remedy::none)
-      : InputError(std::move(file), std::move(where), std::move(detail), remedy),
-        used_(used),
-        needed_(needed),
-        tile_size_(tile_size) {}
-  double used() const { return used_; }
-  double needed() const { return needed_; }
-  double tile_size() const { return tile_size_; }
+  struct Sizes {
+    double used = 0, needed = 0, tile_size = 0, largest = 0;
+  };
+  BufferTooSmall(std::string file, std::string where, std::string detail, const Sizes& sizes,
+                 Remedy remedy = Remedy::none)
+      : InputError(std::move(file), std::move(where), std::move(detail), remedy), sizes_(sizes) {}
+  double used() const { return sizes_.used; }
+  double needed() const { return sizes_.needed; }
+  double tile_size() const { return sizes_.tile_size; }
+  double largest() const { return sizes_.largest; }
+  const Sizes& sizes() const { return sizes_; }
 
  private:
-  double used_, needed_, tile_size_;
+  Sizes sizes_;
 };
 
 struct TileSetup {
@@ -65,11 +68,12 @@ struct TileSetup {
   std::int64_t row = 0;
   tiles::TileGrid grid;
   double buffer = 0;
-  BBox box;                // the tile, half-open: [min, max)
-  BBox buffered;           // what the tile reads (closed)
-  std::vector<BBox> data;  // every input's bounds in the plan, grown by its tolerance
-  tiles::Rim rim;          // the data's hull and the rim's width (no hull: none)
-  std::string rim_path;    // the rim's points, when the tile needs them ("" otherwise)
+  double largest_buffer = 0;  // one that reads all the plan's data (a larger one reads no more)
+  BBox box;                   // the tile, half-open: [min, max)
+  BBox buffered;              // what the tile reads (closed)
+  std::vector<BBox> data;     // every input's bounds in the plan, grown by its tolerance
+  tiles::Rim rim;             // the data's hull and the rim's width (no hull: none)
+  std::string rim_path;       // the rim's points, when the tile needs them ("" otherwise)
   // Where data the tile does not hold may lie: outside its buffered box, inside an input's
   // bounds and inside the hull (shrunk by the rim's width when the tile reads the rim).
   std::vector<tiles::Polygon> missing;
