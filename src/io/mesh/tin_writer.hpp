@@ -77,7 +77,8 @@ bool format_takes_offset(TinFormat format);
 std::string stl_precision_warning(const mesh::Triangulation& tin, const Point3& offset);
 
 // Writes the real triangles of `tin` (ghosts skipped; constrained edges as PLY `edge` elements,
-// LandXML breaklines and glTF lines) and, for OBJ, PLY and STL with a CRS, a .prj beside the output.
+// LandXML breaklines and glTF lines) and, for OBJ, PLY and STL with a CRS, a .prj beside the
+// output.
 TinWriteStats write_tin(const std::string& path, const mesh::Triangulation& tin,
                         const TinWriteOptions& options);
 
