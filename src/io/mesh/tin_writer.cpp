@@ -78,6 +78,7 @@ constexpr std::string_view kGeojson[] = {".geojson", ".json"};
 constexpr std::string_view kLandxml[] = {".xml", ".landxml"};
 constexpr std::string_view kGpkg[] = {".gpkg"};
 constexpr std::string_view kStl[] = {".stl"};
+constexpr std::string_view kGlb[] = {".glb"};
 
 constexpr TinFormatInfo kFormats[] = {
     {TinFormat::obj, "obj", "OBJ", kObj},
@@ -86,9 +87,10 @@ constexpr TinFormatInfo kFormats[] = {
     {TinFormat::landxml, "landxml", "LandXML", kLandxml},
     {TinFormat::gpkg, "gpkg", "GeoPackage", kGpkg},
     {TinFormat::stl, "stl", "STL", kStl},
+    {TinFormat::glb, "glb", "glTF", kGlb},
 };
 // The names again, as one array for a list of choices.
-constexpr std::string_view kNames[] = {"obj", "ply", "geojson", "landxml", "gpkg", "stl"};
+constexpr std::string_view kNames[] = {"obj", "ply", "geojson", "landxml", "gpkg", "stl", "glb"};
 static_assert(std::size(kNames) == std::size(kFormats) && [] {
   for (std::size_t i = 0; i < std::size(kNames); ++i)
     if (kNames[i] != kFormats[i].name) return false;
@@ -96,9 +98,9 @@ static_assert(std::size(kNames) == std::size(kFormats) && [] {
 }());
 
 // The writer of each format, in the order of kFormats.
-detail::FormatWriter* const kWriters[] = {detail::write_obj,     detail::write_ply,
-                                          detail::write_geojson, detail::write_landxml,
-                                          detail::write_gpkg,    detail::write_stl};
+detail::FormatWriter* const kWriters[] = {
+    detail::write_obj,  detail::write_ply, detail::write_geojson, detail::write_landxml,
+    detail::write_gpkg, detail::write_stl, detail::write_gltf};
 static_assert(std::size(kWriters) == std::size(kFormats));
 
 std::size_t index_of(TinFormat format) {

@@ -1,6 +1,6 @@
-// TIN writers: OBJ, PLY (binary little-endian or ASCII), GeoJSON, LandXML 1.2, GeoPackage and
-// binary STL. All writes go to a temporary file in the output's folder that is renamed over the
-// target only when complete.
+// TIN writers: OBJ, PLY (binary little-endian or ASCII), GeoJSON, LandXML 1.2, GeoPackage,
+// binary STL and glTF 2.0 binary (GLB). All writes go to a temporary file in the output's folder
+// that is renamed over the target only when complete.
 #pragma once
 
 #include <optional>
@@ -15,7 +15,7 @@
 
 namespace tincdt::io {
 
-enum class TinFormat { obj, ply, geojson, landxml, gpkg, stl };
+enum class TinFormat { obj, ply, geojson, landxml, gpkg, stl, glb };
 
 // One TIN format: every place that names the formats (the writers, the command line's -f and
 // help, the log) reads them from tin_formats().
@@ -37,7 +37,7 @@ std::optional<TinFormat> format_from_name(std::string_view name);
 std::string format_extensions_text();
 
 struct TinWriteOptions {
-  // Default: from the extension (.obj .ply .geojson/.json .xml/.landxml .gpkg .stl).
+  // Default: from the extension (.obj .ply .geojson/.json .xml/.landxml .gpkg .stl .glb).
   std::optional<TinFormat> format;
   bool ply_ascii = false;
   bool ogr_tin = false;        // GeoPackage: TIN Z features instead of POLYGON Z
@@ -64,7 +64,7 @@ struct TinWriteStats {
 
 // Format from the path's extension; throws UnknownFormatError for an unknown one.
 TinFormat format_from_path(const std::string& path);
-// "obj", "ply", "geojson", "landxml", "gpkg" or "stl": the name in reports and messages.
+// "obj", "ply", "geojson", "landxml", "gpkg", "stl" or "glb": the name in reports and messages.
 std::string_view format_name(TinFormat format);
 
 // False for the formats that keep georeferenced coordinates and have no place for an offset
@@ -76,8 +76,9 @@ bool format_takes_offset(TinFormat format);
 // the coordinates).
 std::string stl_precision_warning(const mesh::Triangulation& tin, const Point3& offset);
 
-// Writes the real triangles of `tin` (ghosts skipped; constrained edges as PLY `edge` elements
-// and LandXML breaklines) and, for OBJ, PLY and STL with a CRS, a .prj beside the output.
+// Writes the real triangles of `tin` (ghosts skipped; constrained edges as PLY `edge` elements,
+// LandXML breaklines and glTF lines) and, for OBJ, PLY and STL with a CRS, a .prj beside the
+// output.
 TinWriteStats write_tin(const std::string& path, const mesh::Triangulation& tin,
                         const TinWriteOptions& options);
 

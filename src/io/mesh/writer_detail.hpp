@@ -250,7 +250,7 @@ class GeoJsonPositions {
 // and triangle counts; write_tin() owns the OutputFile(s) and commits them.
 using FormatWriter = TinWriteStats(OutputFile& out, const mesh::Triangulation& tin,
                                    const TinWriteOptions& options);
-FormatWriter write_obj, write_ply, write_geojson, write_landxml, write_stl;
+FormatWriter write_obj, write_ply, write_geojson, write_landxml, write_stl, write_gltf;
 // GDAL creates the GeoPackage itself, at out.take_path().
 FormatWriter write_gpkg;
 
