@@ -120,10 +120,10 @@ void log_summary(const pipeline::BuildOptions& options, const pipeline::BuildRep
   }
   spdlog::info(w + ")");
   for (const pipeline::BuildReport::Output& o : r.outputs) {
-    if (o.kind == "dem") {
-      spdlog::info("wrote {} (COG {}, {} x {} cells of {}, {}; rasterize {}, write {})", o.path,
-                   r.dem.type, r.dem.width, r.dem.height, r.dem.resolution, bytes(o.bytes),
-                   secs(r.dem.rasterize_s), secs(r.dem.write_s));
+    if (o.kind == "dem" && o.path == r.dem.path) {
+      spdlog::info("wrote {} ({} {}, {} x {} cells of {}, {}; rasterize {}, write {})", o.path,
+                   r.dem.driver, r.dem.type, r.dem.width, r.dem.height, r.dem.resolution,
+                   bytes(o.bytes), secs(r.dem.rasterize_s), secs(r.dem.write_s));
     } else if (o.kind == "contour_lines" && o.path == r.contour_lines.path) {
       spdlog::info("wrote {} ({}, {} lines on {} levels, {}; trace {}, write {})", o.path,
                    r.contour_lines.driver, count(r.contour_lines.lines),

@@ -7,7 +7,9 @@
 
 #include "core/error.hpp"
 #include "io/crs.hpp"
+#include "io/raster/dem_writer.hpp"
 #include "pipeline/build.hpp"
+#include "products/short_number.hpp"
 
 namespace tincdt::pipeline {
 namespace {
@@ -104,41 +106,70 @@ void check_preview(const BuildOptions& o) {
     throw UsageError(p.path, "", "--preview writes a PNG: give a name ending in .png");
 }
 
-// --dem and --contour-lines: their settings only with them, and the ones each needs.
-void check_products(const BuildOptions& o) {
-  const BuildOptions::Dem& dem = o.dem;
+// The DEM's format and creation options, checked against GDAL's driver before any work.
+void check_dem_format(const BuildOptions::Dem& dem) {
+  std::string driver;
+  try {
+    driver = io::dem_driver_for(dem.path, dem.format, dem.float64);
+  } catch (const Error& e) {
+    if (!dem.format.empty()) throw UsageError("--dem-format " + dem.format + ": " + e.detail());
+    const bool no_driver = e.detail().rfind("no ", 0) == 0;  // no extension, or none writes it
+    throw UsageError("--dem " + dem.path + ": " + e.detail() +
+                     (no_driver ? " (or name one with --dem-format)" : ""));
+  }
+  try {
+    io::check_dem_creation_options(dem.path, driver, dem.creation_options);
+  } catch (const Error& e) {
+    throw UsageError("--dem-co: " + e.detail());
+  }
+}
+
+void check_dem(const BuildOptions::Dem& dem) {
   const bool dem_settings = dem.resolution != 0 || dem.extent || dem.target_aligned ||
-                            !(dem.nodata == -9999) || dem.float64 || !dem.creation_options.empty();
+                            !(dem.nodata == -9999) || dem.float64 ||
+                            !dem.creation_options.empty() || !dem.format.empty();
   if (dem.path.empty() && dem_settings)
     throw UsageError(
-        "--resolution, --dem-extent, --tap, --dem-nodata, --dem-type and --dem-co need --dem");
-  if (!dem.path.empty()) {
-    if (!(dem.resolution > 0) || !std::isfinite(dem.resolution))
-      throw UsageError("--dem needs --resolution, a cell size > 0");
-    if (dem.extent &&
-        (!(dem.extent->min_x < dem.extent->max_x) || !(dem.extent->min_y < dem.extent->max_y)))
-      throw UsageError("--dem-extent: give XMIN YMIN XMAX YMAX with XMIN < XMAX, YMIN < YMAX");
-    const double v = dem.nodata;
-    const bool fits_float = std::isnan(v) || (std::fabs(v) <= 3.4028234663852886e38 &&
-                                              static_cast<double>(static_cast<float>(v)) == v);
-    if (!dem.float64 && !fits_float) {
-      char shown[32];
-      std::snprintf(shown, sizeof shown, "%g", v);
-      throw UsageError("--dem-nodata: " + std::string(shown) +
-                       " cannot be stored in Float32 cells (use --dem-type Float64)");
-    }
-    for (const std::string& co : dem.creation_options)
-      if (co.find('=') == std::string::npos || co.front() == '=')
-        throw UsageError("--dem-co: '" + co + "' is not NAME=VALUE");
-  }
-  const BuildOptions::ContourLines& c = o.contour_lines;
-  if (c.path.empty() && (c.interval != 0 || c.base != 0))
-    throw UsageError("--interval and --base need --contour-lines");
-  if (!c.path.empty()) {
-    if (!(c.interval > 0) || !std::isfinite(c.interval))
-      throw UsageError("--contour-lines needs --interval, an interval > 0");
-    if (!std::isfinite(c.base)) throw UsageError("--base: not a finite number");
-  }
+        "--resolution, --dem-extent, --tap, --dem-nodata, --dem-type, --dem-format and --dem-co "
+        "need --dem");
+  if (dem.path.empty()) return;
+  if (!(dem.resolution > 0) || !std::isfinite(dem.resolution))
+    throw UsageError("--dem needs --resolution, a cell size > 0");
+  if (dem.extent &&
+      (!(dem.extent->min_x < dem.extent->max_x) || !(dem.extent->min_y < dem.extent->max_y)))
+    throw UsageError("--dem-extent: give XMIN YMIN XMAX YMAX with XMIN < XMAX, YMIN < YMAX");
+  const double v = dem.nodata;
+  const bool fits_float = std::isnan(v) || (std::fabs(v) <= 3.4028234663852886e38 &&
+                                            static_cast<double>(static_cast<float>(v)) == v);
+  if (!dem.float64 && !fits_float)
+    throw UsageError("--dem-nodata: " + products::short_number(v) +
+                     " cannot be stored in Float32 cells (use --dem-type Float64)");
+  for (const std::string& co : dem.creation_options)
+    if (co.find('=') == std::string::npos || co.front() == '=')
+      throw UsageError("--dem-co: '" + co + "' is not NAME=VALUE");
+  check_dem_format(dem);
+}
+
+void check_contour_lines(const BuildOptions::ContourLines& c) {
+  const bool settings = c.interval != 0 || c.base != 0 || !c.levels.empty() ||
+                        c.field != BuildOptions{}.contour_lines.field;
+  if (c.path.empty() && settings)
+    throw UsageError("--interval, --base, --levels and --contour-field need --contour-lines");
+  if (c.path.empty()) return;
+  if (!c.levels.empty() && c.interval != 0)
+    throw UsageError("--levels and --interval exclude each other: fixed levels, or every interval");
+  if (!c.levels.empty() && c.base != 0)
+    throw UsageError("--base goes with --interval, not with the fixed --levels");
+  if (c.levels.empty() && (!(c.interval > 0) || !std::isfinite(c.interval)))
+    throw UsageError("--contour-lines needs --interval, an interval > 0, or --levels");
+  if (!std::isfinite(c.base)) throw UsageError("--base: not a finite number");
+  if (c.field.empty()) throw UsageError("--contour-field: give a field name");
+}
+
+// --dem and --contour-lines: their settings only with them, and the ones each needs.
+void check_products(const BuildOptions& o) {
+  check_dem(o.dem);
+  check_contour_lines(o.contour_lines);
 }
 
 }  // namespace

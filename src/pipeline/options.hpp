@@ -95,23 +95,26 @@ struct BuildOptions {
 
   // ---- products, each made from the final TIN (after every stage that edits it) ---------
   struct Dem {
-    std::string path;             // --dem FILE.tif: a Cloud-Optimized GeoTIFF; "" = none
+    std::string path;             // --dem FILE: .tif a Cloud-Optimized GeoTIFF; "" = none
+    std::string format;           // --dem-format: GDAL raster driver; "" = by the extension
     double resolution = 0;        // --resolution: cell size (> 0), in the CRS's units
     std::optional<BBox> extent;   // --dem-extent; default: the kept triangles' extent
     bool target_aligned = false;  // --tap: extent snapped out to multiples of the resolution
     double nodata = -9999;        // --dem-nodata
     bool float64 = false;         // --dem-type Float64 (default Float32)
-    std::vector<std::string> creation_options;  // --dem-co NAME=VALUE: GDAL COG options
+    std::vector<std::string> creation_options;  // --dem-co NAME=VALUE: the driver's options
   } dem;
   struct Preview {
     std::string path;           // --preview FILE.png: a hillshade with the edges drawn; "" = none
     std::uint32_t size = 1024;  // --preview-size: pixels on the longer side
   } preview;
   struct ContourLines {
-    std::string path;     // --contour-lines FILE (any OGR vector format); "" = none
-    std::string format;   // GDAL driver name; "" = from the extension
-    double interval = 0;  // --interval (> 0)
-    double base = 0;      // --base: levels are base + k * interval
+    std::string path;            // --contour-lines FILE (any OGR vector format); "" = none
+    std::string format;          // GDAL driver name; "" = from the extension
+    double interval = 0;         // --interval (> 0)
+    double base = 0;             // --base: levels are base + k * interval
+    std::vector<double> levels;  // --levels: fixed levels instead of an interval
+    std::string field = "elev";  // --contour-field: the level's attribute (none in DXF, DGN)
   } contour_lines;
 };
 

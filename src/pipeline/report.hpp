@@ -113,8 +113,9 @@ struct BuildReport {
   std::string output_of(std::string_view kind) const;
   // Products (each also in `outputs` with its size, and in `stages` with its time).
   struct Dem {
-    std::string path;  // "" when not asked for
-    std::string type;  // "Float32", "Float64"
+    std::string path;    // "" when not asked for
+    std::string driver;  // GDAL's name of the format ("COG", "AAIGrid")
+    std::string type;    // "Float32", "Float64"
     std::uint32_t width = 0, height = 0;
     double resolution = 0;
     double min_x = 0, max_y = 0;  // top-left corner

@@ -1,7 +1,10 @@
 // contour_lines: --contour-lines, contours traced on the final TIN (products::trace_contours)
-// and written through OGR with the TIN's CRS; a shapefile's other files are outputs too.
+// and written through OGR with the TIN's CRS; a shapefile's other files are outputs too. CAD
+// formats (DXF, DGN) have no attribute fields: there the level is the lines' z alone, as
+// gdal_contour -3d writes them.
 #include <cmath>
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include "core/error.hpp"
@@ -20,11 +23,13 @@ void run(Job& job) {
   const BuildOptions::ContourLines& o = job.options.contour_lines;
   BuildReport::ContourLines& r = job.report.contour_lines;
   r.path = o.path;
+  const std::string driver = io::vector_driver_for(o.path, o.format);  // before the work
   auto t0 = std::chrono::steady_clock::now();
   products::ContourSet set;
   try {
     set = products::trace_contours(job.tin(), {.interval = o.interval,
                                                .base = o.base,
+                                               .levels = o.levels,
                                                .threads = job.options.threads,
                                                .progress = job.stage_progress()});
   } catch (const Cancelled&) {
@@ -46,6 +51,7 @@ void run(Job& job) {
   t0 = std::chrono::steady_clock::now();
   io::ContourWriteOptions w;
   w.format = o.format;
+  w.elevation_field = driver == "DXF" || driver == "DGN" ? "" : o.field;
   w.crs_wkt = job.crs_wkt;
   w.progress = job.stage_progress();
   io::OutputFile& out = job.add_output(o.path, "contour_lines");
@@ -79,14 +85,52 @@ void plan(const BuildOptions& o, FilePlan& files) {
 
 // ---- options -----------------------------------------------------------------------------------
 
+// "L1,L2,...": every item a number.
+std::string check_levels(std::string_view text) {
+  for (std::size_t at = 0;;) {
+    const std::size_t comma = text.find(',', at);
+    const std::string_view item =
+        text.substr(at, comma == std::string_view::npos ? comma : comma - at);
+    if (!parse_number(item)) return in_quotes(item) + " is not a number";
+    if (comma == std::string_view::npos) return {};
+    at = comma + 1;
+  }
+}
+
+void add_levels(BuildOptions& o, std::string_view text) {
+  for (std::size_t at = 0;;) {
+    const std::size_t comma = text.find(',', at);
+    o.contour_lines.levels.push_back(
+        *parse_number(text.substr(at, comma == std::string_view::npos ? comma : comma - at)));
+    if (comma == std::string_view::npos) return;
+    at = comma + 1;
+  }
+}
+
 constexpr OptionSpec kOptions[] = {
     text_option("--contour-lines", "FILE", option_groups::products,
                 set_text<&BuildOptions::contour_lines, &BuildOptions::ContourLines::path>,
                 "Trace contour lines on the TIN into any OGR vector format, by\n"
-                "extension (.gpkg, .shp, .geojson, ...), with an elev field (needs --interval)"),
+                "extension (.gpkg, .shp, .geojson, .dxf, ...), the level as z and in a\n"
+                "field (not in DXF, DGN) (needs --interval or --levels)"),
     checked_option("--interval", "I", option_groups::products, check_positive,
                    set_number<&BuildOptions::contour_lines, &BuildOptions::ContourLines::interval>,
                    "Contour interval"),
+    {.flags = "--levels",
+     .value_name = "L1,L2,...",
+     .help = "Fixed contour levels instead of --interval (as gdal_contour -fl)",
+     .group = option_groups::products,
+     .kind = OptionKind::repeated,
+     .check = check_levels,
+     .set = add_levels},
+    {.flags = "--contour-field",
+     .value_name = "NAME",
+     .help = "The contour level's field (as gdal_contour -a)",
+     .group = option_groups::products,
+     .default_text = "elev",
+     .check = [](std::string_view v) { return v.empty() ? std::string("give a field name") : ""; },
+     .set = set_text<&BuildOptions::contour_lines, &BuildOptions::ContourLines::field>,
+     .shown = [](const BuildOptions& o) { return o.contour_lines.field; }},
     {.flags = "--base",
      .value_name = "B",
      .help = "Contour levels are BASE + k * interval",

@@ -1,18 +1,22 @@
-// dem: --dem, the final TIN rasterized (products::rasterize) and written as a Cloud-Optimized
-// GeoTIFF with the TIN's CRS: Float32 cells, or Float64 with --dem-type Float64.
+// dem: --dem, the final TIN rasterized (products::rasterize) and written with the TIN's CRS in
+// the raster format of the file's extension or --dem-format (.tif: a Cloud-Optimized GeoTIFF):
+// Float32 cells, or Float64 with --dem-type Float64.
 //
 // The job's caller may fix the grid (Job::dem_grid) and have the cells filled from removed
 // triangles too (Job::dem_extra_triangles, put back while the DEM is rasterized).
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdint>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "core/error.hpp"
 #include "io/raster/dem_writer.hpp"
 #include "pipeline/stage.hpp"
 #include "products/rasterize.hpp"
+#include "products/short_number.hpp"
 
 namespace tincdt::pipeline {
 namespace {
@@ -29,54 +33,87 @@ std::uint64_t physical_memory() {
              : 0;
 }
 
+using products::short_number;
+
+// The smallest DEM that is one: fewer cells than 2 x 2 is a resolution in the wrong unit (metres
+// taken as degrees) or a typo, not a terrain model.
+constexpr std::size_t kMinDemCells = 4;
+
+// "metre" units, for a message: the CRS's unit, or what is known of it.
+std::string unit_text(const std::string& crs_wkt) {
+  const std::string unit = io::crs_unit_name(crs_wkt);
+  if (!unit.empty()) return unit;
+  return crs_wkt.empty() ? "units of the coordinates (no CRS)" : "units of the CRS";
+}
+
+// Refuses a grid of fewer than kMinDemCells cells, naming the resolution, the extent and the
+// CRS's unit.
+void check_enough_cells(const BuildOptions::Dem& o, const products::Grid& grid, const BBox& extent,
+                        const std::string& crs_wkt) {
+  if (grid.cells() >= kMinDemCells) return;
+  const std::string unit = unit_text(crs_wkt);
+  throw OutputError(o.path, "",
+                    "a resolution of " + short_number(o.resolution) + " " + unit +
+                        " over the extent " + short_number(extent.min_x) + " " +
+                        short_number(extent.min_y) + " " + short_number(extent.max_x) + " " +
+                        short_number(extent.max_y) + " (" +
+                        short_number(extent.max_x - extent.min_x) + " x " +
+                        short_number(extent.max_y - extent.min_y) + " " + unit + ") gives " +
+                        std::to_string(grid.width) + " x " + std::to_string(grid.height) +
+                        " cells; a DEM needs at least 2 x 2 (the resolution is in the CRS's unit)");
+}
+
+// The grid is held whole (GDAL writes it from there) with its overviews (a third more): refuse
+// one that would not fit in the machine's memory rather than fail in the allocator or swap.
+void check_fits_in_memory(const BuildOptions::Dem& o, const products::Grid& grid,
+                          std::size_t cell_bytes) {
+  const double bytes = static_cast<double>(grid.cells()) * static_cast<double>(cell_bytes) * 4 / 3;
+  const std::uint64_t memory = physical_memory();
+  if (memory == 0 || bytes <= static_cast<double>(memory)) return;
+  constexpr double kGiB = 1024.0 * 1024 * 1024;
+  throw OutputError(o.path, "",
+                    "a DEM of " + std::to_string(grid.width) + " x " + std::to_string(grid.height) +
+                        " cells of " + short_number(o.resolution) + " needs about " +
+                        short_number(bytes / kGiB) + " GiB (" + std::to_string(cell_bytes) +
+                        " bytes a cell, a third more for the overviews), more than this "
+                        "machine's memory (" +
+                        short_number(static_cast<double>(memory) / kGiB) +
+                        " GiB): give a coarser resolution or a smaller extent");
+}
+
 template <class T>
 void rasterize_and_write(Job& job, const products::Grid& grid, io::OutputFile& out) {
   const BuildOptions::Dem& o = job.options.dem;
   BuildReport::Dem& r = job.report.dem;
-  // The grid is held whole (GDAL writes it from there): refuse one larger than the machine
-  // rather than fail in the allocator.
-  const double bytes = static_cast<double>(grid.cells()) * sizeof(T);
-  const std::uint64_t memory = physical_memory();
-  if (memory > 0 && bytes > static_cast<double>(memory))
-    throw OutputError(o.path, "",
-                      "a DEM of " + std::to_string(grid.width) + " x " +
-                          std::to_string(grid.height) + " cells needs " +
-                          std::to_string(static_cast<std::uint64_t>(bytes / (1 << 30))) +
-                          " GiB, more than this machine's memory (use a coarser --resolution "
-                          "or a smaller --dem-extent)");
   auto t0 = std::chrono::steady_clock::now();
   std::vector<T> cells(grid.cells());
   // The extra triangles are back while the DEM rasterizes (the outputs after this stage see them
   // removed again).
-  if (!job.dem_extra_triangles.empty()) job.wait_for_quality();  // it reads the removed flags
-  mesh::Triangulation& tin = job.tin();
-  struct PutBack {
-    mesh::Triangulation& tin;
-    const std::vector<TriangleId>& triangles;
-    explicit PutBack(mesh::Triangulation& m, const std::vector<TriangleId>& t)
-        : tin(m), triangles(t) {
-      for (const TriangleId id : triangles) tin.set_removed(id, false);
-    }
-    ~PutBack() {
-      for (const TriangleId id : triangles) tin.set_removed(id, true);
-    }
-    PutBack(const PutBack&) = delete;
-    PutBack& operator=(const PutBack&) = delete;
-  } put_back(tin, job.dem_extra_triangles);
-  const products::RasterizeStats stats =
-      products::rasterize<T>(tin, grid, static_cast<T>(o.nodata), cells,
-                             {.threads = job.options.threads, .progress = job.stage_progress()});
+  products::RasterizeStats stats;
+  job.with_extra_triangles([&] {
+    stats =
+        products::rasterize<T>(job.tin(), grid, static_cast<T>(o.nodata), cells,
+                               {.threads = job.options.threads, .progress = job.stage_progress()});
+  });
   r.cells_with_value = stats.cells_with_value;
   r.rasterize_s = seconds_since(t0);
   t0 = std::chrono::steady_clock::now();
   io::DemWriteOptions w;
+  w.format = o.format;
   w.nodata = o.nodata;
   w.crs_wkt = job.crs_wkt;
   w.creation_options = o.creation_options;
   w.threads = job.options.threads;
   w.progress = job.stage_progress();
-  io::write_dem(out, grid, std::span<const T>(cells), w);
+  std::vector<io::OutputFile*> siblings;
+  r.driver = io::write_dem(out, grid, std::span<const T>(cells), w,
+                           [&](const std::string& path) -> io::OutputFile& {
+                             siblings.push_back(&job.add_output(path, "dem"));
+                             return *siblings.back();
+                           })
+                 .driver;
   job.finish_output(out);
+  for (io::OutputFile* s : siblings) job.finish_output(*s);
   r.write_s = seconds_since(t0);
 }
 
@@ -92,7 +129,9 @@ void run(Job& job) {
     } catch (const Error& e) {
       throw OutputError(o.path, "", e.detail());
     }
+    check_enough_cells(o, grid, extent, job.crs_wkt);
   }
+  check_fits_in_memory(o, grid, o.float64 ? sizeof(double) : sizeof(float));
   BuildReport::Dem& r = job.report.dem;
   r.path = o.path;
   r.type = o.float64 ? "Float64" : "Float32";
@@ -110,8 +149,18 @@ void run(Job& job) {
            std::to_string(r.cells_with_value) + " with a value");
 }
 
+// The further files of the format (an ASCII grid's .prj) are planned with it, so that an
+// existing one stops the job before any work.
 void plan(const BuildOptions& o, FilePlan& files) {
   files.outputs.push_back({o.dem.path, "the DEM (--dem)"});
+  std::string driver;
+  try {
+    driver = io::dem_driver_for(o.dem.path, o.dem.format, o.dem.float64);
+  } catch (const Error&) {
+    return;  // check_options() refused it already; the writer would again
+  }
+  for (const std::string& side : io::dem_side_files(o.dem.path, driver))
+    files.outputs.push_back({side, "a file of the DEM (--dem)"});
 }
 
 // ---- options -----------------------------------------------------------------------------------
@@ -138,10 +187,14 @@ BBox parse_extent(std::string_view text) {
 using Dem = BuildOptions::Dem;
 
 constexpr OptionSpec kOptions[] = {
-    text_option("--dem", "FILE.tif", option_groups::products,
-                set_text<&BuildOptions::dem, &Dem::path>,
-                "Rasterize the TIN to a Cloud-Optimized GeoTIFF: each cell centre gets\n"
-                "its triangle's linear interpolation, nodata outside (needs --resolution)"),
+    text_option("--dem", "FILE", option_groups::products, set_text<&BuildOptions::dem, &Dem::path>,
+                "Rasterize the TIN: each cell centre gets its triangle's linear\n"
+                "interpolation, nodata outside (needs --resolution); the format by\n"
+                "extension: .tif Cloud-Optimized GeoTIFF, .asc, .img, .nc, ..."),
+    text_option("--dem-format", "DRIVER", option_groups::products,
+                set_text<&BuildOptions::dem, &Dem::format>,
+                "The DEM's GDAL raster driver, as gdal_translate -of (COG, GTiff,\n"
+                "AAIGrid, HFA, ...), over the extension's"),
     checked_option("--resolution", "R", option_groups::products, check_positive,
                    set_number<&BuildOptions::dem, &Dem::resolution>,
                    "DEM cell size, in the CRS's units"),
@@ -171,8 +224,9 @@ constexpr OptionSpec kOptions[] = {
         "--dem-type", option_groups::products, "float32", "DEM cell type"),
     repeated_option("--dem-co", "NAME=VALUE", option_groups::products,
                     add_text<&BuildOptions::dem, &Dem::creation_options>,
-                    "A GDAL COG creation option over the defaults (DEFLATE level 1,\n"
-                    "predictor, average overviews), e.g. COMPRESS=ZSTD"),
+                    "A creation option of the DEM's driver, checked against it; for COG\n"
+                    "over the defaults (DEFLATE level 1, predictor, average overviews),\n"
+                    "e.g. COMPRESS=ZSTD"),
 };
 
 }  // namespace

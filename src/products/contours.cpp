@@ -9,6 +9,7 @@
 
 #include "core/error.hpp"
 #include "core/parallel.hpp"
+#include "products/short_number.hpp"
 
 namespace tincdt::products {
 
@@ -44,8 +45,9 @@ std::int64_t first_level_above(double base, double interval, double z) {
 // on the other side), so a ridge at the level gives no line, like a valley at the level.
 class LevelTracer {
  public:
-  LevelTracer(const mesh::Triangulation& tin, std::vector<std::uint32_t>& stamp)
-      : tin_(tin), stamp_(stamp) {}
+  // PROGRESS (may be null) hears a heartbeat for every triangle traced.
+  LevelTracer(const mesh::Triangulation& tin, std::vector<std::uint32_t>& stamp, Progress* progress)
+      : tin_(tin), stamp_(stamp), progress_(progress) {}
 
   // Traces every chain through the triangles of BUCKET (the kept triangles crossed by LEVEL),
   // appending lines to OUT. STAMP_VALUE marks the triangles already traced at this level.
@@ -72,6 +74,7 @@ class LevelTracer {
       TriangleId cur = start;
       raw_.push_back(crossing(crossed(cur).down));
       for (;;) {
+        if (progress_ != nullptr) progress_->heartbeat();
         stamp_[cur] = stamp_value;
         raw_.push_back(crossing(crossed(cur).up));
         const TriangleId after = next(cur);
@@ -188,43 +191,106 @@ class LevelTracer {
 
   const mesh::Triangulation& tin_;
   std::vector<std::uint32_t>& stamp_;
+  Progress* progress_;
   double level_ = 0;
   std::vector<Point2> raw_;
 };
 
-// The levels k_lo + j, j in [0, count), that cross the TIN: level(k) for k in [k_lo, k_hi] has
-// z_min < level <= z_max (a level at z_min crosses nothing: the lowest vertices count as above
-// it). No levels when the TIN has no kept triangle or no level falls in its z range.
-struct LevelRange {
-  std::int64_t k_lo = 0;
-  std::size_t count = 0;
+// The z range of the kept triangles' corners; empty (min > max) when there are none.
+struct ZRange {
+  double min = std::numeric_limits<double>::infinity();
+  double max = -std::numeric_limits<double>::infinity();
 };
 
-LevelRange level_range(const mesh::Triangulation& tin, double base, double interval) {
-  double z_min = std::numeric_limits<double>::infinity(), z_max = -z_min;
+ZRange z_range(const mesh::Triangulation& tin) {
+  ZRange z;
   tin.for_each_triangle([&](TriangleId, const std::array<VertexId, 3>& c) {
     for (const VertexId v : c) {
-      z_min = std::min(z_min, tin.z(v));
-      z_max = std::max(z_max, tin.z(v));
+      z.min = std::min(z.min, tin.z(v));
+      z.max = std::max(z.max, tin.z(v));
     }
   });
-  if (!(z_min <= z_max)) return {};
-  if (!std::isfinite(z_min) || !std::isfinite(z_max))
+  if (z.min <= z.max && (!std::isfinite(z.min) || !std::isfinite(z.max)))
     throw Error("the TIN has a vertex whose z is not a finite number");
+  return z;
+}
+
+// The levels that cross the TIN, numbered j = 0 .. count - 1 upward: those with
+// z_min < level <= z_max (a level at z_min crosses nothing: the lowest vertices count as above
+// it). Either base + (k_lo + j) * interval, or fixed[j].
+struct Levels {
+  std::size_t count = 0;
+  double base = 0, interval = 0;
+  std::int64_t k_lo = 0;
+  std::vector<double> fixed;  // sorted, each once; empty for levels by interval
+  bool by_interval = true;
+
+  double value(std::size_t j) const {
+    return by_interval ? contour_level(base, interval, k_lo + static_cast<std::int64_t>(j))
+                       : fixed[j];
+  }
+  // The number of the first level above Z: < 0 below the lowest, count above the highest.
+  std::int64_t first_above(double z) const {
+    if (!by_interval) return std::upper_bound(fixed.begin(), fixed.end(), z) - fixed.begin();
+    return first_level_above(base, interval, z) - k_lo;
+  }
+  // For messages: "a contour interval of 0.5", "3 fixed contour levels".
+  std::string described() const {
+    return by_interval ? "a contour interval of " + short_number(interval)
+                       : std::to_string(fixed.size()) + " fixed contour levels";
+  }
+};
+
+Levels interval_levels(ZRange z, double base, double interval) {
+  Levels levels;
+  levels.base = base;
+  levels.interval = interval;
+  if (!(z.min <= z.max)) return levels;
   // Levels closer than the doubles near them would repeat: 2^-40 of the magnitude is far below
   // any real interval and far above the spacing of doubles.
-  const double magnitude = std::max({std::fabs(z_min), std::fabs(z_max), std::fabs(base)});
+  const double magnitude = std::max({std::fabs(z.min), std::fabs(z.max), std::fabs(base)});
   if (interval < std::ldexp(magnitude, -40))
-    throw Error("a contour interval of " + std::to_string(interval) +
-                " is too small for elevations of magnitude " + std::to_string(magnitude));
-  const double span = (z_max - z_min) / interval;
+    throw Error("a contour interval of " + short_number(interval) +
+                " is too small for elevations of magnitude " + short_number(magnitude));
+  const double span = (z.max - z.min) / interval;
   if (span > static_cast<double>(kMaxLevels))
-    throw Error("a contour interval of " + std::to_string(interval) + " gives more than " +
+    throw Error("a contour interval of " + short_number(interval) + " gives more than " +
                 std::to_string(kMaxLevels) + " levels over the TIN's z range");
-  const std::int64_t k_lo = first_level_above(base, interval, z_min);
-  const std::int64_t k_hi = first_level_above(base, interval, z_max) - 1;
-  if (k_hi < k_lo) return {};
-  return {k_lo, static_cast<std::size_t>(k_hi - k_lo + 1)};
+  levels.k_lo = first_level_above(base, interval, z.min);
+  const std::int64_t k_hi = first_level_above(base, interval, z.max) - 1;
+  if (k_hi >= levels.k_lo) levels.count = static_cast<std::size_t>(k_hi - levels.k_lo + 1);
+  return levels;
+}
+
+Levels fixed_levels(ZRange z, const std::vector<double>& given) {
+  Levels levels;
+  levels.by_interval = false;
+  for (const double v : given) {
+    if (!std::isfinite(v)) throw Error("the contour level " + short_number(v) + " is not finite");
+    if (z.min < v && v <= z.max) levels.fixed.push_back(v);
+  }
+  std::sort(levels.fixed.begin(), levels.fixed.end());
+  levels.fixed.erase(std::unique(levels.fixed.begin(), levels.fixed.end()), levels.fixed.end());
+  levels.count = levels.fixed.size();
+  return levels;
+}
+
+Levels levels_of(const mesh::Triangulation& tin, const ContourOptions& options) {
+  if (!options.levels.empty()) return fixed_levels(z_range(tin), options.levels);
+  const double interval = options.interval, base = options.base;
+  if (!(interval > 0) || !std::isfinite(interval))
+    throw Error("the contour interval must be a positive number, not " + short_number(interval));
+  if (!std::isfinite(base)) throw Error("the contour base must be a finite number");
+  return interval_levels(z_range(tin), base, interval);
+}
+
+// The levels [lo, hi] crossing kept triangle T (none when hi < lo).
+void crossing_levels(const mesh::Triangulation& tin, const Levels& levels, TriangleId t,
+                     std::int64_t& lo, std::int64_t& hi) {
+  const auto c = tin.triangle(t);
+  const double a = tin.z(c[0]), b = tin.z(c[1]), d = tin.z(c[2]);
+  lo = levels.first_above(std::min({a, b, d}));
+  hi = levels.first_above(std::max({a, b, d})) - 1;
 }
 
 // The crossed triangles of each level (CSR by level: level j's are crossed[start[j],
@@ -234,31 +300,47 @@ struct CrossedIndex {
   std::vector<TriangleId> crossed;
 };
 
-CrossedIndex index_crossings(const mesh::Triangulation& tin, double base, double interval,
-                             LevelRange levels) {
+// START of the index: the crossed triangles of each level counted and summed, so that
+// start[count] is the number of segments the trace makes.
+std::vector<std::size_t> level_starts(const mesh::Triangulation& tin, const Levels& levels,
+                                      Progress& progress) {
   const auto slots = static_cast<TriangleId>(tin.triangle_slots());
-  CrossedIndex index;
-  std::vector<std::size_t>& start = index.start;
-  start.assign(levels.count + 1, 0);
-  const auto crossing = [&](TriangleId t, std::int64_t& lo, std::int64_t& hi) {
-    const auto c = tin.triangle(t);
-    const double a = tin.z(c[0]), b = tin.z(c[1]), d = tin.z(c[2]);
-    lo = first_level_above(base, interval, std::min({a, b, d})) - levels.k_lo;
-    hi = first_level_above(base, interval, std::max({a, b, d})) - 1 - levels.k_lo;
-  };
+  std::vector<std::size_t> start(levels.count + 1, 0);
   for (TriangleId t = 0; t < slots; ++t) {
+    progress.heartbeat();
     if (!tin.is_kept(t)) continue;
     std::int64_t lo, hi;
-    crossing(t, lo, hi);
+    crossing_levels(tin, levels, t, lo, hi);
     for (std::int64_t j = lo; j <= hi; ++j) ++start[static_cast<std::size_t>(j) + 1];
   }
   for (std::size_t j = 0; j < levels.count; ++j) start[j + 1] += start[j];
-  index.crossed.resize(start[levels.count]);
-  std::vector<std::size_t> fill(start.begin(), start.end() - 1);
+  return start;
+}
+
+// Refuses a trace of more than MAX segments, naming the estimate and the levels.
+void check_segments(std::uint64_t segments, std::uint64_t max, const Levels& levels) {
+  if (segments <= max) return;
+  constexpr double kFileBytesPerSegment = 40;  // a point of x, y, z in a GeoPackage, and more
+  throw Error(levels.described() + " makes about " + short_number(static_cast<double>(segments)) +
+              " line segments (some " +
+              short_number(static_cast<double>(segments) * kFileBytesPerSegment / 1e9) +
+              " GB to write), more than the " + short_number(static_cast<double>(max)) +
+              " allowed (a larger interval, or fewer levels, makes fewer)");
+}
+
+CrossedIndex index_crossings(const mesh::Triangulation& tin, const Levels& levels,
+                             std::uint64_t max_segments, Progress& progress) {
+  CrossedIndex index;
+  index.start = level_starts(tin, levels, progress);
+  check_segments(index.start[levels.count], max_segments, levels);
+  const auto slots = static_cast<TriangleId>(tin.triangle_slots());
+  index.crossed.resize(index.start[levels.count]);
+  std::vector<std::size_t> fill(index.start.begin(), index.start.end() - 1);
   for (TriangleId t = 0; t < slots; ++t) {
+    progress.heartbeat();
     if (!tin.is_kept(t)) continue;
     std::int64_t lo, hi;
-    crossing(t, lo, hi);
+    crossing_levels(tin, levels, t, lo, hi);
     for (std::int64_t j = lo; j <= hi; ++j) index.crossed[fill[static_cast<std::size_t>(j)]++] = t;
   }
   return index;
@@ -287,40 +369,43 @@ void append_levels(std::vector<ContourSet>& per_level, ContourSet& result) {
 
 }  // namespace
 
-ContourSet trace_contours(const mesh::Triangulation& tin, const ContourOptions& options) {
-  const double interval = options.interval, base = options.base;
-  if (!(interval > 0) || !std::isfinite(interval))
-    throw Error("the contour interval must be a positive number, not " + std::to_string(interval));
-  if (!std::isfinite(base)) throw Error("the contour base must be a finite number");
-  ContourSet result;
-  const LevelRange range = level_range(tin, base, interval);
-  if (range.count == 0) return result;
-  const std::size_t levels = range.count;
-  result.levels = levels;
-  CrossedIndex index = index_crossings(tin, base, interval, range);
+std::uint64_t count_contour_segments(const mesh::Triangulation& tin,
+                                     const ContourOptions& options) {
+  const Levels levels = levels_of(tin, options);
+  Progress progress(options.progress, "contours", levels.count);
+  return levels.count == 0 ? 0 : level_starts(tin, levels, progress)[levels.count];
+}
 
-  // Levels are independent: threads take them in turn, each with its own stamps.
+ContourSet trace_contours(const mesh::Triangulation& tin, const ContourOptions& options) {
+  ContourSet result;
+  const Levels levels = levels_of(tin, options);
+  if (levels.count == 0) return result;
+  const std::size_t count = levels.count;
+  result.levels = count;
+  Progress progress(options.progress, "contours", count);
+  progress.tick(0);  // a request to stop made before this stage is heard here
+  CrossedIndex index = index_crossings(tin, levels, options.max_segments, progress);
+
+  // Levels are independent: threads take them in turn, each with its own stamps. The progress
+  // callback need not be thread-safe: worker 0 alone calls it, between levels and within one.
   const std::size_t threads =
-      std::clamp<std::size_t>(thread_count(options.threads), 1, std::min<std::size_t>(levels, 64));
+      std::clamp<std::size_t>(thread_count(options.threads), 1, std::min<std::size_t>(count, 64));
   const auto slots = static_cast<TriangleId>(tin.triangle_slots());
-  std::vector<ContourSet> per_level(levels);
-  Progress progress(options.progress, "contours", levels);
+  std::vector<ContourSet> per_level(count);
   std::atomic<std::size_t> next_level{0}, levels_done{0};
   std::atomic<bool> stop{false};
   run_workers(threads, [&](std::size_t worker) {
     try {
       std::vector<std::uint32_t> stamp(slots, 0);
-      LevelTracer tracer(tin, stamp);
+      LevelTracer tracer(tin, stamp, worker == 0 ? &progress : nullptr);
       while (!stop.load(std::memory_order_relaxed)) {
         const std::size_t j = next_level.fetch_add(1);
-        if (j >= levels) break;
-        const double level =
-            contour_level(base, interval, range.k_lo + static_cast<std::int64_t>(j));
-        tracer.trace(level, static_cast<std::uint32_t>(j + 1),
+        if (j >= count) break;
+        tracer.trace(levels.value(j), static_cast<std::uint32_t>(j + 1),
                      index.crossed.data() + index.start[j], index.start[j + 1] - index.start[j],
                      per_level[j]);
         const std::size_t done = levels_done.fetch_add(1) + 1;
-        if (worker == 0) progress.tick(done);  // the callback need not be thread-safe
+        if (worker == 0) progress.tick(done);
       }
     } catch (...) {
       stop = true;

@@ -1,5 +1,6 @@
-// Contour lines traced on a TIN: for each level base + k * interval, the line where the TIN's
-// linear surface crosses it, as polylines (closed rings stay closed).
+// Contour lines traced on a TIN: for each level base + k * interval, or each of a list of fixed
+// levels, the line where the TIN's linear surface crosses it, as polylines (closed rings stay
+// closed).
 //
 // Each kept triangle crossed by a level gives one segment between the crossings on two of its
 // edges; segments are chained through the shared edges (twins), so no point matching is needed.
@@ -27,9 +28,16 @@
 
 namespace tincdt::products {
 
+// Segments a trace may make (one per level crossing a triangle): about 16 bytes each in
+// memory and 24 to 40 in a file, so 0.8 GB or so at the bound. An interval far below the TIN's
+// detail (0.001 m on a hill of 1,000 points: 5e7 segments) would otherwise fill the disk.
+inline constexpr std::uint64_t kMaxContourSegments = 20'000'000;
+
 struct ContourOptions {
-  double interval = 0;                   // > 0
-  double base = 0;                       // levels are base + k * interval, k any integer
+  double interval = 0;              // > 0, unless levels are given
+  double base = 0;                  // levels are base + k * interval, k any integer
+  std::vector<double> levels = {};  // fixed levels (any order) instead of base + k * interval
+  std::uint64_t max_segments = kMaxContourSegments;
   unsigned threads = 0;                  // 0 = every hardware thread
   const ProgressFn* progress = nullptr;  // stage "contours"
 };
@@ -54,8 +62,14 @@ inline double contour_level(double base, double interval, std::int64_t k) {
   return base + static_cast<double>(k) * interval;
 }
 
-// Throws Error for an interval that is not a positive finite number, a non-finite base, or more
-// than 10^7 levels between the lowest and highest kept vertex.
+// The segments a trace would make: the sum over the kept triangles of the levels crossing each.
+// Cheap (no tracing). Throws as trace_contours, but never for the bound.
+std::uint64_t count_contour_segments(const mesh::Triangulation& tin, const ContourOptions& options);
+
+// Throws Error for an interval that is not a positive finite number, a non-finite base or
+// level, more than 10^7 levels between the lowest and highest kept vertex, or more than
+// options.max_segments segments (the estimate in the message, before any tracing); Cancelled
+// when the progress callback says stop (it is asked at least every 2^16 triangles).
 ContourSet trace_contours(const mesh::Triangulation& tin, const ContourOptions& options);
 
 }  // namespace tincdt::products

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "products/short_number.hpp"
 
 namespace tincdt::products {
 namespace {
@@ -31,7 +32,7 @@ void Grid::geotransform(double out[6]) const {
 
 Grid grid_over(const BBox& extent, double resolution, bool target_aligned) {
   if (!(resolution > 0) || !std::isfinite(resolution))
-    throw Error("the DEM resolution must be a positive number, not " + std::to_string(resolution));
+    throw Error("the DEM resolution must be a positive number, not " + short_number(resolution));
   if (!(extent.min_x <= extent.max_x) || !(extent.min_y <= extent.max_y) ||
       !std::isfinite(extent.min_x) || !std::isfinite(extent.max_x) ||
       !std::isfinite(extent.min_y) || !std::isfinite(extent.max_y))
@@ -47,13 +48,13 @@ Grid grid_over(const BBox& extent, double resolution, bool target_aligned) {
   const double magnitude =
       std::max({std::fabs(min_x), std::fabs(max_x), std::fabs(min_y), std::fabs(max_y)});
   if (resolution < std::ldexp(magnitude, -40))
-    throw Error("the DEM resolution " + std::to_string(resolution) +
-                " is too fine for coordinates of magnitude " + std::to_string(magnitude));
+    throw Error("the DEM resolution " + short_number(resolution) +
+                " is too fine for coordinates of magnitude " + short_number(magnitude));
   const double width = cells_to_cover(max_x - min_x, resolution);
   const double height = cells_to_cover(max_y - min_y, resolution);
   constexpr double kMaxCells = 2147483647.0;  // GDAL's raster sizes are int
   if (width > kMaxCells || height > kMaxCells)
-    throw Error("a DEM of " + std::to_string(width) + " x " + std::to_string(height) +
+    throw Error("a DEM of " + short_number(width) + " x " + short_number(height) +
                 " cells is too large (at most 2^31 - 1 columns and rows)");
   Grid g;
   g.min_x = min_x;

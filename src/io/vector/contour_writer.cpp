@@ -1,23 +1,18 @@
 #include "io/vector/contour_writer.hpp"
 
-#include <dirent.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <cctype>
-#include <cerrno>
-#include <cstdio>
 #include <filesystem>
 #include <optional>
 #include <sstream>
 #include <string>
-#include <system_error>
 #include <vector>
 
 #include "core/error.hpp"
 #include "io/gdal_support.hpp"
 #include "io/mesh/writer_detail.hpp"
 #include "io/output_set.hpp"
+#include "io/sibling_files.hpp"
 
 namespace tincdt::io {
 namespace {
@@ -34,45 +29,6 @@ bool can_create_vectors(GDALDriver* d) {
 
 // Features per transaction: SQLite keeps a transaction's pages in its cache until the commit.
 constexpr std::uint64_t kBatch = 100000;
-
-// The files GDAL made beside the one at MAIN ("x.tmp.shx" beside "x.tmp.shp"), removed when
-// the object goes unless released: a failed write leaves none of them.
-class SiblingFiles {
- public:
-  explicit SiblingFiles(const std::string& main) : main_(main) {
-    const auto slash = main.rfind('/');
-    folder_ = slash == std::string::npos ? "." : main.substr(0, slash);
-    const std::string name = main.substr(slash == std::string::npos ? 0 : slash + 1);
-    stem_ = name.substr(0, name.rfind('.') + 1);  // "x.tmp."
-  }
-  SiblingFiles(const SiblingFiles&) = delete;
-  SiblingFiles& operator=(const SiblingFiles&) = delete;
-  ~SiblingFiles() {
-    for (const std::string& f : list()) (void)::unlink(f.c_str());
-  }
-  // Their paths, sorted.
-  std::vector<std::string> list() const {
-    std::vector<std::string> files;
-    if (stem_.empty()) return files;
-    DIR* d = ::opendir(folder_.c_str());
-    if (d == nullptr) return files;
-    while (const dirent* entry = ::readdir(d)) {
-      const std::string path = folder_ + "/" + entry->d_name;
-      if (path != main_ && std::string_view(entry->d_name).substr(0, stem_.size()) == stem_)
-        files.push_back(path);
-    }
-    (void)::closedir(d);
-    std::sort(files.begin(), files.end());
-    return files;
-  }
-  // ".dbf" for "x.tmp.dbf".
-  std::string extension(const std::string& file) const { return file.substr(file.rfind('.')); }
-
- private:
-  std::string main_;
-  std::string folder_;
-  std::string stem_;
-};
 
 }  // namespace
 
@@ -133,11 +89,14 @@ ContourWriteStats write_contours(OutputFile& out, const products::ContourSet& co
     OGRLayer* layer =
         ds->CreateLayer(options.layer.c_str(), srs ? &*srs : nullptr, wkbLineString25D, nullptr);
     if (layer == nullptr) fail("", "cannot create the layer");
-    OGRFieldDefn field(options.elevation_field.c_str(), OFTReal);
-    if (layer->CreateField(&field, TRUE) != OGRERR_NONE)
-      fail("", "cannot create the field " + options.elevation_field);
-    const int elevation = layer->GetLayerDefn()->GetFieldIndex(options.elevation_field.c_str());
-    if (elevation < 0) fail("", "cannot create the field " + options.elevation_field);
+    int elevation = -1;
+    if (!options.elevation_field.empty()) {
+      OGRFieldDefn field(options.elevation_field.c_str(), OFTReal);
+      if (layer->CreateField(&field, TRUE) != OGRERR_NONE)
+        fail("", "cannot create the field " + options.elevation_field);
+      elevation = layer->GetLayerDefn()->GetFieldIndex(options.elevation_field.c_str());
+      if (elevation < 0) fail("", "cannot create the field " + options.elevation_field);
+    }
 
     // Transactions where the driver has them (GeoPackage, SQLite); the others write directly.
     const bool transactions = ds->TestCapability(ODsCTransactions) != 0;
@@ -154,7 +113,7 @@ ContourWriteStats write_contours(OutputFile& out, const products::ContourSet& co
         line.setPoint(static_cast<int>(k), p.x, p.y, c.level);
       }
       feature->SetGeometry(&line);
-      feature->SetField(elevation, c.level);
+      if (elevation >= 0) feature->SetField(elevation, c.level);
       feature->SetFID(OGRNullFID);
       if (layer->CreateFeature(feature.get()) != OGRERR_NONE)
         fail("line " + std::to_string(i) + " (level " + std::to_string(c.level) + ")",
@@ -174,21 +133,7 @@ ContourWriteStats write_contours(OutputFile& out, const products::ContourSet& co
     progress.finish();
   }
   // Each further file to the temporary of an output of its own beside the target.
-  for (const std::string& file : siblings.list()) {
-    if (!sibling)
-      throw OutputError(path, "", "the " + stats.driver + " format writes several files");
-    const std::string target =
-        std::filesystem::path(path).replace_extension(siblings.extension(file)).string();
-    OutputFile& other = sibling(target);
-    if (std::rename(file.c_str(), other.take_path().c_str()) != 0) {
-      const int err = errno;
-      throw OutputError(
-          target, "",
-          "cannot move the new file into place: " + std::generic_category().message(err));
-    }
-    other.close();
-    stats.bytes += other.bytes_written();
-  }
+  stats.bytes += siblings.move_into_place(path, sibling, stats.driver);
   out.close();
   stats.bytes += out.bytes_written();
   stats.lines = contours.lines.size();

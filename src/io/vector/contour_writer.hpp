@@ -12,13 +12,15 @@
 
 #include "core/progress.hpp"
 #include "io/output_file.hpp"
+#include "io/sibling_files.hpp"
 #include "products/contours.hpp"
 
 namespace tincdt::io {
 
 struct ContourWriteOptions {
   std::string format;  // GDAL driver name ("GPKG", "ESRI Shapefile"); "" = by extension
-  std::string elevation_field = "elev";  // like gdal_contour -a elev
+  // Like gdal_contour -a elev; "" = no field, the level only as z (CAD formats: DXF, DGN).
+  std::string elevation_field = "elev";
   std::string layer = "contours";        // the layer name (a shapefile's is its file name)
   std::string crs_wkt;                   // "" = unknown
   bool overwrite = false;                // write_contours(PATH, ...): replace existing files
@@ -30,10 +32,6 @@ struct ContourWriteStats {
   std::uint64_t bytes = 0;  // all files
   std::string driver;       // the GDAL driver used
 };
-
-// The output for a further file of the dataset, at PATH ("lines.dbf" beside "lines.shp"): a
-// new output of the caller's OutputSet. Throws OutputError as OutputSet::add().
-using SiblingOutput = std::function<OutputFile&(const std::string& path)>;
 
 // The GDAL vector driver that writes PATH: FORMAT when given (checked), else the one whose
 // extensions list PATH's. Throws OutputError for an unknown extension or a driver that cannot

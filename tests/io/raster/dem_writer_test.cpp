@@ -224,5 +224,96 @@ TEST(DemWriter, ProgressCanCancel) {
   EXPECT_TRUE(test::names_in(dir).empty());
 }
 
+// ---- formats other than COG ----
+
+TEST(DemFormat, DriverFromTheExtensionOrByName) {
+  EXPECT_EQ(dem_driver_for("a/dem.tif", "", false), "COG");
+  EXPECT_EQ(dem_driver_for("dem.TIFF", "", true), "COG");
+  EXPECT_EQ(dem_driver_for("dem.asc", "", false), "AAIGrid");
+  EXPECT_EQ(dem_driver_for("dem.img", "", true), "HFA");
+  EXPECT_EQ(dem_driver_for("dem.tif", "GTiff", true), "GTiff");
+  EXPECT_EQ(dem_driver_for("dem.whatever", "AAIGrid", false), "AAIGrid");
+  const auto refusal = [](const std::string& path, const std::string& format, bool float64) {
+    try {
+      dem_driver_for(path, format, float64);
+    } catch (const OutputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(refusal("dem.png", "", false).find("PNG driver (for '.png') cannot store Float32"),
+            std::string::npos);
+  EXPECT_NE(refusal("dem.asc", "", true).find("AAIGrid"), std::string::npos);
+  EXPECT_NE(refusal("dem.qqq", "", false).find("'.qqq'"), std::string::npos);
+  EXPECT_NE(refusal("dem", "", false).find("extension"), std::string::npos);
+  EXPECT_NE(refusal("dem.vrt", "", false).find("VRT"), std::string::npos);
+  EXPECT_NE(refusal("dem.tif", "MEM", false).find("MEM"), std::string::npos);
+  EXPECT_NE(refusal("dem.tif", "nope", false).find("'nope'"), std::string::npos);
+  EXPECT_NE(refusal("dem.tif", "GPKG", true).find("Float64"), std::string::npos);
+}
+
+TEST(DemFormat, CreationOptionsCheckedAgainstTheDriver) {
+  const auto refusal = [](const std::string& driver, const std::string& option) {
+    try {
+      check_dem_creation_options("dem.tif", driver, {option});
+    } catch (const OutputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(refusal("COG", "compress=ZSTD"), "accepted");
+  EXPECT_EQ(refusal("COG", "BLOCKSIZE=256"), "accepted");
+  EXPECT_EQ(refusal("HFA", "BLOCKSIZE=64"), "accepted");
+  for (const auto& [driver, option] :
+       std::vector<std::pair<std::string, std::string>>{{"COG", "COMPRES=ZSTD"},
+                                                        {"COG", "COMPRESS=NOPE"},
+                                                        {"COG", "BLOCKSIZE=0"},
+                                                        {"COG", "BLOCKSIZE=8"},
+                                                        {"COG", "BLOCKSIZE=100"},
+                                                        {"COG", "BLOCKSIZE=32768"},
+                                                        {"COG", "BLOCKSIZE=x"},
+                                                        {"GTiff", "BLOCKYSIZE=0"},
+                                                        {"AAIGrid", "COMPRESS=DEFLATE"},
+                                                        {"COG", "COMPRESS"}}) {
+    const std::string text = refusal(driver, option);
+    EXPECT_NE(text.find(option), std::string::npos) << text;
+    EXPECT_NE(text.find(driver), std::string::npos) << text;
+  }
+}
+
+TEST(DemFormat, AsciiGridWithItsPrjMovedIntoPlace) {
+  const std::string dir = test::scratch_dir("dem_writer");
+  const products::Grid g = grid_of(30, 20);
+  const std::vector<float> cells = cells_of<float>(g, -9999.0f);
+  DemWriteOptions o;
+  o.crs_wkt = crs_from_user("EPSG:32611");
+  const std::string path = dir + "/dem.asc";
+  const DemWriteStats stats = write_dem(path, g, cells, o);
+  EXPECT_EQ(stats.driver, "AAIGrid");
+  EXPECT_EQ(test::names_in(dir), (std::set<std::string>{"dem.asc", "dem.prj"}));
+  EXPECT_EQ(stats.bytes, fs::file_size(path) + fs::file_size(dir + "/dem.prj"));
+  Raster r(path);
+  ASSERT_TRUE(r.ds);
+  EXPECT_STREQ(r.ds->GetDriver()->GetDescription(), "AAIGrid");
+  ASSERT_NE(r.ds->GetSpatialRef(), nullptr);
+  std::vector<float> back(g.cells());
+  ASSERT_EQ(r.ds->GetRasterBand(1)->RasterIO(GF_Read, 0, 0, 30, 20, back.data(), 30, 20,
+                                             GDT_Float32, 0, 0),
+            CE_None);
+  for (std::size_t i = 0; i < back.size(); ++i) ASSERT_EQ(back[i], cells[i]) << i;
+  EXPECT_EQ(dem_side_files(path, "AAIGrid"), std::vector<std::string>{dir + "/dem.prj"});
+  // An existing .prj is not replaced without overwrite, and nothing is left behind.
+  test::spit(dir + "/other.prj", "old");
+  EXPECT_THROW(write_dem(dir + "/other.asc", g, cells, o), OutputError);
+  EXPECT_EQ(test::names_in(dir), (std::set<std::string>{"dem.asc", "dem.prj", "other.prj"}));
+}
+
+TEST(DemFormat, CrsUnitNames) {
+  EXPECT_EQ(crs_unit_name(crs_from_user("EPSG:4326")), "degree");
+  EXPECT_EQ(crs_unit_name(crs_from_user("EPSG:32632")), "metre");
+  EXPECT_EQ(crs_unit_name(crs_from_user("EPSG:2994")), "foot");
+  EXPECT_EQ(crs_unit_name(""), "");
+}
+
 }  // namespace
 }  // namespace tincdt::io
