@@ -67,7 +67,8 @@ constexpr const char* kExamples = R"(Examples:
     tincdt big.las -o big.ply --threads 1)";
 
 constexpr const char* kGdalWords =
-    R"(GDAL spellings: -a_srs, -t_srs and -co are read as --a-srs, --t-srs and --dem-co.)";
+    R"(GDAL spellings: -a_srs, -t_srs, -co and -of are read as --a-srs, --t-srs, --dem-co and
+--dem-format.)";
 
 constexpr const char* kExitStatus =
     R"(Exit status: 0 success, 1 input, output or runtime error, 2 usage error,

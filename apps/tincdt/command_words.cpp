@@ -13,6 +13,7 @@ constexpr std::pair<std::string_view, std::string_view> kGdalWords[] = {
     {"-a_srs", "--a-srs"},
     {"-t_srs", "--t-srs"},
     {"-co", "--dem-co"},
+    {"-of", "--dem-format"},  // else "-of GTiff" would read as "-o f GTiff"
 };
 
 // The declared long option nearest to NAME (without its dashes), when it is near enough to be
@@ -45,10 +46,6 @@ std::vector<std::string> with_gdal_words(int argc, char** argv) {
   std::vector<std::string> words = words_of(argc, argv);
   for (std::string& word : words) {
     if (word == "--") break;
-    if (word == "-of")
-      throw UsageError(
-          "-of is GDAL's raster format option: tincdt takes the DEM's format from --dem's "
-          "extension (the TIN's from -o's, or -f FORMAT)");
     for (const auto& [gdal, ours] : kGdalWords)
       if (word == gdal) word = ours;
   }

@@ -21,6 +21,17 @@ std::string error_message(const Error& e) {
           " (run this tile with a larger --buffer or --max-buffer; the tiles already "
           "built stay valid)";
       break;
+    case Remedy::vector_as_points:
+      message +=
+          "; give vector lines with --contours or --hard-lines, polygons with --clip or "
+          "--erase";
+      break;
+    case Remedy::class_filter:
+      message += " (asked by --keep-class / --drop-class)";
+      break;
+    case Remedy::return_filter:
+      message += " (asked by --first-only / --last-only)";
+      break;
   }
   return message;
 }

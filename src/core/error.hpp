@@ -10,10 +10,13 @@ namespace tincdt {
 // in its own terms (the command line names its option).
 enum class Remedy {
   none,
-  overwrite,      // the output exists: allow replacing it
-  choose_layer,   // the vector source has several layers: name one
-  z_field,        // a feature has no usable z of its own: take z from an attribute
-  larger_buffer,  // a tile job's buffer is too small: allow it a larger one
+  overwrite,         // the output exists: allow replacing it
+  choose_layer,      // the vector source has several layers: name one
+  z_field,           // a feature has no usable z of its own: take z from an attribute
+  vector_as_points,  // a vector file given as points: give it as lines or polygons instead
+  class_filter,      // a class filter on points without classes: leave it out for them
+  return_filter,     // a return filter on points without return numbers: leave it out for them
+  larger_buffer,     // a tile job's buffer is too small: allow it a larger one
 };
 
 // what() is a single line: "FILE: WHERE: DETAIL", leaving out the parts that are empty.

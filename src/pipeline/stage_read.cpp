@@ -309,16 +309,19 @@ constexpr OptionSpec class_option(std::string_view flags, std::string_view help)
 constexpr OptionSpec kOptions[] = {
     {.flags = "INPUT",
      .value_name = "FILE",
-     .help = "Point files: LAS 1.0-1.4, LAZ, COPC or XYZ text ('-' = stdin)",
+     .help = "Point files: LAS 1.0-1.4, LAZ, COPC, XYZ text ('-' = stdin) or PLY\n"
+             "(the vertices of a TIN)",
      .kind = OptionKind::positional,
      .set = add_text<&BuildOptions::inputs>},
     text_option("--a-srs", "SRS", groups::input, set_text<&BuildOptions::assign_srs>,
                 "Assign the inputs' CRS (EPSG:n, WKT, PROJ string or .prj file),\n"
                 "for files without one; overrides the files' own"),
-    class_option<&io::PointFilter::keep_classes>("--keep-class",
-                                                 "Keep only these LAS classes (e.g. 2,8)"),
+    class_option<&io::PointFilter::keep_classes>(
+        "--keep-class",
+        "Keep only these classes (e.g. 2,8): LAS, or XYZ text\n"
+        "with a classification column"),
     class_option<&io::PointFilter::drop_classes>("--drop-class",
-                                                 "Drop these LAS classes (e.g. 7,18: noise)"),
+                                                 "Drop these classes (e.g. 7,18: noise)"),
     flag_option("--first-only", groups::input,
                 set_true<&BuildOptions::filter, &io::PointFilter::first_return_only>,
                 "Keep only first returns (LAS)"),

@@ -189,11 +189,17 @@ TEST_F(Conventions, GdalCoIsADemCreationOption) {
   GDALClose(dem);
 }
 
-TEST_F(Conventions, GdalOfSaysWhatToUse) {
-  expect_usage_error(run({kSample, "-o", "t.ply", "-of", "GTiff"}),
-                     "tincdt: error: -of is GDAL's raster format option: tincdt takes the DEM's "
-                     "format from --dem's extension");
+TEST_F(Conventions, GdalOfIsTheDemFormat) {
+  // Never "-o f": without --dem it is --dem-format's usage error, with it the DEM's driver.
+  expect_usage_error(run({kSample, "-o", "t.ply", "-of", "GTiff"}), "need --dem");
   EXPECT_EQ(files(), std::set<std::string>{});
+  const Outcome r =
+      run({kSample, "-o", "t.ply", "--dem", "d.dem", "--resolution", "4", "-of", "GTiff", "-q"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  GDALDataset* dem = GDALDataset::FromHandle(GDALOpen(path("d.dem").c_str(), GA_ReadOnly));
+  ASSERT_NE(dem, nullptr);
+  EXPECT_STREQ(dem->GetDriver()->GetDescription(), "GTiff");
+  GDALClose(dem);
 }
 
 TEST_F(Conventions, OnlyTheGdalWordsBeforeTheEndOfOptions) {

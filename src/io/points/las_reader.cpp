@@ -8,7 +8,6 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <cstdio>
 #include <cstring>
 #include <new>
 #include <string>
@@ -48,7 +47,8 @@ struct LasHeader {
   std::array<double, 3> offset{};
   std::uint64_t evlr_start = 0;
   std::uint32_t evlr_count = 0;
-  bool compressed = false;  // LAZ: bit 7 (or 6, older writers) of the point format byte
+  std::uint64_t waveform_start = 0;  // LAS 1.3+: waveform packets inside the file, after the points
+  bool compressed = false;           // LAZ: bit 7 (or 6, older writers) of the point format byte
 };
 
 std::string byte_at(std::uint64_t offset) {
@@ -92,8 +92,13 @@ LasHeader parse_header(const std::string& path, const std::uint8_t* d, std::size
                      "truncated: the header announces " + std::to_string(h.header_size) +
                          " bytes but the file has only " + std::to_string(size));
   }
-  // LAS 1.4 fields, read only when the header is long enough to hold them (some writers of 1.3
-  // and 1.4 files leave the header at the 1.2 size).
+  // LAS 1.3 and 1.4 fields, read only when the header is long enough to hold them (some writers
+  // of 1.3 and 1.4 files leave the header at the 1.2 size).
+  constexpr std::size_t kHeaderSize13 = 235;
+  const bool internal_waveforms = (load_le<std::uint16_t>(d + 6) & 2u) != 0;  // global encoding
+  if (h.version_minor >= 3 && h.header_size >= kHeaderSize13 && internal_waveforms) {
+    h.waveform_start = load_le<std::uint64_t>(d + 227);
+  }
   if (h.version_minor >= 4 && h.header_size >= kHeaderSize14) {
     h.evlr_start = load_le<std::uint64_t>(d + 235);
     h.evlr_count = load_le<std::uint32_t>(d + 243);
@@ -140,14 +145,31 @@ LasHeader parse_header(const std::string& path, const std::uint8_t* d, std::size
   return h;
 }
 
-// Every announced record must be in the file.
+// Where the point data ends at the latest: at the waveform packets or extended VLRs that follow
+// it, else at the file's end.
+std::uint64_t point_data_limit(const LasHeader& h, std::size_t size) {
+  std::uint64_t limit = size;
+  if (h.evlr_count > 0 && h.evlr_start > h.offset_to_points && h.evlr_start <= size) {
+    limit = h.evlr_start;
+  }
+  if (h.waveform_start > h.offset_to_points && h.waveform_start < limit) limit = h.waveform_start;
+  return limit;
+}
+
+// Every announced record must be in the file, before its waveform packets and extended VLRs
+// (which would otherwise be read as points).
 void check_point_count(const std::string& path, const LasHeader& h, std::size_t size) {
-  const std::uint64_t available = size - h.offset_to_points;
+  const std::uint64_t limit = point_data_limit(h, size);
+  const std::uint64_t available = limit - h.offset_to_points;
   const std::uint64_t whole = available / h.record_length;
   if (whole < h.point_count) {
-    const std::string tail = "the file holds " + std::to_string(whole) +
-                             " records but the header announces " + std::to_string(h.point_count);
-    if (available % h.record_length != 0) {
+    const bool followed = limit < size;  // by waveform packets or extended VLRs
+    const std::string before = !followed                   ? ""
+                               : limit == h.waveform_start ? " before its waveform packets"
+                                                           : " before its extended VLRs";
+    const std::string tail = "the file holds " + std::to_string(whole) + " records" + before +
+                             " but the header announces " + std::to_string(h.point_count);
+    if (available % h.record_length != 0 && !followed) {
       throw InputError(path,
                        "point record " + std::to_string(whole) + ", " +
                            byte_at(h.offset_to_points + whole * h.record_length),
@@ -208,22 +230,48 @@ void take_record(const std::string& uid, unsigned record_id, const std::uint8_t*
   }
 }
 
-// VLRs sit between the header and the point data.
+// A user id for a message: printable ASCII only, the rest as '?' (a damaged chain reads text
+// from anywhere).
+std::string printable(const std::string& text) {
+  std::string out;
+  for (const char c : text) out.push_back(c >= 0x20 && c < 0x7F ? c : '?');
+  return out;
+}
+
+// VLRs sit between the header and the point data. A record that runs past the point data offset
+// is read as far as it goes, with a warning: its payload may be whole (a wrong length) and the
+// records before it are sound; the chain ends there.
 void read_vlrs(const std::string& path, const LasHeader& h, const std::uint8_t* d, VlrRecords& crs,
                std::vector<std::string>& warnings) {
+  const auto rest = [&](std::uint32_t after) {
+    const std::uint32_t left = h.vlr_count - after;
+    return left == 0 ? std::string()
+                     : "; the " + std::to_string(left) + " record" + (left == 1 ? "" : "s") +
+                           " after it " + (left == 1 ? "is" : "are") + " ignored";
+  };
   std::size_t pos = h.header_size;
   for (std::uint32_t i = 0; i < h.vlr_count; ++i) {
-    const std::size_t length =
-        pos + kVlrHeaderSize <= h.offset_to_points ? load_le<std::uint16_t>(d + pos + 20) : 0;
-    if (pos + kVlrHeaderSize + length > h.offset_to_points) {
+    if (pos + kVlrHeaderSize > h.offset_to_points) {
       warnings.push_back(path + ": the header announces " + std::to_string(h.vlr_count) +
                          " variable length records but only " + std::to_string(i) +
                          " fit before the point data at " + byte_at(h.offset_to_points) +
                          "; the rest are ignored");
-      break;
+      return;
     }
-    take_record(user_id(d + pos), load_le<std::uint16_t>(d + pos + 18), d + pos + kVlrHeaderSize,
-                length, crs);
+    const std::string uid = user_id(d + pos);
+    const unsigned record_id = load_le<std::uint16_t>(d + pos + 18);
+    const std::size_t length = load_le<std::uint16_t>(d + pos + 20);
+    const std::size_t room = h.offset_to_points - pos - kVlrHeaderSize;
+    if (length > room) {
+      warnings.push_back(path + ": variable length record " + std::to_string(i) + " ('" +
+                         printable(uid) + "' " + std::to_string(record_id) + ", " + byte_at(pos) +
+                         ") announces " + std::to_string(length) + " bytes but only " +
+                         std::to_string(room) + " lie before the point data at " +
+                         byte_at(h.offset_to_points) + "; reading those" + rest(i + 1));
+      take_record(uid, record_id, d + pos + kVlrHeaderSize, room, crs);
+      return;
+    }
+    take_record(uid, record_id, d + pos + kVlrHeaderSize, length, crs);
     pos += kVlrHeaderSize + length;
   }
 }
@@ -298,31 +346,14 @@ DecodeFn pick_decoder(bool extended, bool filter) {
 }
 
 // Refuses the first of COUNT records at P (record FIRST onwards) with a coordinate outside the
-// range tincdt accepts. Needed only when the scale and offset allow one (in_range_by_header).
+// range tincdt accepts. Needed only when the scale and offset allow one.
 void check_range(const std::string& path, const std::uint8_t* p, std::size_t count,
                  std::size_t record_length, const Transform& t, std::uint64_t first) {
-  const double scale[3] = {t.sx, t.sy, t.sz}, offset[3] = {t.ox, t.oy, t.oz};
   for (std::size_t i = 0; i < count; ++i, p += record_length) {
-    for (int k = 0; k < 3; ++k) {
-      const double v = load_le<std::int32_t>(p + 4 * k) * scale[k] + offset[k];
-      if (coordinate_in_range(v)) continue;
-      char text[64];
-      std::snprintf(text, sizeof text, "%g", v);
-      throw InputError(path, "point record " + std::to_string(first + i),
-                       std::string(1, "XYZ"[k]) + " = " + text + " is beyond +-" +
-                           kMaxCoordinateText +
-                           ", the coordinate range tincdt computes with (check the header's "
-                           "scale and offset)");
-    }
+    const Point3 v = t.apply(load_le<std::int32_t>(p), load_le<std::int32_t>(p + 4),
+                             load_le<std::int32_t>(p + 8));
+    t.check_range(v, path, "point record " + std::to_string(first + i));
   }
-}
-
-// Whether every coordinate the scale and offset can give is in range, whatever the records say.
-bool in_range_by_header(const Transform& t) {
-  const double largest = 2147483648.0;  // |int32|
-  return std::fabs(t.ox) + std::fabs(t.sx) * largest <= kMaxCoordinate &&
-         std::fabs(t.oy) + std::fabs(t.sy) * largest <= kMaxCoordinate &&
-         std::fabs(t.oz) + std::fabs(t.sz) * largest <= kMaxCoordinate;
 }
 
 std::string format_label(const LasHeader& h) {
@@ -391,12 +422,11 @@ laz::LazSource laz_source(const std::string& path, const LasHeader& h, const Vlr
   src.point_format = h.point_format;
   src.record_length = h.record_length;
   // EVLRs follow the point data (and the chunk table).
-  src.data_limit = h.evlr_count > 0 && h.evlr_start > h.offset_to_points && h.evlr_start <= size
-                       ? h.evlr_start
-                       : size;
+  src.data_limit = point_data_limit(h, size);
   src.laszip_vlr = vlrs.laszip;
   src.laszip_vlr_size = vlrs.laszip_size;
   src.transform = transform_of(h);
+  src.check_range = !src.transform.in_range_by_header();
   return src;
 }
 
@@ -456,7 +486,7 @@ PointReadStats read_las(const std::string& path, const PointFilter& filter,
   } catch (const std::bad_alloc&) {
     throw Error(path, "", "out of memory: no room for its " + std::to_string(total) + " points");
   }
-  const bool check = !in_range_by_header(t);
+  const bool check = !t.in_range_by_header();
   detail::advise_huge_pages(out);
   file.advise_sequential(first_byte, first_byte + total * record_length);
   std::size_t done = 0;

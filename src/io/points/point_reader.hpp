@@ -11,7 +11,9 @@
 
 namespace tincdt::io {
 
-// LAS/LAZ point filters (ignored for XYZ input, which has no classes or returns).
+// Point filters. XYZ text is filtered by class when a header line names a classification
+// column; a filter the input has nothing for (classes of a PLY, returns of XYZ text) is an
+// InputError with Remedy::class_filter or Remedy::return_filter.
 struct PointFilter {
   std::vector<std::uint8_t> keep_classes;  // empty = keep every class
   std::vector<std::uint8_t> drop_classes;
@@ -32,15 +34,19 @@ struct PointReadStats {
   std::vector<std::string> warnings;
 };
 
-// Reads PATH ("-" = XYZ from stdin), dispatching on content (LAS signature "LASF") and
-// extension; LAS files whose records are compressed (LAZ, COPC) are decoded. Appends to `out`.
-// Throws InputError naming the file and the line / byte / record (or LAZ chunk) at fault.
+// Reads PATH ("-" = XYZ from stdin), dispatching on content (LAS signature "LASF", PLY) and
+// extension; LAS files whose records are compressed (LAZ, COPC) are decoded, and the vertices of
+// a PLY mesh (a TIN tincdt wrote) are its points. Appends to `out`. Throws InputError naming the
+// file and the line / byte / record (or LAZ chunk) at fault, and for a file that is recognisably
+// something else (a raster, a vector file: Remedy::vector_as_points, an archive).
 // THREADS: how many threads a reader that works in parallel (XYZ parsing, LAZ chunks) may use;
 // 0 = every core.
 PointReadStats read_points(const std::string& path, const PointFilter& filter,
                            std::vector<Point3>& out, unsigned threads = 0);
 
 PointReadStats read_xyz(const std::string& path, std::vector<Point3>& out, unsigned threads = 0);
+PointReadStats read_xyz(const std::string& path, const PointFilter& filter,
+                        std::vector<Point3>& out, unsigned threads = 0);
 PointReadStats read_las(const std::string& path, const PointFilter& filter,
                         std::vector<Point3>& out, unsigned threads = 0);
 

@@ -4,8 +4,13 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <string>
 
+#include "core/coordinates.hpp"
+#include "core/error.hpp"
 #include "io/points/point_reader.hpp"
 
 namespace tincdt::io::detail {
@@ -45,6 +50,31 @@ struct Transform {
   double sx, sy, sz, ox, oy, oz;
   Point3 apply(std::int32_t x, std::int32_t y, std::int32_t z) const {
     return {x * sx + ox, y * sy + oy, z * sz + oz};
+  }
+
+  // Whether every coordinate the scale and offset can give is in range, whatever the records
+  // say: when false, each point must be checked (check_range).
+  bool in_range_by_header() const {
+    const double largest = 2147483648.0;  // |int32|
+    return std::fabs(ox) + std::fabs(sx) * largest <= kMaxCoordinate &&
+           std::fabs(oy) + std::fabs(sy) * largest <= kMaxCoordinate &&
+           std::fabs(oz) + std::fabs(sz) * largest <= kMaxCoordinate;
+  }
+
+  // Throws for a coordinate of P beyond the range tincdt computes with, naming the header's
+  // scale and offset that make it; WHERE names the record.
+  void check_range(const Point3& p, const std::string& path, const std::string& where) const {
+    const double v[3] = {p.x, p.y, p.z};
+    for (int k = 0; k < 3; ++k) {
+      if (coordinate_in_range(v[k])) continue;
+      const double scale[3] = {sx, sy, sz}, offset[3] = {ox, oy, oz};
+      char text[160];
+      std::snprintf(text, sizeof text,
+                    "%c = %g is beyond +-%s, the coordinate range tincdt computes with: check the "
+                    "header's %c scale factor (%g) and offset (%g)",
+                    "XYZ"[k], v[k], kMaxCoordinateText, "XYZ"[k], scale[k], offset[k]);
+      throw InputError(path, where, text);
+    }
   }
 };
 

@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cerrno>
 #include <charconv>
@@ -30,6 +31,7 @@
 #include "core/parallel.hpp"
 #include "io/mapped_file.hpp"
 #include "io/points/point_reader.hpp"
+#include "io/points/point_selection.hpp"
 
 namespace tincdt::io {
 namespace {
@@ -47,6 +49,9 @@ struct Layout {
   char delimiter = 0;         // ',' or ';'; 0 = runs of blanks
   int column[3] = {0, 1, 2};  // x, y, z
   int last_column = 2;
+  int class_column = -1;  // a header's "classification" or "class" column; -1 when none
+  // With a class filter: the classes kept (indexed by code), read from class_column.
+  const std::array<bool, 256>* class_kept = nullptr;
 };
 
 bool is_blank(char c) {
@@ -79,7 +84,8 @@ enum class Problem {
   kOutOfRange,
   kNoDelimiter,
   kBareCr,
-  kTooLong
+  kTooLong,
+  kBadClass
 };
 
 // Where the first bad line of a piece is, and what is wrong with it.
@@ -95,19 +101,23 @@ struct Failure {
 
 struct PieceResult {
   std::size_t lines = 0;
+  std::size_t points = 0;  // data lines, kept or not
   Failure failure;
   std::exception_ptr exception;  // e.g. bad_alloc, rethrown by the caller
 };
 
 // Parses the fields of one line [p, eol) that is not blank or a comment. Returns kNone and the
 // point, or the problem and the field at fault.
+// CLS: the class code, when the layout reads one.
 Problem parse_line(const char* p, const char* eol, const Layout& layout, Point3& point,
-                   Failure& where) {
-  double v[3] = {0, 0, 0};
+                   unsigned& cls, Failure& where) {
+  double v[4] = {0, 0, 0, 0};
+  const int class_column = layout.class_kept != nullptr ? layout.class_column : -1;
   for (int col = 0;; ++col) {
     const int slot = layout.column[0] == col   ? 0
                      : layout.column[1] == col ? 1
                      : layout.column[2] == col ? 2
+                     : class_column == col     ? 3
                                                : -1;
     const char* end;
     if (slot >= 0) {
@@ -116,13 +126,16 @@ Problem parse_line(const char* p, const char* eol, const Layout& layout, Point3&
       // The number must fill the field: "3.5abc" or "1,5" (decimal comma) is not a number.
       const bool whole = ec == std::errc() && (next == eol || is_blank(*next) ||
                                                (*next == layout.delimiter && *next != 0));
-      if (!whole || !coordinate_in_range(v[slot])) {
+      const bool good = slot == 3 ? v[3] >= 0 && v[3] <= 255 && v[3] == std::floor(v[3])
+                                  : coordinate_in_range(v[slot]);
+      if (!whole || !good) {
         where.field = p;
         where.field_end = field_end(p, eol, layout.delimiter);
         where.column = col;
         if (p == where.field_end) {
           return p == eol ? Problem::kTooFewFields : Problem::kEmptyField;
         }
+        if (slot == 3) return Problem::kBadClass;
         if (!whole) return Problem::kNotANumber;
         return std::isfinite(v[slot]) ? Problem::kOutOfRange : Problem::kNotFinite;
       }
@@ -160,6 +173,7 @@ Problem parse_line(const char* p, const char* eol, const Layout& layout, Point3&
     }
   }
   point = without_signed_zero(Point3{v[0], v[1], v[2]});
+  cls = static_cast<unsigned>(v[3]);
   return Problem::kNone;
 }
 
@@ -193,15 +207,17 @@ void parse_piece(const char* b, const char* e, const Layout& layout, std::vector
       const char* q = skip_blanks(p, eol);
       if (q != eol && *q != '#') {
         Point3 point;
+        unsigned cls = 0;
         Failure& f = result.failure;
-        f.problem = parse_line(q, eol, layout, point, f);
+        f.problem = parse_line(q, eol, layout, point, cls, f);
         if (f.problem != Problem::kNone) {
           f.line_index = result.lines;
           f.line = p;
           f.line_end = eol;
           return;
         }
-        out.push_back(point);
+        ++result.points;
+        if (layout.class_kept == nullptr || (*layout.class_kept)[cls]) out.push_back(point);
       }
       ++result.lines;
       p = next_line(eol, e);
@@ -211,14 +227,40 @@ void parse_piece(const char* b, const char* e, const Layout& layout, std::vector
   }
 }
 
-// Text of a line or field for a message: no CR, control characters as '?', at most 120 chars.
-std::string quote(const char* b, const char* e) {
-  std::string s;
-  for (const char* p = b; p < e && s.size() < 120; ++p) {
-    if (*p == '\r') continue;
-    s.push_back(std::iscntrl(static_cast<unsigned char>(*p)) ? '?' : *p);
+// The length of the well-formed UTF-8 sequence of 2 to 4 bytes at [p, e), 0 when there is none.
+std::size_t utf8_length(const char* p, const char* e) {
+  const auto c = static_cast<unsigned char>(*p);
+  const std::size_t n = c >= 0xC2 && c <= 0xDF   ? 2
+                        : c >= 0xE0 && c <= 0xEF ? 3
+                        : c >= 0xF0 && c <= 0xF4 ? 4
+                                                 : 0;
+  if (n == 0 || static_cast<std::size_t>(e - p) < n) return 0;
+  for (std::size_t i = 1; i < n; ++i) {
+    if ((static_cast<unsigned char>(p[i]) & 0xC0) != 0x80) return 0;
   }
-  if (static_cast<std::size_t>(e - b) > 120) s += "...";
+  return n;
+}
+
+// Text of a line or field for a message: no CR, printable ASCII and well-formed UTF-8 kept, any
+// other byte as '?' (a binary file's bytes never reach the terminal), at most 60 characters.
+std::string quote(const char* b, const char* e) {
+  constexpr std::size_t kMax = 60;
+  std::string s;
+  std::size_t chars = 0;
+  const char* p = b;
+  while (p < e && chars < kMax) {
+    const auto c = static_cast<unsigned char>(*p);
+    const std::size_t n = c >= 0x80 ? utf8_length(p, e) : 0;
+    if (n > 0) {
+      s.append(p, n);
+      p += n;
+    } else {
+      if (c != '\r') s.push_back(c >= 0x20 && c < 0x7F ? *p : '?');
+      ++p;
+    }
+    chars += c != '\r';
+  }
+  if (p < e) s += "...";
   return s;
 }
 
@@ -274,6 +316,9 @@ const char* const kCrOnlyAdvice =
       break;
     case Problem::kNoDelimiter:
       why = std::string("no '") + delimiter + "' before '" + field + "'";
+      break;
+    case Problem::kBadClass:
+      why = "'" + field + "' is not a class code (0 to 255)";
       break;
     case Problem::kNone:
     case Problem::kBareCr:
@@ -374,6 +419,8 @@ Start find_start(const char* b, const char* e, bool at_eof) {
       for (int k = 0; k < 3; ++k) {
         if (name.size() == 1 && name[0] == "xyz"[k] && column[k] < 0) column[k] = col;
       }
+      if ((name == "classification" || name == "class") && s.layout.class_column < 0)
+        s.layout.class_column = col;
       f = skip_blanks(fe < eol && *fe == s.layout.delimiter ? fe + 1 : fe, eol);
     }
     if (column[0] >= 0 && column[1] >= 0 && column[2] >= 0) {
@@ -406,10 +453,10 @@ unsigned parser_threads(unsigned threads) {
 
 // Parses the whole lines of [b, e), cut into up to THREADS pieces at newlines, and appends the
 // points in file order. LINES_BEFORE counts the lines of the input before b and is advanced.
-// Returns the number of points appended.
-std::size_t parse_window(const std::string& name, const char* b, const char* e,
-                         const Layout& layout, unsigned threads, std::size_t& lines_before,
-                         std::vector<Point3>& out, std::vector<std::vector<Point3>>& scratch) {
+// Adds the points read and the points appended (those the class filter keeps) to STATS.
+void parse_window(const std::string& name, const char* b, const char* e, const Layout& layout,
+                  unsigned threads, std::size_t& lines_before, std::vector<Point3>& out,
+                  std::vector<std::vector<Point3>>& scratch, PointReadStats& stats) {
   const auto bytes = static_cast<std::size_t>(e - b);
   const std::size_t pieces =
       std::clamp<std::size_t>(bytes / kMinPieceBytes, 1, std::max(1u, threads));
@@ -443,8 +490,24 @@ std::size_t parse_window(const std::string& name, const char* b, const char* e,
     }
     if (i > 0) out.insert(out.end(), scratch[i].begin(), scratch[i].end());
     lines_before += r.lines;
+    stats.points_read += r.points;
   }
-  return out.size() - before;
+  stats.points_kept += out.size() - before;
+}
+
+// The layout with the class filter of SEL: the class column read and the classes kept. Throws
+// when SEL filters classes but the text has no class column.
+Layout with_filter(const std::string& name, Layout layout, const detail::Selection& sel) {
+  if (!sel.filter_classes) return layout;
+  if (layout.class_column < 0) {
+    throw InputError(name, "",
+                     "the XYZ text has no classification column (a header line naming a "
+                     "'classification' or 'class' column), so no class can be kept or dropped",
+                     Remedy::class_filter);
+  }
+  layout.class_kept = &sel.class_kept;
+  layout.last_column = std::max(layout.last_column, layout.class_column);
+  return layout;
 }
 
 // Reserves room for the points of a SIZE-byte text, judging the line length from its first MB.
@@ -462,8 +525,8 @@ void reserve_for(const char* b, std::size_t size, std::vector<Point3>& out) {
   detail::advise_huge_pages(out);
 }
 
-PointReadStats read_mapped(const std::string& path, std::vector<Point3>& out,
-                           unsigned threads_wanted) {
+PointReadStats read_mapped(const std::string& path, const detail::Selection& sel,
+                           std::vector<Point3>& out, unsigned threads_wanted) {
   const detail::MappedFile file(path);
   if (file.size() == 0) throw InputError(path, "", "empty file");
   const char* const b = file.chars();
@@ -471,6 +534,7 @@ PointReadStats read_mapped(const std::string& path, std::vector<Point3>& out,
   file.advise_sequential(0, file.size());
   const Start start = find_start(b, e, true);
   if (start.problem != Problem::kNone) throw_start_problem(path, start.lines_before + 1, start);
+  const Layout layout = with_filter(path, start.layout, sel);
   PointReadStats stats;
   stats.format = "xyz";
   reserve_for(start.data, static_cast<std::size_t>(e - start.data), out);
@@ -484,16 +548,15 @@ PointReadStats read_mapped(const std::string& path, std::vector<Point3>& out,
     if (w < e) {  // end the window after a newline
       w = next_line(line_end(w, e), e);
     }
-    stats.points_kept += parse_window(path, p, w, start.layout, threads, lines, out, scratch);
+    parse_window(path, p, w, layout, threads, lines, out, scratch, stats);
     file.release(static_cast<std::size_t>(p - b), static_cast<std::size_t>(w - b));
     p = w;
   }
-  stats.points_read = stats.points_kept;
   return stats;
 }
 
-PointReadStats read_stream(int fd, const std::string& name, std::vector<Point3>& out,
-                           unsigned threads_wanted) {
+PointReadStats read_stream(int fd, const std::string& name, const detail::Selection& sel,
+                           std::vector<Point3>& out, unsigned threads_wanted) {
   const unsigned threads = parser_threads(threads_wanted);
   // The buffer starts small (stdin often holds a few lines) and doubles each time the input
   // fills it, up to one window of parallel parsing: larger than kMaxLineBytes, so that a full
@@ -543,43 +606,52 @@ PointReadStats read_stream(int fd, const std::string& name, std::vector<Point3>&
       e = b + filled;
       if (!start.found) continue;  // no complete first data line yet: read more
       started = true;
-      layout = start.layout;
+      layout = with_filter(name, start.layout, sel);
     }
     // Parse up to the last newline (everything, at the end of the input).
     const char* cut = e;
     if (!eof) {
       while (cut > b && cut[-1] != '\n') --cut;
     }
-    if (cut > b)
-      stats.points_kept += parse_window(name, b, cut, layout, threads, lines, out, scratch);
+    if (cut > b) parse_window(name, b, cut, layout, threads, lines, out, scratch, stats);
     const auto rest = static_cast<std::size_t>(e - cut);
     if (rest > kMaxLineBytes) throw_too_long(name, lines + 1, has_cr(cut, cut + kMaxLineBytes));
     std::memmove(buffer.get(), cut, rest);
     filled = rest;
   }
   if (!any_input) throw InputError(name, "", "empty input");
-  stats.points_read = stats.points_kept;
   return stats;
 }
 
 }  // namespace
 
 PointReadStats read_xyz(const std::string& path, std::vector<Point3>& out, unsigned threads) {
+  return read_xyz(path, PointFilter{}, out, threads);
+}
+
+PointReadStats read_xyz(const std::string& path, const PointFilter& filter,
+                        std::vector<Point3>& out, unsigned threads) {
+  const std::string name = path == "-" ? "<stdin>" : path;
+  const detail::Selection sel(filter);
+  if (sel.first_only || sel.last_only) {
+    throw InputError(name, "",
+                     "XYZ text has no return numbers, so first or last returns cannot be told",
+                     Remedy::return_filter);
+  }
   const std::size_t before = out.size();
   try {
-    if (path == "-") return read_stream(STDIN_FILENO, "<stdin>", out, threads);
+    if (path == "-") return read_stream(STDIN_FILENO, name, sel, out, threads);
     // Pipes and devices (e.g. /dev/stdin, <(command)) cannot be mapped: stream them.
     struct stat st {};
     if (::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode)) {
       const detail::FileHandle file(path);
-      return read_stream(file.fd(), path, out, threads);
+      return read_stream(file.fd(), path, sel, out, threads);
     }
-    return read_mapped(path, out, threads);
+    return read_mapped(path, sel, out, threads);
   } catch (const std::bad_alloc&) {
     const std::size_t read = out.size() - before;
     out.resize(before);  // frees nothing, but allocates nothing either
-    throw Error(path == "-" ? "<stdin>" : path, "",
-                "out of memory after reading " + std::to_string(read) + " of its points");
+    throw Error(name, "", "out of memory after reading " + std::to_string(read) + " of its points");
   }
 }
 

@@ -267,7 +267,7 @@ TEST(LazBadInput, HeaderAnnouncingMorePointsThanTheChunksHold) {
   std::string copc = original("simple.copc");
   put<std::uint64_t>(copc, 247, 2130);
   EXPECT_THAT(read_error(scratch("count_copc.laz", copc)),
-              HasSubstr("its chunks hold 1065 points but the header announces 2130"));
+              HasSubstr("the header announces 2130 points but the compressed data holds 1065"));
   // A count no file this size could hold, with the table gone: refused before any allocation.
   std::string huge = original("autzen_trim");
   put<std::uint32_t>(huge, 107, 0xFFFFFFF0u);

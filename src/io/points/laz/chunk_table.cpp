@@ -177,6 +177,23 @@ void fit_to_count(const std::string& path, std::vector<ChunkEntry>& chunks,
                        " points but the header announces " + std::to_string(point_count));
 }
 
+// Formats 6-10: every chunk starts with the number of points it holds, the data's own word. A
+// header that announces more than their sum would have the decoder invent the missing points
+// from the bytes after the last one.
+void check_held_points(const std::string& path, const PointData& data, const PointLayout& layout,
+                       const std::vector<ChunkEntry>& chunks) {
+  std::uint64_t held = 0;
+  for (const ChunkEntry& chunk : chunks) {
+    if (chunk.size < layout.record_length + 4) continue;  // an empty chunk: no count stored
+    held += load_le<std::uint32_t>(data.file + chunk.offset + layout.record_length);
+  }
+  if (data.point_count > held) {
+    throw InputError(path, "point data",
+                     "the header announces " + std::to_string(data.point_count) +
+                         " points but the compressed data holds " + std::to_string(held));
+  }
+}
+
 }  // namespace
 
 unsigned layer_count(const PointLayout& layout) {
@@ -204,6 +221,7 @@ ChunkPlan plan_chunks(const std::string& path, const PointData& data, const Poin
   TableResult table = read_table(data, layout, chunks_begin);
   if (!table.contradiction.empty()) throw InputError(path, "chunk table", table.contradiction);
   if (table.problem.empty()) {
+    if (layout.layered) check_held_points(path, data, layout, table.chunks);
     fit_to_count(path, table.chunks, data.point_count);
     plan.chunks = std::move(table.chunks);
     plan.data_end = table.table_offset;

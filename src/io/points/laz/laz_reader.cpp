@@ -239,6 +239,14 @@ std::uint64_t read_points(const LazSource& src, const PointFilter& filter, unsig
     });
   };
   const auto commit = [&](std::vector<Xyz>& buffer) {
+    if (src.check_range) {
+      for (std::size_t i = 0; i < buffer.size(); ++i) {
+        const Point3 p = src.transform.apply(buffer[i][0], buffer[i][1], buffer[i][2]);
+        // Without filters the points kept are the file's points, in order.
+        src.transform.check_range(p, src.path,
+                                  sel.any() ? std::string() : "point " + std::to_string(kept + i));
+      }
+    }
     for (const Xyz& v : buffer) out.push_back(src.transform.apply(v[0], v[1], v[2]));
     kept += buffer.size();
   };

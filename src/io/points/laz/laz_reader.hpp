@@ -29,6 +29,7 @@ struct LazSource {
   const std::uint8_t* laszip_vlr = nullptr;
   std::size_t laszip_vlr_size = 0;
   detail::Transform transform{};
+  bool check_range = false;  // the scale and offset can give coordinates beyond the range
   // When set, pages of chunks already decoded are handed back to the kernel as decoding goes.
   const detail::MappedFile* mapping = nullptr;
 };

@@ -180,6 +180,13 @@ std::size_t Point14Decoder::begin_chunk(const ChunkInput& in) {
                           " bytes, the first point and the layer sizes need " +
                           std::to_string(header) + ")");
   }
+  // The chunk's own count: more points asked of it than it holds would be decoded from the
+  // bytes after its last one.
+  const std::uint64_t held = load_le<std::uint32_t>(in.data + record);
+  if (held < in.points) {
+    throw in.error(held, "the chunk holds " + std::to_string(held) + " points, not the " +
+                             std::to_string(in.points) + " the header and chunk table give it");
+  }
   const bool every = fields_ == kEveryField;
   const std::size_t bytes_layer =
       kFixedLayers + (layout_.rgb ? 1 : 0) + (layout_.nir ? 1 : 0) + (layout_.waveform ? 1 : 0);

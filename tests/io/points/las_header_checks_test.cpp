@@ -1,0 +1,157 @@
+// The LAS and LAZ readers against headers that contradict their data: point counts above what
+// the records or chunks hold, scales that make coordinates beyond the range, VLRs that run past
+// the point data.
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/error.hpp"
+#include "core/types.hpp"
+#include "io/points/point_reader.hpp"
+#include "support/byte_fields.hpp"
+#include "support/errors.hpp"
+#include "support/files.hpp"
+#include "support/shared_data.hpp"
+
+namespace tincdt::io {
+namespace {
+
+namespace fs = std::filesystem;
+using test::get;
+using test::put;
+using ::testing::AllOf;
+using ::testing::HasSubstr;
+
+const fs::path kData = ::tincdt::test::shared_data();
+const fs::path kTmp = fs::path(TINCDT_TEST_TMP) / "las_header_checks";
+
+std::string scratch(const std::string& name, const std::string& bytes) {
+  fs::create_directories(kTmp);
+  const fs::path p = kTmp / name;
+  test::spit(p, bytes);
+  return p.string();
+}
+
+std::vector<Point3> points_of(const std::string& path, const PointFilter& filter = {},
+                              PointReadStats* stats = nullptr) {
+  std::vector<Point3> pts;
+  const PointReadStats s = read_points(path, filter, pts, 1);
+  if (stats != nullptr) *stats = s;
+  return pts;
+}
+
+std::optional<InputError> input_error(const std::string& path, const PointFilter& filter = {}) {
+  return test::thrown<InputError>([&] { points_of(path, filter); });
+}
+
+// Where the first VLR with this user id and record id starts.
+std::size_t vlr_at(const std::string& b, const char* uid, std::uint16_t record_id) {
+  std::size_t pos = get<std::uint16_t>(b, 94);
+  for (std::uint32_t i = 0; i < get<std::uint32_t>(b, 100); ++i) {
+    if (b.compare(pos + 2, std::strlen(uid), uid) == 0 &&
+        get<std::uint16_t>(b, pos + 18) == record_id)
+      return pos;
+    pos += 54 + get<std::uint16_t>(b, pos + 20);
+  }
+  ADD_FAILURE() << "no VLR " << uid << " " << record_id;
+  return 0;
+}
+
+// ---- Header counts the data contradicts ---------------------------------------------------------
+
+TEST(PointCounts, ALazHeaderCountAboveTheChunksIsRefused) {
+  TINCDT_REQUIRE_SHARED_DATA("laz");
+  std::string b = test::slurp(kData / "laz" / "append-bug.laz");
+  ASSERT_EQ(get<std::uint64_t>(b, 247), 37805u);
+  put<std::uint64_t>(b, 247, 37806);
+  const std::string path = scratch("append-bug-37806.laz", b);
+  const auto e = input_error(path);
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->file(), path);
+  EXPECT_THAT(e->detail(), AllOf(HasSubstr("37806"), HasSubstr("37805")));
+  // The true count still reads.
+  EXPECT_EQ(points_of((kData / "laz" / "append-bug.laz").string()).size(), 37805u);
+}
+
+TEST(PointCounts, ALasHeaderCountIntoTheExtendedVlrsIsRefused) {
+  TINCDT_REQUIRE_SHARED_DATA("las");
+  std::string b = test::slurp(kData / "las" / "1_4_w_evlr.las");
+  ASSERT_EQ(get<std::uint64_t>(b, 247), 1000u);
+  put<std::uint64_t>(b, 247, 1001);  // the 1001st record would be the EVLR's bytes
+  const auto e = input_error(scratch("evlr_1001.las", b));
+  ASSERT_TRUE(e);
+  EXPECT_THAT(e->detail(), AllOf(HasSubstr("1001"), HasSubstr("holds 1000 records")));
+}
+
+TEST(PointCounts, ALasHeaderCountIntoTheWaveformPacketsIsRefused) {
+  TINCDT_REQUIRE_SHARED_DATA("las");
+  std::string b = test::slurp(kData / "las" / "simple1_3.las");  // 160 bytes of waveforms
+  ASSERT_EQ(get<std::uint32_t>(b, 107), 999u);
+  put<std::uint32_t>(b, 107, 1000);
+  const auto e = input_error(scratch("waveform_1000.las", b));
+  ASSERT_TRUE(e);
+  EXPECT_THAT(e->detail(), AllOf(HasSubstr("1000"), HasSubstr("holds 999 records")));
+}
+
+TEST(PointCounts, ALasHeaderCountAboveTheRecordsIsRefused) {
+  TINCDT_REQUIRE_SHARED_DATA("las");
+  std::string b = test::slurp(kData / "las" / "simple.las");
+  ASSERT_EQ(get<std::uint32_t>(b, 107), 1065u);
+  put<std::uint32_t>(b, 107, 1066);
+  const auto e = input_error(scratch("simple_1066.las", b));
+  ASSERT_TRUE(e);
+  EXPECT_THAT(e->detail(), AllOf(HasSubstr("1066"), HasSubstr("1065")));
+}
+
+// ---- Coordinates beyond the range --------------------------------------------------------------
+
+TEST(CoordinateRange, AHugeScaleIsRefusedForLasAndLaz) {
+  TINCDT_REQUIRE_SHARED_DATA("laz");
+  for (const char* name : {"las/simple.las", "laz/simple.laz", "laz/las14_pdrf6.laz"}) {
+    SCOPED_TRACE(name);
+    std::string b = test::slurp(kData / name);
+    put<double>(b, 131, 1e300);  // X scale factor
+    const std::string path = scratch(fs::path(name).filename().string(), b);
+    const auto e = input_error(path);
+    ASSERT_TRUE(e);
+    EXPECT_EQ(e->file(), path);
+    EXPECT_THAT(e->detail(), AllOf(HasSubstr("beyond +-1e15"), HasSubstr("X scale factor")));
+  }
+}
+
+// ---- Broken VLR chains --------------------------------------------------------------------------
+
+TEST(VlrChain, ACrsRecordRunningPastThePointDataIsReadWithAWarning) {
+  TINCDT_REQUIRE_SHARED_DATA("laz");
+  std::string b = test::slurp(kData / "laz" / "simple.copc.laz");
+  const std::size_t wkt = vlr_at(b, "LASF_Projection", 2112);
+  put<std::uint16_t>(b, wkt + 20, 60000);
+  PointReadStats stats;
+  EXPECT_EQ(points_of(scratch("long_wkt.copc.laz", b), {}, &stats).size(), 1065u);
+  EXPECT_FALSE(stats.crs_wkt.empty());  // its payload is whole up to the point data
+  ASSERT_EQ(stats.warnings.size(), 1u);
+  EXPECT_THAT(stats.warnings[0], AllOf(HasSubstr("variable length record 2"),
+                                       HasSubstr("LASF_Projection"), HasSubstr("60000 bytes")));
+}
+
+TEST(VlrChain, ALaszipRecordRunningPastThePointDataIsReadWithAWarning) {
+  TINCDT_REQUIRE_SHARED_DATA("laz");
+  std::string b = test::slurp(kData / "laz" / "1_4_w_evlr.laz");
+  const std::size_t laszip = vlr_at(b, "laszip encoded", 22204);
+  put<std::uint16_t>(b, laszip + 20, 400);
+  PointReadStats stats;
+  EXPECT_EQ(points_of(scratch("long_laszip.laz", b), {}, &stats).size(), 1000u);
+  EXPECT_FALSE(stats.crs_wkt.empty());
+  ASSERT_EQ(stats.warnings.size(), 1u);
+  EXPECT_THAT(stats.warnings[0], AllOf(HasSubstr("laszip encoded"), HasSubstr("400 bytes")));
+}
+
+}  // namespace
+}  // namespace tincdt::io
