@@ -196,6 +196,7 @@ TEST_F(Conventions, GdalOfIsTheDemFormat) {
   const Outcome r =
       run({kSample, "-o", "t.ply", "--dem", "d.dem", "--resolution", "4", "-of", "GTiff", "-q"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
+  GDALAllRegister();
   GDALDataset* dem = GDALDataset::FromHandle(GDALOpen(path("d.dem").c_str(), GA_ReadOnly));
   ASSERT_NE(dem, nullptr);
   EXPECT_STREQ(dem->GetDriver()->GetDescription(), "GTiff");
@@ -237,7 +238,9 @@ TEST_F(Conventions, HelpValueNamesReadAsWritten) {
   EXPECT_TRUE(contains(r.out, "  --dem-extent XMIN YMIN XMAX YMAX\n")) << r.out;
   EXPECT_TRUE(contains(r.out, "  --tile N ")) << r.out;
   EXPECT_TRUE(contains(r.out, "  --buffer LENGTH ")) << r.out;
-  EXPECT_TRUE(contains(r.out, "-a_srs, -t_srs and -co are read as --a-srs, --t-srs and --dem-co"))
+  EXPECT_TRUE(contains(
+      r.out,
+      "-a_srs, -t_srs, -co and -of are read as --a-srs, --t-srs, --dem-co and\n--dem-format"))
       << r.out;
 }
 

@@ -206,7 +206,11 @@ class FullJob : public InScratch {
             "--contour-lines",
             "lines.geojson",
             "--interval",
-            "5"};
+            "5",
+            "--preview",
+            "p.png",
+            "--preview-size",
+            "64"};
   }
 };
 
@@ -224,7 +228,7 @@ TEST_F(FullJob, WantsEveryStage) {
   EXPECT_EQ(names_in(dir_),
             (std::set<std::string>{"pts.xyz", "contours.geojson", "soft.geojson", "clip.geojson",
                                    "hole.geojson", "pad.geojson", "tin.ply", "tin.prj", "s.json",
-                                   "c.geojson", "d.gpkg", "dem.tif", "lines.geojson"}));
+                                   "c.geojson", "d.gpkg", "dem.tif", "lines.geojson", "p.png"}));
 }
 
 // A Ctrl-C (or kill) at the start of any stage, or just before the outputs move into place: the

@@ -31,7 +31,7 @@ TEST(Stages, OneTableInTheDocumentedOrder) {
   EXPECT_EQ(names, (std::vector<std::string>{
                        "read", "delaunay", "constraints", "surface", "simplify", "flats", "replace",
                        "trim", "clip", "erase", "validate", "quality", "write", "dem",
-                       "contour_lines", "constraint_lines", "diagnostics", "stats"}));
+                       "contour_lines", "preview", "constraint_lines", "diagnostics", "stats"}));
 }
 
 BuildOptions options_with(const std::string& dir) {
