@@ -86,22 +86,21 @@ namespace {
 
 constexpr unsigned kMaxThreads = 1024;
 
+std::string check_threads(std::string_view v) {
+  const auto n = parse_count(v);
+  return n && *n <= kMaxThreads ? std::string() : in_quotes(v) + " is not a thread count (0-1024)";
+}
+
+void set_threads(BuildOptions& o, std::string_view v) {
+  o.threads = static_cast<unsigned>(*parse_count(v));
+}
+
 constexpr OptionSpec kJobOptions[] = {
-    {.flags = "--threads",
-     .value_name = "N",
-     .help = "Threads for the parallel stages (reading XYZ, Delaunay, quality);\n"
-             "0 = every core",
-     .group = option_groups::run,
-     .default_text = "0",
-     .check =
-         [](std::string_view v) {
-           const auto n = parse_count(v);
-           return n && *n <= kMaxThreads ? std::string()
-                                         : in_quotes(v) + " is not a thread count (0-1024)";
-         },
-     .set = [](BuildOptions& o,
-               std::string_view v) { o.threads = static_cast<unsigned>(*parse_count(v)); },
-     .shown = [](const BuildOptions& o) { return std::to_string(o.threads); }},
+    with_default(
+        checked_option("--threads", "N", option_groups::run, check_threads, set_threads,
+                       "Threads for the parallel stages (reading XYZ, Delaunay, quality);\n"
+                       "0 = every core"),
+        "0", [](const BuildOptions& o) { return std::to_string(o.threads); }),
 };
 
 }  // namespace

@@ -156,6 +156,13 @@ constexpr OptionSpec checked_option(std::string_view flags, std::string_view val
   spec.check = check;
   return spec;
 }
+// SPEC with a default: DEFAULT_TEXT in the help, SHOWN giving back BuildOptions{}'s value.
+constexpr OptionSpec with_default(OptionSpec spec, std::string_view default_text,
+                                  std::string (*shown)(const BuildOptions&)) {
+  spec.default_text = default_text;
+  spec.shown = shown;
+  return spec;
+}
 // One of WORDS, stored at PATH as the VALUES[i] of the word given; DEFAULT_WORD is the word of
 // BuildOptions{}'s value.
 template <const auto& Words, const auto& Values, auto... Path>

@@ -107,6 +107,12 @@ void add_levels(BuildOptions& o, std::string_view text) {
   }
 }
 
+std::string check_name(std::string_view text) {
+  return text.empty() ? std::string("give a field name") : std::string();
+}
+
+using ContourLines = BuildOptions::ContourLines;
+
 constexpr OptionSpec kOptions[] = {
     text_option("--contour-lines", "FILE", option_groups::products,
                 set_text<&BuildOptions::contour_lines, &BuildOptions::ContourLines::path>,
@@ -123,22 +129,14 @@ constexpr OptionSpec kOptions[] = {
      .kind = OptionKind::repeated,
      .check = check_levels,
      .set = add_levels},
-    {.flags = "--contour-field",
-     .value_name = "NAME",
-     .help = "The contour level's field (as gdal_contour -a)",
-     .group = option_groups::products,
-     .default_text = "elev",
-     .check = [](std::string_view v) { return v.empty() ? std::string("give a field name") : ""; },
-     .set = set_text<&BuildOptions::contour_lines, &BuildOptions::ContourLines::field>,
-     .shown = [](const BuildOptions& o) { return o.contour_lines.field; }},
-    {.flags = "--base",
-     .value_name = "B",
-     .help = "Contour levels are BASE + k * interval",
-     .group = option_groups::products,
-     .default_text = "0",
-     .check = check_number,
-     .set = set_number<&BuildOptions::contour_lines, &BuildOptions::ContourLines::base>,
-     .shown = show_number<&BuildOptions::contour_lines, &BuildOptions::ContourLines::base>},
+    with_default(checked_option("--contour-field", "NAME", option_groups::products, check_name,
+                                set_text<&BuildOptions::contour_lines, &ContourLines::field>,
+                                "The contour level's field (as gdal_contour -a)"),
+                 "elev", [](const BuildOptions& o) { return o.contour_lines.field; }),
+    with_default(checked_option("--base", "B", option_groups::products, check_number,
+                                set_number<&BuildOptions::contour_lines, &ContourLines::base>,
+                                "Contour levels are BASE + k * interval"),
+                 "0", show_number<&BuildOptions::contour_lines, &ContourLines::base>),
 };
 
 }  // namespace

@@ -186,6 +186,14 @@ BBox parse_extent(std::string_view text) {
 
 using Dem = BuildOptions::Dem;
 
+std::string check_nodata(std::string_view v) {
+  return lower(v) == "nan" ? std::string() : check_number(v);
+}
+
+void set_nodata(BuildOptions& o, std::string_view v) {
+  o.dem.nodata = lower(v) == "nan" ? std::nan("") : *parse_number(v);
+}
+
 constexpr OptionSpec kOptions[] = {
     text_option("--dem", "FILE", option_groups::products, set_text<&BuildOptions::dem, &Dem::path>,
                 "Rasterize the TIN: each cell centre gets its triangle's linear\n"
@@ -208,18 +216,9 @@ constexpr OptionSpec kOptions[] = {
     flag_option("--tap", option_groups::products,
                 set_true<&BuildOptions::dem, &Dem::target_aligned>,
                 "Snap the DEM extent out to multiples of the resolution (as gdalwarp -tap)"),
-    {.flags = "--dem-nodata",
-     .value_name = "V",
-     .help = "Value of the DEM cells outside the TIN (or nan)",
-     .group = option_groups::products,
-     .default_text = "-9999",
-     .check =
-         [](std::string_view v) { return lower(v) == "nan" ? std::string() : check_number(v); },
-     .set =
-         [](BuildOptions& o, std::string_view v) {
-           o.dem.nodata = lower(v) == "nan" ? std::nan("") : *parse_number(v);
-         },
-     .shown = show_number<&BuildOptions::dem, &Dem::nodata>},
+    with_default(checked_option("--dem-nodata", "V", option_groups::products, check_nodata,
+                                set_nodata, "Value of the DEM cells outside the TIN (or nan)"),
+                 "-9999", show_number<&BuildOptions::dem, &Dem::nodata>),
     choice_option<kCellTypes, kIsFloat64, &BuildOptions::dem, &Dem::float64>(
         "--dem-type", option_groups::products, "float32", "DEM cell type"),
     repeated_option("--dem-co", "NAME=VALUE", option_groups::products,

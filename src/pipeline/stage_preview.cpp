@@ -65,14 +65,9 @@ constexpr OptionSpec kOptions[] = {
                 set_text<&BuildOptions::preview, &Preview::path>,
                 "Draw the TIN as a PNG: a hillshade with the constrained edges (blue)\n"
                 "and the outline (red), transparent where there is no surface"),
-    {.flags = "--preview-size",
-     .value_name = "PX",
-     .help = "The preview's size in pixels on its longer side",
-     .group = option_groups::products,
-     .default_text = "1024",
-     .check = check_size,
-     .set = set_size,
-     .shown = [](const BuildOptions& o) { return std::to_string(o.preview.size); }},
+    with_default(checked_option("--preview-size", "PX", option_groups::products, check_size,
+                                set_size, "The preview's size in pixels on its longer side"),
+                 "1024", [](const BuildOptions& o) { return std::to_string(o.preview.size); }),
 };
 
 }  // namespace

@@ -62,23 +62,22 @@ void run(Job& job) {
 
 constexpr std::size_t kFewestVertices = 3;  // a TIN
 
+std::string check_vertices(std::string_view v) {
+  const auto n = parse_count(v);
+  return n && *n >= kFewestVertices ? std::string() : in_quotes(v) + " is not a count >= 3";
+}
+
+void set_vertices(BuildOptions& o, std::string_view v) {
+  o.max_vertices = static_cast<std::size_t>(*parse_count(v));
+}
+
 constexpr OptionSpec kOptions[] = {
     checked_option("--max-error", "Z", option_groups::simplification, check_non_negative,
                    set_number<&BuildOptions::max_error>,
                    "Keep only the points needed for every point to lie within Z\n"
                    "(vertically) of the TIN; contours and breaklines stay whole"),
-    {.flags = "--max-vertices",
-     .value_name = "N",
-     .help = "Stop simplifying at N vertices (alone: with --max-error 0)",
-     .group = option_groups::simplification,
-     .check =
-         [](std::string_view v) {
-           const auto n = parse_count(v);
-           return n && *n >= kFewestVertices ? std::string()
-                                             : in_quotes(v) + " is not a count >= 3";
-         },
-     .set = [](BuildOptions& o,
-               std::string_view v) { o.max_vertices = static_cast<std::size_t>(*parse_count(v)); }},
+    checked_option("--max-vertices", "N", option_groups::simplification, check_vertices,
+                   set_vertices, "Stop simplifying at N vertices (alone: with --max-error 0)"),
 };
 
 }  // namespace

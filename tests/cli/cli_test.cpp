@@ -30,6 +30,7 @@
 #include "support/las_writer.hpp"
 #include "support/mesh_files.hpp"
 #include "support/shared_data.hpp"
+#include "support/spawn.hpp"
 #include "support/stats_json.hpp"
 
 extern char** environ;
@@ -165,35 +166,14 @@ class Scratch {
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
 
   Outcome run(const std::vector<std::string>& args, const std::string& stdin_path = "/dev/null") {
-    const std::string out_path = (capture_ / "stdout").string();
-    const std::string err_path = (capture_ / "stderr").string();
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, 0, stdin_path.c_str(), O_RDONLY, 0);
-    posix_spawn_file_actions_addopen(&actions, 1, out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
-                                     0644);
-    posix_spawn_file_actions_addopen(&actions, 2, err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
-                                     0644);
-    std::vector<std::string> argv_s = {TINCDT_EXE};
-    argv_s.insert(argv_s.end(), args.begin(), args.end());
-    std::vector<char*> argv;
-    for (std::string& a : argv_s) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    pid_t pid = 0;
-    const int rc = posix_spawn(&pid, TINCDT_EXE, &actions, nullptr, argv.data(), environ);
-    posix_spawn_file_actions_destroy(&actions);
-    Outcome r;
-    if (rc != 0) {
-      ADD_FAILURE() << "cannot run " << TINCDT_EXE << ": " << std::strerror(rc);
-      return r;
-    }
-    int status = 0;
-    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-    }
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = slurp(out_path);
-    r.err = slurp(err_path);
-    return r;
+    std::vector<std::string> words = {TINCDT_EXE};
+    words.insert(words.end(), args.begin(), args.end());
+    const tincdt::test::Spawned r = tincdt::test::spawn_captured(words, ".", capture_, stdin_path);
+    Outcome o;
+    o.exit_code = r.exit_code;
+    o.out = r.out;
+    o.err = r.err;
+    return o;
   }
 
  private:

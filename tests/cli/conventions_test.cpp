@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "support/files.hpp"
+#include "support/spawn.hpp"
 #include "support/stats_json.hpp"
 
 extern char** environ;
@@ -53,39 +54,12 @@ class Conventions : public ::testing::Test {
   std::string path(const std::string& name) const { return dir_ + "/" + name; }
   std::set<std::string> files() const { return names_in(dir_); }
 
+  // In the scratch folder, so that a file named "-" would land there.
   Outcome run(const std::vector<std::string>& args) const {
-    const std::string out_path = capture_ + "/stdout", err_path = capture_ + "/stderr";
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
-    posix_spawn_file_actions_addopen(&actions, 1, out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
-                                     0644);
-    posix_spawn_file_actions_addopen(&actions, 2, err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
-                                     0644);
     std::vector<std::string> words = {TINCDT_EXE};
     words.insert(words.end(), args.begin(), args.end());
-    std::vector<char*> argv;
-    for (std::string& w : words) argv.push_back(w.data());
-    argv.push_back(nullptr);
-    // In the scratch folder, so that a file named "-" would land there.
-    const fs::path here = fs::current_path();
-    fs::current_path(dir_);
-    pid_t pid = 0;
-    const int rc = posix_spawn(&pid, TINCDT_EXE, &actions, nullptr, argv.data(), environ);
-    fs::current_path(here);
-    posix_spawn_file_actions_destroy(&actions);
-    Outcome r;
-    if (rc != 0) {
-      ADD_FAILURE() << "cannot run " << TINCDT_EXE << ": " << std::strerror(rc);
-      return r;
-    }
-    int status = 0;
-    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-    }
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = slurp(out_path);
-    r.err = slurp(err_path);
-    return r;
+    const tincdt::test::Spawned r = tincdt::test::spawn_captured(words, dir_, capture_);
+    return {r.exit_code, r.out, r.err};
   }
 
   // A plan of the sample in 100 m tiles with a 20 m buffer (its extent is 160 m x 120 m).

@@ -16,6 +16,7 @@
 
 #include "support/files.hpp"
 #include "support/shared_data.hpp"
+#include "support/tincdt_run.hpp"
 
 namespace {
 
@@ -317,13 +318,7 @@ TEST(ContourConventions, OptionRulesAreUsageErrors) {
       {"--contour-field h", "need --contour-lines"},
       {"--contour-lines c.gpkg --interval 2 --contour-field ''", "--contour-field"},
   };
-  for (const auto& [args, named] : cases) {
-    SCOPED_TRACE(args);
-    const Outcome r = run(dir, sample_with(args));
-    EXPECT_EQ(r.exit_code, 2) << r.messages;
-    EXPECT_TRUE(has(r.messages, named)) << r.messages;
-  }
-  EXPECT_EQ(tincdt::test::names_in(dir), std::set<std::string>{});
+  tincdt::test::expect_usage_errors(dir, sample_with(""), cases);
 }
 
 // ---- 6. short numbers in messages ---------------------------------------------------------------

@@ -14,6 +14,7 @@
 #include "support/files.hpp"
 #include "support/gltf_files.hpp"
 #include "support/shared_data.hpp"
+#include "support/tincdt_run.hpp"
 #include "support/web_tools.hpp"
 
 namespace {
@@ -22,19 +23,10 @@ namespace fs = std::filesystem;
 using tincdt::test::member;
 using tincdt::test::number_at;
 
-struct Outcome {
-  int exit_code;
-  std::string messages;  // standard error
-};
+using Outcome = tincdt::test::ShellRun;
 
-// tincdt ARGS in folder DIR.
 Outcome run(const std::string& dir, const std::string& args) {
-  const std::string err = dir + "/stderr.txt";
-  const int status = std::system(
-      ("cd '" + dir + "' && '" TINCDT_EXE "' " + args + " 2> '" + err + "' > /dev/null").c_str());
-  Outcome r{WIFEXITED(status) ? WEXITSTATUS(status) : -1, tincdt::test::slurp(err)};
-  fs::remove(err);
-  return r;
+  return tincdt::test::run_tincdt(dir, args);
 }
 
 const std::string kSample = std::string(TINCDT_SOURCE_DIR) + "/data/sample.las";

@@ -9,24 +9,16 @@
 #include <string>
 
 #include "support/files.hpp"
+#include "support/tincdt_run.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Outcome {
-  int exit_code;
-  std::string messages;  // standard error
-};
+using Outcome = tincdt::test::ShellRun;
 
-// tincdt ARGS in folder DIR.
 Outcome run(const std::string& dir, const std::string& args) {
-  const std::string err = dir + "/stderr.txt";
-  const int status = std::system(
-      ("cd '" + dir + "' && '" TINCDT_EXE "' " + args + " 2> '" + err + "' > /dev/null").c_str());
-  Outcome r{WIFEXITED(status) ? WEXITSTATUS(status) : -1, tincdt::test::slurp(err)};
-  fs::remove(err);
-  return r;
+  return tincdt::test::run_tincdt(dir, args);
 }
 
 const std::string kSample = std::string(TINCDT_SOURCE_DIR) + "/data/sample.las";
@@ -44,13 +36,7 @@ TEST(ProductsCli, MissingOrStrayProductOptionsAreUsageErrors) {
       {"--contour-lines c.gpkg --interval -2", "--interval"},
       {"--offset auto", "--offset"},
   };
-  for (const auto& [args, named] : cases) {
-    SCOPED_TRACE(args);
-    const Outcome r = run(dir, "'" + kSample + "' -o t.gpkg " + args);
-    EXPECT_EQ(r.exit_code, 2) << r.messages;
-    EXPECT_NE(r.messages.find(named), std::string::npos) << r.messages;
-  }
-  EXPECT_EQ(tincdt::test::names_in(dir), std::set<std::string>{});
+  tincdt::test::expect_usage_errors(dir, "'" + kSample + "' -o t.gpkg", cases);
 }
 
 TEST(ProductsCli, EveryProductInOneRun) {

@@ -41,10 +41,7 @@ using ::testing::Not;
 const fs::path kTmp = fs::path(TINCDT_TEST_TMP) / "hostile";
 
 std::string scratch(const std::string& name, const std::string& bytes) {
-  fs::create_directories(kTmp);
-  const fs::path p = kTmp / name;
-  test::spit(p, bytes);
-  return p.string();
+  return test::scratch_file("hostile", name, bytes);
 }
 
 std::vector<Point3> points_of(const std::string& path) {

@@ -42,6 +42,15 @@ inline std::set<std::string> names_in(const std::filesystem::path& dir) {
   return names;
 }
 
+// BYTES written to TINCDT_TEST_TMP/FOLDER/NAME (the folder made when missing); its path.
+inline std::string scratch_file(const std::string& folder, const std::string& name,
+                                const std::string& bytes) {
+  const std::filesystem::path dir = std::filesystem::path(TINCDT_TEST_TMP) / folder;
+  std::filesystem::create_directories(dir);
+  spit(dir / name, bytes);
+  return (dir / name).string();
+}
+
 // DIR, emptied (and created when missing).
 inline std::filesystem::path fresh_dir(const std::filesystem::path& dir) {
   std::filesystem::remove_all(dir);

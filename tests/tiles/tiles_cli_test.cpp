@@ -23,6 +23,7 @@
 
 #include "support/files.hpp"
 #include "support/mesh_files.hpp"
+#include "support/spawn.hpp"
 
 extern char** environ;
 
@@ -37,34 +38,11 @@ struct Outcome {
 
 // Runs ARGS (ARGS[0] the program) in DIR, stderr captured.
 Outcome run(const fs::path& dir, std::vector<std::string> args) {
-  const fs::path err_path = dir / ".stderr";
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, 2, err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
-                                   0644);
-  std::vector<char*> argv;
-  for (std::string& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  const fs::path here = fs::current_path();
-  fs::current_path(dir);
-  pid_t pid = 0;
-  const int rc = posix_spawnp(&pid, argv[0], &actions, nullptr, argv.data(), environ);
-  fs::current_path(here);
-  posix_spawn_file_actions_destroy(&actions);
-  Outcome r;
-  if (rc != 0) {
-    ADD_FAILURE() << "cannot run " << args[0] << ": " << std::strerror(rc);
-    return r;
-  }
-  int status = 0;
-  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-  }
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.err = tincdt::test::slurp(err_path);
-  fs::remove(err_path);
-  return r;
+  const fs::path capture = dir / ".capture";
+  fs::create_directories(capture);
+  const tincdt::test::Spawned r = tincdt::test::spawn_captured(std::move(args), dir, capture);
+  fs::remove_all(capture);
+  return {r.exit_code, r.err};
 }
 
 Outcome tincdt_run(const fs::path& dir, std::vector<std::string> args) {

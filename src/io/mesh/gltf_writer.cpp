@@ -98,11 +98,7 @@ std::vector<double> normal_sums(const std::string& path, const mesh::Triangulati
   std::vector<double> sum(3 * number.count(), 0.0);
   tin.for_each_triangle([&](TriangleId, const std::array<VertexId, 3>& c) {
     progress.tick(done++);
-    Point3 p[3];
-    for (int i = 0; i < 3; ++i) p[i] = shifted_vertex(path, tin, c[i], options.offset);
-    const double ux = p[1].x - p[0].x, uy = p[1].y - p[0].y, uz = p[1].z - p[0].z;
-    const double vx = p[2].x - p[0].x, vy = p[2].y - p[0].y, vz = p[2].z - p[0].z;
-    const double n[3] = {uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx};
+    const std::array<double, 3> n = face_normal(path, tin, c, options.offset);
     for (const VertexId v : c) {
       double* s = &sum[3 * std::size_t{number(v)}];
       for (int k = 0; k < 3; ++k) s[k] += n[k];

@@ -123,6 +123,17 @@ inline Point3 shifted_vertex(const std::string& path, const mesh::Triangulation&
   return q;
 }
 
+// The cross product of triangle C's edges, its vertices shifted as shifted_vertex(): the face's
+// normal times twice its area, up for a counter-clockwise triangle.
+inline std::array<double, 3> face_normal(const std::string& path, const mesh::Triangulation& tin,
+                                         const std::array<VertexId, 3>& c, const Point3& offset) {
+  Point3 p[3];
+  for (int i = 0; i < 3; ++i) p[i] = shifted_vertex(path, tin, c[i], offset);
+  const double ux = p[1].x - p[0].x, uy = p[1].y - p[0].y, uz = p[1].z - p[0].z;
+  const double vx = p[2].x - p[0].x, vy = p[2].y - p[0].y, vz = p[2].z - p[0].z;
+  return {uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx};
+}
+
 inline bool is_zero(const Point3& p) {
   return p.x == 0 && p.y == 0 && p.z == 0;
 }

@@ -10,18 +10,20 @@ namespace {
 
 void write_ranges(json::Writer& w, const std::vector<TileRange>& ranges) {
   w.begin_array(json::Layout::spaced);
-  for (const TileRange& range : ranges) {
-    w.begin_object()
-        .field("startX", range.start_x)
-        .field("startY", range.start_y)
-        .field("endX", range.end_x)
-        .field("endY", range.end_y)
-        .end_object();
-  }
+  for (const TileRange& range : ranges) write_tile_range(w, range);
   w.end_array();
 }
 
 }  // namespace
+
+void write_tile_range(json::Writer& w, const TileRange& range) {
+  w.begin_object()
+      .field("startX", range.start_x)
+      .field("startY", range.start_y)
+      .field("endX", range.end_x)
+      .field("endY", range.end_y)
+      .end_object();
+}
 
 std::string layer_json(const TerrainLayer& layer) {
   assert(!layer.available.empty());

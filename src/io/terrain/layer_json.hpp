@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "core/json.hpp"
 #include "io/terrain/geographic_tiling.hpp"
 
 namespace tincdt::io::terrain {
@@ -30,6 +31,10 @@ struct TerrainLayer {
 
 // The layer.json text of LAYER (which must list at least level 0 as available).
 std::string layer_json(const TerrainLayer& layer);
+
+// One range of available tiles, {"startX":..,"startY":..,"endX":..,"endY":..}, as layer.json and
+// the tiles' metadata extension write it.
+void write_tile_range(json::Writer& w, const TileRange& range);
 
 // Writes layer_json(LAYER) to PATH safely (output_file.hpp). Throws OutputError if PATH exists
 // and !OVERWRITE, or cannot be written.

@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "core/json.hpp"
+#include "io/terrain/layer_json.hpp"
 #include "io/terrain/quantized_mesh_detail.hpp"
 
 namespace tincdt::io::terrain {
@@ -200,14 +201,7 @@ std::string metadata_json(const std::vector<std::vector<TileRange>>& available) 
   w.begin_object(json::Layout::compact).key("available").begin_array();
   for (const auto& level : available) {
     w.begin_array();
-    for (const TileRange& range : level) {
-      w.begin_object()
-          .field("startX", range.start_x)
-          .field("startY", range.start_y)
-          .field("endX", range.end_x)
-          .field("endY", range.end_y)
-          .end_object();
-    }
+    for (const TileRange& range : level) write_tile_range(w, range);
     w.end_array();
   }
   w.end_array().end_object();

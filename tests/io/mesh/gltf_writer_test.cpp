@@ -16,6 +16,7 @@
 #include <utility>
 #include <vector>
 
+#include "constrained_sample.hpp"
 #include "constraints/constraints.hpp"
 #include "core/error.hpp"
 #include "delaunay/delaunay.hpp"
@@ -63,19 +64,7 @@ mesh::Triangulation terrain(bool holes) {
     const double a = i * 0.785398, x = 60 + 15 * std::cos(a), y = 65 + 15 * std::sin(a);
     pts.push_back({kX0 + x, kY0 + y, height(x, y)});
   }
-  delaunay::DelaunayResult dt = delaunay::triangulate(std::move(pts), {.keep_point_map = true});
-  std::vector<constraints::Segment> segs;
-  for (std::uint32_t i = 0; i + 1 < 6; ++i)
-    segs.push_back({dt.vertex_of_point[first + i], dt.vertex_of_point[first + i + 1], 0});
-  for (std::uint32_t i = 0; i < 8; ++i)
-    segs.push_back({dt.vertex_of_point[ring + i], dt.vertex_of_point[ring + (i + 1) % 8], 1});
-  constraints::insert_constraints(dt.tin, segs);
-  if (holes) {
-    for (TriangleId t = 0; t < dt.tin.triangle_slots(); t += 7)
-      if (!dt.tin.is_ghost(t)) dt.tin.set_removed(t, true);
-    dt.tin.recount();
-  }
-  return std::move(dt.tin);
+  return test::constrained_sample(std::move(pts), first, ring, holes);
 }
 
 // An nx by ny grid of vertices one metre apart (for the index type's threshold).
@@ -336,30 +325,6 @@ TEST(GltfWriter, IsTheFormatOfGlb) {
   EXPECT_EQ(format_info(TinFormat::glb).title, "glTF");
   EXPECT_TRUE(format_takes_offset(TinFormat::glb));
   EXPECT_FALSE(wants_prj(TinFormat::glb, crs_from_user("EPSG:32611")));
-}
-
-TEST(GltfWriter, ReportsProgressAndStopsWhenAsked) {
-  const std::string dir = test::scratch_dir("gltf_writer");
-  const mesh::Triangulation tin = terrain(true);
-  std::vector<double> seen;
-  const ProgressFn record = [&seen](std::string_view stage, double fraction) {
-    EXPECT_EQ(stage, "write");
-    seen.push_back(fraction);
-    return true;
-  };
-  TinWriteOptions o;
-  o.progress = &record;
-  write_tin(dir + "/t.glb", tin, o);
-  ASSERT_GE(seen.size(), 3u);
-  EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end()));
-  EXPECT_EQ(seen.front(), 0.0);
-  EXPECT_EQ(seen.back(), 1.0);
-  fs::remove(dir + "/t.glb");
-
-  const ProgressFn stop = [](std::string_view, double fraction) { return fraction < 0.5; };
-  o.progress = &stop;
-  EXPECT_THROW(write_tin(dir + "/t.glb", tin, o), Cancelled);
-  EXPECT_TRUE(test::names_in(dir).empty());
 }
 
 // ---- the Khronos glTF validator ----------------------------------------------------------------

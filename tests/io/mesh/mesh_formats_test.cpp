@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "constrained_sample.hpp"
 #include "constraints/constraints.hpp"
 #include "core/error.hpp"
 #include "delaunay/delaunay.hpp"
@@ -49,19 +50,7 @@ mesh::Triangulation sample_tin(bool holes) {
     const double a = i * 0.785398;
     pts.push_back({kX0 + 60 + 15 * std::cos(a), kY0 + 65 + 15 * std::sin(a), 130});
   }
-  delaunay::DelaunayResult dt = delaunay::triangulate(std::move(pts), {.keep_point_map = true});
-  std::vector<constraints::Segment> segs;
-  for (std::uint32_t i = 0; i + 1 < 6; ++i)
-    segs.push_back({dt.vertex_of_point[first + i], dt.vertex_of_point[first + i + 1], 0});
-  for (std::uint32_t i = 0; i < 8; ++i)
-    segs.push_back({dt.vertex_of_point[ring + i], dt.vertex_of_point[ring + (i + 1) % 8], 1});
-  constraints::insert_constraints(dt.tin, segs);
-  if (holes) {
-    for (TriangleId t = 0; t < dt.tin.triangle_slots(); t += 7)
-      if (!dt.tin.is_ghost(t)) dt.tin.set_removed(t, true);
-    dt.tin.recount();
-  }
-  return std::move(dt.tin);
+  return test::constrained_sample(std::move(pts), first, ring, holes);
 }
 
 using Corner = std::array<double, 3>;
@@ -474,7 +463,7 @@ TEST(StlWriter, WarnsWhenFloatsWouldRoundMapCoordinates) {
 TEST(TinWriters, ReportProgressAndStopWhenAsked) {
   const std::string dir = test::scratch_dir("mesh_formats");
   const mesh::Triangulation tin = sample_tin(true);
-  for (const char* name : {"t.obj", "t.ply", "t.geojson", "t.xml", "t.gpkg", "t.stl"}) {
+  for (const char* name : {"t.obj", "t.ply", "t.geojson", "t.xml", "t.gpkg", "t.stl", "t.glb"}) {
     SCOPED_TRACE(name);
     std::vector<double> seen;
     const ProgressFn record = [&seen](std::string_view stage, double fraction) {

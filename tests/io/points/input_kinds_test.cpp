@@ -13,6 +13,7 @@
 #include "core/error.hpp"
 #include "core/types.hpp"
 #include "io/points/point_reader.hpp"
+#include "point_reading.hpp"
 #include "support/errors.hpp"
 #include "support/files.hpp"
 #include "support/shared_data.hpp"
@@ -26,25 +27,11 @@ using ::testing::HasSubstr;
 using ::testing::Not;
 
 const fs::path kData = ::tincdt::test::shared_data();
-const fs::path kTmp = fs::path(TINCDT_TEST_TMP) / "input_kinds";
+using test::input_error;
+using test::points_of;
 
 std::string scratch(const std::string& name, const std::string& bytes) {
-  fs::create_directories(kTmp);
-  const fs::path p = kTmp / name;
-  test::spit(p, bytes);
-  return p.string();
-}
-
-std::vector<Point3> points_of(const std::string& path, const PointFilter& filter = {},
-                              PointReadStats* stats = nullptr) {
-  std::vector<Point3> pts;
-  const PointReadStats s = read_points(path, filter, pts, 1);
-  if (stats != nullptr) *stats = s;
-  return pts;
-}
-
-std::optional<InputError> input_error(const std::string& path, const PointFilter& filter = {}) {
-  return test::thrown<InputError>([&] { points_of(path, filter); });
+  return test::scratch_file("input_kinds", name, bytes);
 }
 
 // Every byte printable ASCII: no message carries a file's binary bytes to the terminal.

@@ -15,6 +15,7 @@
 #include "core/error.hpp"
 #include "core/types.hpp"
 #include "io/points/point_reader.hpp"
+#include "point_reading.hpp"
 #include "support/byte_fields.hpp"
 #include "support/errors.hpp"
 #include "support/files.hpp"
@@ -30,25 +31,11 @@ using ::testing::AllOf;
 using ::testing::HasSubstr;
 
 const fs::path kData = ::tincdt::test::shared_data();
-const fs::path kTmp = fs::path(TINCDT_TEST_TMP) / "las_header_checks";
+using test::input_error;
+using test::points_of;
 
 std::string scratch(const std::string& name, const std::string& bytes) {
-  fs::create_directories(kTmp);
-  const fs::path p = kTmp / name;
-  test::spit(p, bytes);
-  return p.string();
-}
-
-std::vector<Point3> points_of(const std::string& path, const PointFilter& filter = {},
-                              PointReadStats* stats = nullptr) {
-  std::vector<Point3> pts;
-  const PointReadStats s = read_points(path, filter, pts, 1);
-  if (stats != nullptr) *stats = s;
-  return pts;
-}
-
-std::optional<InputError> input_error(const std::string& path, const PointFilter& filter = {}) {
-  return test::thrown<InputError>([&] { points_of(path, filter); });
+  return test::scratch_file("las_header_checks", name, bytes);
 }
 
 // Where the first VLR with this user id and record id starts.

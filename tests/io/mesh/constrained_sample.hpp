@@ -1,0 +1,32 @@
+// The writers' tests' sample TIN, from its points: the points POINTS with a constrained polyline
+// (the 6 points from FIRST on) and a constrained ring (the 8 points from RING on), and with HOLES
+// every 7th triangle removed, so that writers compact their vertices.
+#pragma once
+
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "constraints/constraints.hpp"
+#include "delaunay/delaunay.hpp"
+
+namespace tincdt::test {
+
+inline mesh::Triangulation constrained_sample(std::vector<Point3>&& points, std::uint32_t first,
+                                              std::uint32_t ring, bool holes) {
+  delaunay::DelaunayResult dt = delaunay::triangulate(std::move(points), {.keep_point_map = true});
+  std::vector<constraints::Segment> segs;
+  for (std::uint32_t i = 0; i + 1 < 6; ++i)
+    segs.push_back({dt.vertex_of_point[first + i], dt.vertex_of_point[first + i + 1], 0});
+  for (std::uint32_t i = 0; i < 8; ++i)
+    segs.push_back({dt.vertex_of_point[ring + i], dt.vertex_of_point[ring + (i + 1) % 8], 1});
+  constraints::insert_constraints(dt.tin, segs);
+  if (holes) {
+    for (TriangleId t = 0; t < dt.tin.triangle_slots(); t += 7)
+      if (!dt.tin.is_ghost(t)) dt.tin.set_removed(t, true);
+    dt.tin.recount();
+  }
+  return std::move(dt.tin);
+}
+
+}  // namespace tincdt::test

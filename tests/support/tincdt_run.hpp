@@ -1,0 +1,47 @@
+// The tincdt binary (TINCDT_EXE) run through the shell, as a user types it: ARGS is one string,
+// quoted as in sh. For the CLI tests that look at the exit code and the messages only.
+#pragma once
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <set>
+#include <span>
+#include <string>
+#include <utility>
+
+#include "support/files.hpp"
+
+namespace tincdt::test {
+
+struct ShellRun {
+  int exit_code;         // as the shell saw it (a signal S: 128 + S)
+  std::string messages;  // standard error
+};
+
+// tincdt ARGS in folder DIR, standard output discarded.
+inline ShellRun run_tincdt(const std::string& dir, const std::string& args) {
+  const std::string err = dir + "/stderr.txt";
+  const int status = std::system(
+      ("cd '" + dir + "' && '" TINCDT_EXE "' " + args + " 2> '" + err + "' > /dev/null").c_str());
+  ShellRun r{WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(err)};
+  std::filesystem::remove(err);
+  return r;
+}
+
+// Each case {ARGS, TEXT}: `tincdt PREFIX ARGS` in DIR is a usage error (exit 2) whose message
+// holds TEXT; and DIR stays empty (nothing written, no temporary left).
+inline void expect_usage_errors(const std::string& dir, const std::string& prefix,
+                                std::span<const std::pair<std::string, std::string>> cases) {
+  for (const auto& [args, text] : cases) {
+    SCOPED_TRACE(args);
+    const ShellRun r = run_tincdt(dir, prefix + " " + args);
+    EXPECT_EQ(r.exit_code, 2) << r.messages;
+    EXPECT_NE(r.messages.find(text), std::string::npos) << r.messages;
+  }
+  EXPECT_EQ(names_in(dir), std::set<std::string>{});
+}
+
+}  // namespace tincdt::test
