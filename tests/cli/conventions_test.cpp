@@ -110,7 +110,9 @@ TEST_F(Conventions, DashIsNoOutputFile) {
       {kSample, "-o", "t.ply", "--contour-lines", "-", "--interval", "2"},
   };
   for (const std::vector<std::string>& args : commands) {
-    SCOPED_TRACE(args[2] + " " + args[3]);
+    std::string command;
+    for (const std::string& word : args) command += " " + word;
+    SCOPED_TRACE(command);
     expect_usage_error(run(args), "cannot be standard output ('-')");
     EXPECT_EQ(files(), std::set<std::string>{});
   }
