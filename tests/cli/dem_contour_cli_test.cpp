@@ -307,20 +307,6 @@ TEST(ContourConventions, FixedLevelsLikeGdalContourFl) {
   EXPECT_TRUE(has(r.messages, "on 2 levels")) << r.messages;
 }
 
-TEST(ContourConventions, OptionRulesAreUsageErrors) {
-  const std::string dir = tincdt::test::scratch_dir("dem_contour_cli");
-  const std::pair<std::string, std::string> cases[] = {
-      {"--contour-lines c.gpkg --levels 1490 --interval 2", "--levels and --interval"},
-      {"--contour-lines c.gpkg --levels 1490 --base 1", "--base"},
-      {"--contour-lines c.gpkg --levels 1490,x", "'x' is not a number"},
-      {"--contour-lines c.gpkg --levels 1490,", "is not a number"},
-      {"--levels 1490", "need --contour-lines"},
-      {"--contour-field h", "need --contour-lines"},
-      {"--contour-lines c.gpkg --interval 2 --contour-field ''", "--contour-field"},
-  };
-  tincdt::test::expect_usage_errors(dir, sample_with(""), cases);
-}
-
 // ---- 6. short numbers in messages ---------------------------------------------------------------
 
 TEST(ShortNumbers, HugeValuesAreNotSpelledOut) {

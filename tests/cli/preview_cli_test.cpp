@@ -40,15 +40,4 @@ TEST(PreviewCli, WritesAPngGdalReads) {
   EXPECT_EQ(png->GetRasterBand(4)->GetColorInterpretation(), GCI_AlphaBand);
 }
 
-TEST(PreviewCli, UsageErrors) {
-  const std::string dir = tincdt::test::scratch_dir("preview_cli");
-  const std::pair<std::string, std::string> cases[] = {
-      {"--preview p.jpg", "--preview writes a PNG"},
-      {"--preview-size 200", "--preview-size needs --preview"},
-      {"--preview p.png --preview-size 1", "--preview-size"},
-      {"--preview p.png --preview-size 99999", "--preview-size"},
-  };
-  tincdt::test::expect_usage_errors(dir, kSample + " -o t.ply", cases);
-}
-
 }  // namespace

@@ -23,22 +23,6 @@ Outcome run(const std::string& dir, const std::string& args) {
 
 const std::string kSample = std::string(TINCDT_SOURCE_DIR) + "/data/sample.las";
 
-TEST(ProductsCli, MissingOrStrayProductOptionsAreUsageErrors) {
-  const std::string dir = tincdt::test::scratch_dir("products_cli");
-  const std::pair<std::string, std::string> cases[] = {
-      {"--dem d.tif", "--resolution"},
-      {"--resolution 1", "--dem"},
-      {"--dem d.tif --resolution 0", "--resolution"},
-      {"--dem d.tif --resolution 1 --dem-extent 10 0 5 5", "--dem-extent"},
-      {"--dem d.tif --resolution 1 --dem-nodata x", "--dem-nodata"},
-      {"--contour-lines c.gpkg", "--interval"},
-      {"--interval 2", "--contour-lines"},
-      {"--contour-lines c.gpkg --interval -2", "--interval"},
-      {"--offset auto", "--offset"},
-  };
-  tincdt::test::expect_usage_errors(dir, "'" + kSample + "' -o t.gpkg", cases);
-}
-
 TEST(ProductsCli, EveryProductInOneRun) {
   const std::string dir = tincdt::test::scratch_dir("products_cli");
   const Outcome r = run(dir, "'" + kSample +

@@ -38,11 +38,8 @@ using ::testing::AllOf;
 using ::testing::HasSubstr;
 using ::testing::Not;
 
-const fs::path kTmp = fs::path(TINCDT_TEST_TMP) / "hostile";
-
-std::string scratch(const std::string& name, const std::string& bytes) {
-  return test::scratch_file("hostile", name, bytes);
-}
+const test::ScratchFolder scratch("hostile");
+const fs::path kTmp = scratch.path();
 
 std::vector<Point3> points_of(const std::string& path) {
   std::vector<Point3> pts;

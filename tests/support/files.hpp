@@ -15,6 +15,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <utility>
 
 namespace tincdt::test {
 
@@ -50,6 +51,19 @@ inline std::string scratch_file(const std::string& folder, const std::string& na
   spit(dir / name, bytes);
   return (dir / name).string();
 }
+
+// A test file's scratch folder: scratch("name", bytes) writes a file there and gives its path.
+class ScratchFolder {
+ public:
+  explicit ScratchFolder(std::string folder) : folder_(std::move(folder)) {}
+  std::string operator()(const std::string& name, const std::string& bytes) const {
+    return scratch_file(folder_, name, bytes);
+  }
+  std::filesystem::path path() const { return std::filesystem::path(TINCDT_TEST_TMP) / folder_; }
+
+ private:
+  std::string folder_;
+};
 
 // DIR, emptied (and created when missing).
 inline std::filesystem::path fresh_dir(const std::filesystem::path& dir) {

@@ -30,9 +30,7 @@ const fs::path kData = ::tincdt::test::shared_data();
 using test::input_error;
 using test::points_of;
 
-std::string scratch(const std::string& name, const std::string& bytes) {
-  return test::scratch_file("input_kinds", name, bytes);
-}
+const test::ScratchFolder scratch("input_kinds");
 
 // Every byte printable ASCII: no message carries a file's binary bytes to the terminal.
 bool printable(const std::string& text) {

@@ -40,27 +40,15 @@ using ::testing::Not;
 const fs::path kData = ::tincdt::test::shared_data();
 
 // Own subfolder: the writers test shares TINCDT_TEST_TMP.
-const fs::path kTmp = fs::path(TINCDT_TEST_TMP) / "readers";
-
-// Writes CONTENT to a fresh file in the scratch folder and returns its path.
-std::string scratch_file(const std::string& name, const std::string& content) {
-  fs::create_directories(kTmp);
-  const fs::path p = kTmp / name;
-  std::ofstream out(p, std::ios::binary | std::ios::trunc);
-  out.write(content.data(), static_cast<std::streamsize>(content.size()));
-  return p.string();
-}
+const test::ScratchFolder scratch_file("readers");
+const fs::path kTmp = scratch_file.path();
 
 // The few public-header fields the tests need, read here independently of the reader.
 struct RawHeader {
-  int minor = 0;
-  int format = 0;
-  std::size_t record_length = 0;
-  std::size_t offset_to_points = 0;
+  int minor = 0, format = 0;
+  std::size_t record_length = 0, offset_to_points = 0;
   std::uint64_t count = 0;
-  double scale[3] = {};
-  double max[3] = {};
-  double min[3] = {};
+  double scale[3] = {}, max[3] = {}, min[3] = {};
 };
 
 RawHeader raw_header(const std::string& b) {
