@@ -36,7 +36,6 @@ namespace {
 namespace fs = std::filesystem;
 using ::testing::AllOf;
 using ::testing::HasSubstr;
-using ::testing::Not;
 
 const test::ScratchFolder scratch("hostile");
 const fs::path kTmp = scratch.path();
@@ -222,7 +221,8 @@ TEST(HostileLas, FormatByte255IsNoFormatNotLaz) {
   spec.format_byte = 255;
   spec.records = {{0, 0, 0}};
   EXPECT_THAT(points_error(scratch("f255.las", las_bytes(spec))),
-              AllOf(HasSubstr("unsupported point data record format 255"), Not(HasSubstr("LAZ"))));
+              AllOf(HasSubstr("unsupported point data record format 255"),
+                    ::testing::Not(HasSubstr("LAZ"))));
   spec.format_byte = 0x80;  // LASzip's mark on format 0, but no LASzip VLR
   EXPECT_THAT(points_error(scratch("f128.las", las_bytes(spec))),
               AllOf(HasSubstr("compressed (LAZ)"), HasSubstr("no LASzip VLR")));

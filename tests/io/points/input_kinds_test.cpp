@@ -21,12 +21,10 @@
 namespace tincdt::io {
 namespace {
 
-namespace fs = std::filesystem;
-using ::testing::AllOf;
 using ::testing::HasSubstr;
 using ::testing::Not;
 
-const fs::path kData = ::tincdt::test::shared_data();
+const std::filesystem::path kData = ::tincdt::test::shared_data();
 using test::input_error;
 using test::points_of;
 
@@ -72,7 +70,7 @@ TEST(InputKinds, RastersAndVectorFilesAreNamed) {
     const auto e = input_error(c.path);
     ASSERT_TRUE(e);
     EXPECT_EQ(e->file(), c.path);
-    EXPECT_THAT(e->detail(), AllOf(HasSubstr(c.kind), HasSubstr("not a point file")));
+    EXPECT_THAT(e->detail(), ::testing::AllOf(HasSubstr(c.kind), HasSubstr("not a point file")));
     EXPECT_EQ(e->remedy(), c.remedy);
     EXPECT_TRUE(printable(e->what())) << e->what();
     // The library names no option of the command line.
