@@ -47,6 +47,8 @@ struct ContourLine {
   bool closed;        // a ring: its last point repeats its first
   std::size_t first;  // its points are ContourSet::points[first, first + count)
   std::size_t count;  // >= 2; >= 4 for a ring
+
+  bool operator==(const ContourLine&) const = default;
 };
 
 // Lines ordered by level, then as traced. Along every line the ground above the level is on the

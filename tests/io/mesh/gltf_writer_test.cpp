@@ -125,6 +125,13 @@ Mesh read_mesh(const std::string& path, const Point3& offset = {0, 0, 0}) {
   return m;
 }
 
+// TIN written as a GLB with the default options, and read back.
+Mesh glb_of(const mesh::Triangulation& tin) {
+  const std::string path = test::scratch_dir("gltf_writer") + "/tin.glb";
+  write_tin(path, tin, {});
+  return read_mesh(path);
+}
+
 void expect_near_vertex(const mesh::Triangulation& tin, VertexId v,
                         const std::array<double, 3>& p) {
   EXPECT_NEAR(p[0], tin.point(v).x, kMillimetre) << "vertex " << v;
@@ -149,14 +156,8 @@ TEST(GltfWriter, WritesTheKeptTrianglesAroundTheBoundingBoxCentre) {
     SCOPED_TRACE(holes ? "with removed triangles" : "whole");
     const std::string dir = test::scratch_dir("gltf_writer");
     const mesh::Triangulation tin = terrain(holes);
-    TinWriteOptions o;
-    o.crs_wkt = crs_from_user("EPSG:32611");
-    const std::string path = dir + "/tin.glb";
-    const TinWriteStats stats = write_tin(path, tin, o);
-    EXPECT_EQ(stats.bytes, fs::file_size(path));
-    EXPECT_EQ(test::names_in(dir), std::set<std::string>{"tin.glb"});  // no .prj: the CRS is in
-
-    const Mesh m = read_mesh(path);
+    const TinWriteStats stats = test::write_alone_with_crs(dir, "tin.glb", tin);
+    const Mesh m = read_mesh(dir + "/tin.glb");
     const auto faces = kept_triangles(tin);
     EXPECT_EQ(stats.triangles, faces.size());
     std::set<VertexId> used;
@@ -177,10 +178,8 @@ TEST(GltfWriter, WritesTheKeptTrianglesAroundTheBoundingBoxCentre) {
 }
 
 TEST(GltfWriter, BoundsAreExactlyThoseOfThePositions) {
-  const std::string dir = test::scratch_dir("gltf_writer");
   const mesh::Triangulation tin = terrain(true);
-  write_tin(dir + "/tin.glb", tin, {});
-  const Mesh m = read_mesh(dir + "/tin.glb");
+  const Mesh m = glb_of(tin);
   ASSERT_FALSE(m.raw_positions.empty());
   for (int k = 0; k < 3; ++k) {
     double lo = m.raw_positions[k], hi = lo;
@@ -197,10 +196,8 @@ TEST(GltfWriter, BoundsAreExactlyThoseOfThePositions) {
 // Delaunay triangulation of jittered points leaves steep slivers, whose 3D area dominates the
 // area weights) the vertex normals follow the terrain's gentle slopes.
 TEST(GltfWriter, NormalsAreUnitAndFacesPointUp) {
-  const std::string dir = test::scratch_dir("gltf_writer");
   const mesh::Triangulation tin = terrain(true);
-  write_tin(dir + "/tin.glb", tin, {});
-  const Mesh m = read_mesh(dir + "/tin.glb");
+  const Mesh m = glb_of(tin);
   ASSERT_FALSE(m.normals.empty());
   const double half_width = number_at(m.glb.json, {"accessors", "0", "max", "0"});
   std::size_t inner = 0;
@@ -226,10 +223,8 @@ TEST(GltfWriter, NormalsAreUnitAndFacesPointUp) {
 }
 
 TEST(GltfWriter, ConstrainedEdgesAreALinesPrimitive) {
-  const std::string dir = test::scratch_dir("gltf_writer");
   const mesh::Triangulation tin = terrain(true);
-  write_tin(dir + "/tin.glb", tin, {});
-  const Mesh m = read_mesh(dir + "/tin.glb");
+  const Mesh m = glb_of(tin);
   const json::Value* lines = member(m.glb.json, {"meshes", "0", "primitives", "1"});
   ASSERT_NE(lines, nullptr);
   EXPECT_EQ(number_at(*lines, {"mode"}), 1);  // LINES
@@ -254,9 +249,7 @@ TEST(GltfWriter, ConstrainedEdgesAreALinesPrimitive) {
 }
 
 TEST(GltfWriter, WithoutConstrainedEdgesOnePrimitive) {
-  const std::string dir = test::scratch_dir("gltf_writer");
-  write_tin(dir + "/tin.glb", grid(5, 4), {});
-  const Mesh m = read_mesh(dir + "/tin.glb");
+  const Mesh m = glb_of(grid(5, 4));
   EXPECT_EQ(member(m.glb.json, {"meshes", "0", "primitives"})->items().size(), 1u);
   EXPECT_EQ(member(m.glb.json, {"accessors", "3"}), nullptr);
   EXPECT_EQ(m.positions.size(), 20u);
