@@ -2,16 +2,15 @@
 // coordinates beyond the range, a broken VLR chain, a raster or vector file given as points, a
 // PLY TIN given as points, and class filters on XYZ text.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <cstdint>
-#include <cstdlib>
 #include <filesystem>
 #include <string>
 
 #include "support/byte_fields.hpp"
 #include "support/files.hpp"
 #include "support/shared_data.hpp"
+#include "support/tincdt_run.hpp"
 
 namespace {
 
@@ -21,24 +20,8 @@ using tincdt::test::put;
 using tincdt::test::slurp;
 using tincdt::test::spit;
 
-struct Outcome {
-  int exit_code;
-  std::string messages;  // standard error and output
-};
-
-std::ostream& operator<<(std::ostream& os, const Outcome& r) {
-  return os << "exit " << r.exit_code << "\n" << r.messages;
-}
-
-// tincdt ARGS in folder DIR.
-Outcome run(const std::string& dir, const std::string& args) {
-  const std::string log = dir + "/messages.txt";
-  const int status = std::system(
-      ("cd '" + dir + "' && '" TINCDT_EXE "' " + args + " > '" + log + "' 2>&1").c_str());
-  Outcome r{WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(log)};
-  fs::remove(log);
-  return r;
-}
+using Outcome = tincdt::test::ShellRun;
+using tincdt::test::run_tincdt;
 
 bool has(const Outcome& r, const std::string& text) {
   return r.messages.find(text) != std::string::npos;
@@ -82,7 +65,7 @@ TEST(PointInputsCli, ALazHeaderCountAboveItsDataIsAnError) {
   put<std::uint64_t>(b, 247, 37806);
   spit(dir + "/more.laz", b);
   // tincdt more.laz -o t.ply
-  const Outcome r = run(dir, "more.laz -o t.ply");
+  const Outcome r = run_tincdt(dir, "more.laz -o t.ply");
   EXPECT_EQ(r.exit_code, 1) << r;
   EXPECT_TRUE(has(r, "more.laz") && has(r, "37806") && has(r, "37805")) << r;
   EXPECT_FALSE(fs::exists(dir + "/t.ply"));
@@ -95,7 +78,7 @@ TEST(PointInputsCli, ALasHeaderCountIntoItsExtendedVlrsIsAnError) {
   put<std::uint64_t>(b, 247, get<std::uint64_t>(b, 247) + 1);
   spit(dir + "/more.las", b);
   // tincdt more.las -o t.ply
-  const Outcome r = run(dir, "more.las -o t.ply");
+  const Outcome r = run_tincdt(dir, "more.las -o t.ply");
   EXPECT_EQ(r.exit_code, 1) << r;
   EXPECT_TRUE(has(r, "more.las") && has(r, "1001") && has(r, "1000 records")) << r;
 }
@@ -109,7 +92,7 @@ TEST(PointInputsCli, AHugeScaleIsAnErrorNamingTheHeaderField) {
     put<double>(b, 131, 1e300);  // X scale factor
     spit(dir + "/" + name, b);
     // tincdt simple.laz -o t.ply
-    const Outcome r = run(dir, std::string(name) + " -o t.ply");
+    const Outcome r = run_tincdt(dir, std::string(name) + " -o t.ply");
     EXPECT_EQ(r.exit_code, 1) << r;
     EXPECT_TRUE(has(r, name) && has(r, "X scale factor") && has(r, "1e15")) << r;
   }
@@ -127,7 +110,7 @@ TEST(PointInputsCli, AVlrRunningPastThePointDataIsAWarningAndItsCrsKept) {
   put<std::uint16_t>(b, pos + 20, 60000);
   spit(dir + "/long_vlr.laz", b);
   // tincdt long_vlr.laz -o t.ply
-  const Outcome r = run(dir, "long_vlr.laz -o t.ply");
+  const Outcome r = run_tincdt(dir, "long_vlr.laz -o t.ply");
   EXPECT_EQ(r.exit_code, 0) << r;
   EXPECT_TRUE(has(r, "long_vlr.laz: variable length record 2")) << r;
   EXPECT_TRUE(fs::exists(dir + "/t.prj")) << r;  // the CRS was kept
@@ -153,7 +136,7 @@ TEST(PointInputsCli, RastersAndVectorFilesAsPointsAreNamedErrors) {
   for (const Case& c : cases) {
     SCOPED_TRACE(c.input);
     // tincdt elev_lux.tif -o t.ply
-    const Outcome r = run(dir, "'" + c.input + "' -o t.ply");
+    const Outcome r = run_tincdt(dir, "'" + c.input + "' -o t.ply");
     EXPECT_EQ(r.exit_code, 1) << r;
     EXPECT_TRUE(has(r, c.kind) && has(r, "not a point file")) << r;
     EXPECT_EQ(has(r, "--contours"), c.vector) << r;
@@ -164,13 +147,13 @@ TEST(PointInputsCli, RastersAndVectorFilesAsPointsAreNamedErrors) {
 TEST(PointInputsCli, APlyTinIsAPointInput) {
   const std::string dir = tincdt::test::scratch_dir("point_inputs_cli");
   // tincdt sample.las -o tin.ply, then tincdt tin.ply -o again.ply (binary and ASCII)
-  ASSERT_EQ(run(dir, "'" + kSample + "' -o tin.ply").exit_code, 0);
-  ASSERT_EQ(run(dir, "'" + kSample + "' -o tin_ascii.ply --ply-ascii").exit_code, 0);
+  ASSERT_EQ(run_tincdt(dir, "'" + kSample + "' -o tin.ply").exit_code, 0);
+  ASSERT_EQ(run_tincdt(dir, "'" + kSample + "' -o tin_ascii.ply --ply-ascii").exit_code, 0);
   const std::uint64_t vertices = ply_vertices(dir + "/tin.ply");
   ASSERT_GT(vertices, 3u);
   for (const char* input : {"tin.ply", "tin_ascii.ply"}) {
     SCOPED_TRACE(input);
-    const Outcome r = run(dir, std::string(input) + " -o again.ply --overwrite");
+    const Outcome r = run_tincdt(dir, std::string(input) + " -o again.ply --overwrite");
     EXPECT_EQ(r.exit_code, 0) << r;
     EXPECT_EQ(ply_vertices(dir + "/again.ply"), vertices) << r;
     EXPECT_TRUE(has(r, "read " + grouped(vertices) + " points")) << r;
@@ -192,17 +175,17 @@ TEST(PointInputsCli, ClassFiltersOnXyzText) {
   spit(dir + "/points.csv", csv);
   spit(dir + "/plain.xyz", "0 0 1\n1 0 2\n0 1 3\n1 1 4\n");
   // tincdt points.csv --keep-class 2 -o t.ply
-  Outcome r = run(dir, "points.csv --keep-class 2 -o t.ply");
+  Outcome r = run_tincdt(dir, "points.csv --keep-class 2 -o t.ply");
   EXPECT_EQ(r.exit_code, 0) << r;
   EXPECT_TRUE(has(r, "kept " + grouped(static_cast<std::uint64_t>(ground)))) << r;
   EXPECT_EQ(ply_vertices(dir + "/t.ply"), static_cast<std::uint64_t>(ground)) << r;
   // tincdt plain.xyz --keep-class 2 -o u.ply
-  r = run(dir, "plain.xyz --keep-class 2 -o u.ply");
+  r = run_tincdt(dir, "plain.xyz --keep-class 2 -o u.ply");
   EXPECT_EQ(r.exit_code, 1) << r;
   EXPECT_TRUE(has(r, "plain.xyz") && has(r, "no classification column") && has(r, "--keep-class"))
       << r;
   // tincdt points.csv --first-only -o u.ply
-  r = run(dir, "points.csv --first-only -o u.ply");
+  r = run_tincdt(dir, "points.csv --first-only -o u.ply");
   EXPECT_EQ(r.exit_code, 1) << r;
   EXPECT_TRUE(has(r, "points.csv") && has(r, "no return numbers") && has(r, "--first-only")) << r;
   EXPECT_FALSE(fs::exists(dir + "/u.ply"));

@@ -7,6 +7,7 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <ostream>
 #include <set>
 #include <span>
 #include <string>
@@ -20,6 +21,10 @@ struct ShellRun {
   int exit_code;         // as the shell saw it (a signal S: 128 + S)
   std::string messages;  // standard error
 };
+
+inline std::ostream& operator<<(std::ostream& os, const ShellRun& r) {
+  return os << "exit " << r.exit_code << "\n" << r.messages;
+}
 
 // tincdt ARGS in folder DIR, standard output discarded.
 inline ShellRun run_tincdt(const std::string& dir, const std::string& args) {

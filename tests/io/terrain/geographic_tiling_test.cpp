@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <numbers>
+#include <string>
 
 namespace tincdt::io::terrain {
 namespace {
@@ -39,24 +40,18 @@ TEST(GeographicTiling, ChildrenCoverTheirParentExactly) {
   for (const TileKey parent : {TileKey{0, 1, 0}, TileKey{5, 37, 11}, TileKey{17, 200001, 70001},
                                TileKey{29, 1000000007, 300000001}}) {
     const GeoRectangle p = tile_rectangle(parent);
-    const GeoRectangle sw = tile_rectangle({parent.level + 1, 2 * parent.x, 2 * parent.y});
-    const GeoRectangle se = tile_rectangle({parent.level + 1, 2 * parent.x + 1, 2 * parent.y});
-    const GeoRectangle nw = tile_rectangle({parent.level + 1, 2 * parent.x, 2 * parent.y + 1});
-    const GeoRectangle ne = tile_rectangle({parent.level + 1, 2 * parent.x + 1, 2 * parent.y + 1});
-    EXPECT_EQ(sw.west, p.west);
-    EXPECT_EQ(nw.west, p.west);
-    EXPECT_EQ(se.east, p.east);
-    EXPECT_EQ(ne.east, p.east);
-    EXPECT_EQ(sw.south, p.south);
-    EXPECT_EQ(se.south, p.south);
-    EXPECT_EQ(nw.north, p.north);
-    EXPECT_EQ(ne.north, p.north);
-    EXPECT_EQ(sw.east, se.west);
-    EXPECT_EQ(nw.east, ne.west);
-    EXPECT_EQ(sw.north, nw.south);
-    EXPECT_EQ(se.north, ne.south);
-    EXPECT_EQ(sw.east, (p.west + p.east) / 2);
-    EXPECT_EQ(sw.north, (p.south + p.north) / 2);
+    const double middle_lon = (p.west + p.east) / 2, middle_lat = (p.south + p.north) / 2;
+    for (const std::uint32_t east : {0u, 1u}) {
+      for (const std::uint32_t north : {0u, 1u}) {
+        SCOPED_TRACE(std::string(north ? "north" : "south") + (east ? "east" : "west"));
+        const GeoRectangle c =
+            tile_rectangle({parent.level + 1, 2 * parent.x + east, 2 * parent.y + north});
+        EXPECT_EQ(c.west, east ? middle_lon : p.west);
+        EXPECT_EQ(c.east, east ? p.east : middle_lon);
+        EXPECT_EQ(c.south, north ? middle_lat : p.south);
+        EXPECT_EQ(c.north, north ? p.north : middle_lat);
+      }
+    }
   }
 }
 
