@@ -10,10 +10,7 @@
 # TINCDT_BENCH_BUILD (build/bench), REPEAT (3), DATASETS, NO_PSLG=1, NO_JOB=1.
 # Installs the benchmark-only packages (CGAL, numpy, GDAL's Python bindings, GNU time).
 set -euo pipefail
-ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
-SHARED="${TINCDT_SHARED:-$ROOT/../shared}"
-DATA="${TINBENCH_DATA:-/tmp/tinbench}"
-BUILD="${TINCDT_BENCH_BUILD:-$ROOT/build/bench}"
+source "$(dirname "${BASH_SOURCE[0]}")/bench_env.sh"
 export REPEAT="${REPEAT:-3}"
 export DATASETS="${DATASETS:-uniform_1M uniform_4M grid_4M}"
 export TINBENCH_DATA="$DATA"

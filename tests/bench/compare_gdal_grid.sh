@@ -10,10 +10,7 @@
 # TINCDT_BENCH_BUILD (build/bench), OUT (/tmp/tincdt_gdal_grid), REPEAT (1), CASES (the dem
 # section's data: uniform_1M pair_topography pair_autzen).
 set -euo pipefail
-ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
-SHARED="${TINCDT_SHARED:-$ROOT/../shared}"
-DATA="${TINBENCH_DATA:-/tmp/tinbench}"
-BUILD="${TINCDT_BENCH_BUILD:-$ROOT/build/bench}"
+source "$(dirname "${BASH_SOURCE[0]}")/bench_env.sh"
 OUT="${OUT:-/tmp/tincdt_gdal_grid}"
 
 "$ROOT/cmake/setup.sh" python3-numpy python3-gdal gdal-bin time

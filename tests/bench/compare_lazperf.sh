@@ -13,9 +13,8 @@
 # autzen_trim's full chunks in a larger file made by make_big_laz, 0 = none), BIG_DIR
 # (/tmp/tincdt_laz).
 set -euo pipefail
-ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
-SHARED="${TINCDT_SHARED:-$ROOT/../shared}"
-BUILD="${TINCDT_BENCH_BUILD:-$ROOT/build/test}"
+source "$(dirname "${BASH_SOURCE[0]}")/bench_env.sh"
+BUILD="${TINCDT_BENCH_BUILD:-$ROOT/build/test}"  # laz_bench is a test-tree target
 ROUNDS="${ROUNDS:-5}"
 REPEAT="${REPEAT:-5}"
 THREADS="${THREADS:-$(nproc)}"

@@ -12,16 +12,11 @@
 #include "support/shared_data.hpp"
 #include "support/tincdt_run.hpp"
 
+namespace tincdt::test {
 namespace {
 
 namespace fs = std::filesystem;
-using tincdt::test::get;
-using tincdt::test::put;
-using tincdt::test::slurp;
-using tincdt::test::spit;
-
-using Outcome = tincdt::test::ShellRun;
-using tincdt::test::run_tincdt;
+using Outcome = ShellRun;
 
 bool has(const Outcome& r, const std::string& text) {
   return r.messages.find(text) != std::string::npos;
@@ -54,12 +49,12 @@ std::string grouped(std::uint64_t n) {
   return out;
 }
 
-const fs::path kData = tincdt::test::shared_data();
+const fs::path kData = shared_data();
 const std::string kSample = std::string(TINCDT_SOURCE_DIR) + "/data/sample.las";
 
 TEST(PointInputsCli, ALazHeaderCountAboveItsDataIsAnError) {
   TINCDT_REQUIRE_SHARED_DATA("laz");
-  const std::string dir = tincdt::test::scratch_dir("point_inputs_cli");
+  const std::string dir = scratch_dir("point_inputs_cli");
   std::string b = slurp(kData / "laz" / "append-bug.laz");
   ASSERT_EQ(get<std::uint64_t>(b, 247), 37805u);
   put<std::uint64_t>(b, 247, 37806);
@@ -73,7 +68,7 @@ TEST(PointInputsCli, ALazHeaderCountAboveItsDataIsAnError) {
 
 TEST(PointInputsCli, ALasHeaderCountIntoItsExtendedVlrsIsAnError) {
   TINCDT_REQUIRE_SHARED_DATA("las");
-  const std::string dir = tincdt::test::scratch_dir("point_inputs_cli");
+  const std::string dir = scratch_dir("point_inputs_cli");
   std::string b = slurp(kData / "las" / "1_4_w_evlr.las");
   put<std::uint64_t>(b, 247, get<std::uint64_t>(b, 247) + 1);
   spit(dir + "/more.las", b);
@@ -85,7 +80,7 @@ TEST(PointInputsCli, ALasHeaderCountIntoItsExtendedVlrsIsAnError) {
 
 TEST(PointInputsCli, AHugeScaleIsAnErrorNamingTheHeaderField) {
   TINCDT_REQUIRE_SHARED_DATA("laz");
-  const std::string dir = tincdt::test::scratch_dir("point_inputs_cli");
+  const std::string dir = scratch_dir("point_inputs_cli");
   for (const char* name : {"simple.las", "simple.laz"}) {
     SCOPED_TRACE(name);
     std::string b = slurp(kData / (std::string(name) == "simple.las" ? "las" : "laz") / name);
@@ -100,7 +95,7 @@ TEST(PointInputsCli, AHugeScaleIsAnErrorNamingTheHeaderField) {
 
 TEST(PointInputsCli, AVlrRunningPastThePointDataIsAWarningAndItsCrsKept) {
   TINCDT_REQUIRE_SHARED_DATA("laz");
-  const std::string dir = tincdt::test::scratch_dir("point_inputs_cli");
+  const std::string dir = scratch_dir("point_inputs_cli");
   std::string b = slurp(kData / "laz" / "simple.copc.laz");
   // The last VLR, the WKT, claims more bytes than lie before the point data.
   std::size_t pos = get<std::uint16_t>(b, 94);
@@ -118,7 +113,7 @@ TEST(PointInputsCli, AVlrRunningPastThePointDataIsAWarningAndItsCrsKept) {
 
 TEST(PointInputsCli, RastersAndVectorFilesAsPointsAreNamedErrors) {
   TINCDT_REQUIRE_SHARED_DATA("dem");
-  const std::string dir = tincdt::test::scratch_dir("point_inputs_cli");
+  const std::string dir = scratch_dir("point_inputs_cli");
   spit(dir + "/lines.geojson",
        R"({"type": "FeatureCollection", "features": [{"type": "Feature", "geometry": )"
        R"({"type": "LineString", "coordinates": [[0, 0, 1], [1, 1, 1]]}}]})");
@@ -145,7 +140,7 @@ TEST(PointInputsCli, RastersAndVectorFilesAsPointsAreNamedErrors) {
 }
 
 TEST(PointInputsCli, APlyTinIsAPointInput) {
-  const std::string dir = tincdt::test::scratch_dir("point_inputs_cli");
+  const std::string dir = scratch_dir("point_inputs_cli");
   // tincdt sample.las -o tin.ply, then tincdt tin.ply -o again.ply (binary and ASCII)
   ASSERT_EQ(run_tincdt(dir, "'" + kSample + "' -o tin.ply").exit_code, 0);
   ASSERT_EQ(run_tincdt(dir, "'" + kSample + "' -o tin_ascii.ply --ply-ascii").exit_code, 0);
@@ -161,7 +156,7 @@ TEST(PointInputsCli, APlyTinIsAPointInput) {
 }
 
 TEST(PointInputsCli, ClassFiltersOnXyzText) {
-  const std::string dir = tincdt::test::scratch_dir("point_inputs_cli");
+  const std::string dir = scratch_dir("point_inputs_cli");
   std::string csv = "X,Y,Z,Classification\n";
   int ground = 0;
   for (int i = 0; i < 10; ++i) {
@@ -192,3 +187,4 @@ TEST(PointInputsCli, ClassFiltersOnXyzText) {
 }
 
 }  // namespace
+}  // namespace tincdt::test
