@@ -169,9 +169,7 @@ TEST(Rasterize, ProgressCanCancel) {
 }
 
 TEST(Grid, CoversTheExtentFromItsTopLeftCorner) {
-  BBox box;
-  box.add(10.2, 20.1);
-  box.add(13.9, 22.0);
+  const BBox box{.min_x = 10.2, .min_y = 20.1, .max_x = 13.9, .max_y = 22.0};
   const Grid g = grid_over(box, 0.5, false);
   EXPECT_EQ(g.min_x, 10.2);
   EXPECT_EQ(g.max_y, 22.0);
@@ -184,9 +182,7 @@ TEST(Grid, CoversTheExtentFromItsTopLeftCorner) {
 }
 
 TEST(Grid, TargetAlignedSnapsToMultiplesOfTheResolution) {
-  BBox box;
-  box.add(10.2, 20.1);
-  box.add(13.9, 22.0);
+  const BBox box{.min_x = 10.2, .min_y = 20.1, .max_x = 13.9, .max_y = 22.0};
   const Grid g = grid_over(box, 0.5, true);
   EXPECT_EQ(g.min_x, 10.0);
   EXPECT_EQ(g.max_y, 22.0);
@@ -202,9 +198,7 @@ TEST(Grid, TargetAlignedSnapsToMultiplesOfTheResolution) {
 }
 
 TEST(Grid, RefusesBadResolutionsAndExtents) {
-  BBox box;
-  box.add(0, 0);
-  box.add(1, 1);
+  const BBox box{.min_x = 0, .min_y = 0, .max_x = 1, .max_y = 1};
   EXPECT_THROW(grid_over(box, 0, false), Error);
   EXPECT_THROW(grid_over(box, -1, false), Error);
   EXPECT_THROW(grid_over(box, std::numeric_limits<double>::quiet_NaN(), false), Error);
