@@ -6,6 +6,7 @@
 #include <string>
 #include <string_view>
 
+#include "core/coordinates.hpp"
 #include "io/mesh/tin_writer.hpp"
 #include "pipeline/stage.hpp"
 
@@ -123,9 +124,16 @@ const OptionSpec kOptions[] = {
      .group = option_groups::output,
      .check =
          [](std::string_view v) {
-           return lower(v) == "auto" || parse_offset(v)
-                      ? std::string()
-                      : in_quotes(v) + " is neither 'auto' nor three numbers X,Y,Z";
+           if (lower(v) == "auto") return std::string();
+           const std::optional<Point3> d = parse_offset(v);
+           if (!d) return in_quotes(v) + " is neither 'auto' nor three numbers X,Y,Z";
+           // An offset beyond the coordinates' range would replace them, not shift them.
+           for (const double c : {d->x, d->y, d->z}) {
+             if (!(std::abs(c) <= kMaxCoordinate))
+               return in_quotes(v) + ": each of X,Y,Z must lie within +-" +
+                      std::string(kMaxCoordinateText) + ", the range of coordinates";
+           }
+           return std::string();
          },
      .set =
          [](BuildOptions& o, std::string_view v) {

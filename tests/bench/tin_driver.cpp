@@ -1,11 +1,13 @@
 // Benchmark driver in the format of ../shared/bench (bench_run.py): times tincdt's Delaunay
 // stage on points.bin, or its whole CDT on pslg.txt, excluding file parsing, and prints
 //   RESULT tool=tincdt mode=dt n=... tri_s=... triangles=... valid=...
-// Usage: tincdt_tin_driver dt POINTS.bin [--check]
-//        tincdt_tin_driver cdt PSLG.txt [--check]
+// Usage: tincdt_tin_driver dt POINTS.bin [--check] [--threads N]
+//        tincdt_tin_driver cdt PSLG.txt [--check] [--threads N]
+// --threads: as tincdt's (0, the default: every core).
 #include <charconv>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -57,14 +59,14 @@ void read_pslg(const std::string& path, std::vector<tincdt::Point3>& points,
   }
 }
 
-int run_cdt(const std::string& path, bool check) {
+int run_cdt(const std::string& path, bool check, unsigned threads) {
   std::vector<tincdt::Point3> points;
   std::vector<tincdt::constraints::Segment> segments;
   read_pslg(path, points, segments);
   const std::size_t n = points.size();
   const double t0 = now_s();
   tincdt::delaunay::DelaunayResult r =
-      tincdt::delaunay::triangulate(std::move(points), {.keep_point_map = true});
+      tincdt::delaunay::triangulate(std::move(points), {.keep_point_map = true, .threads = threads});
   const double t1 = now_s();
   for (auto& s : segments) {
     s.a = r.vertex_of_point[s.a];
@@ -90,16 +92,28 @@ int run_cdt(const std::string& path, bool check) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc < 3 || (std::strcmp(argv[1], "dt") != 0 && std::strcmp(argv[1], "cdt") != 0)) {
-    std::fprintf(stderr, "usage: %s dt POINTS.bin [--check] | cdt PSLG.txt [--check]\n", argv[0]);
+  bool check = false, usage = argc < 3;
+  unsigned threads = 0;
+  for (int i = 3; i < argc && !usage; ++i) {
+    if (std::strcmp(argv[i], "--check") == 0) {
+      check = true;
+    } else if (std::strcmp(argv[i], "--threads") == 0 && i + 1 < argc) {
+      threads = static_cast<unsigned>(std::strtoul(argv[++i], nullptr, 10));
+    } else {
+      usage = true;
+    }
+  }
+  if (usage || (std::strcmp(argv[1], "dt") != 0 && std::strcmp(argv[1], "cdt") != 0)) {
+    std::fprintf(stderr, "usage: %s dt POINTS.bin | cdt PSLG.txt [--check] [--threads N]\n",
+                 argv[0]);
     return 2;
   }
-  const bool check = argc > 3 && std::strcmp(argv[3], "--check") == 0;
-  if (std::strcmp(argv[1], "cdt") == 0) return run_cdt(argv[2], check);
+  if (std::strcmp(argv[1], "cdt") == 0) return run_cdt(argv[2], check, threads);
   std::vector<tincdt::Point3> points = read_points_bin(argv[2]);
   const std::size_t n = points.size();
   const double t0 = now_s();
-  tincdt::delaunay::DelaunayResult r = tincdt::delaunay::triangulate(std::move(points));
+  tincdt::delaunay::DelaunayResult r =
+      tincdt::delaunay::triangulate(std::move(points), {.threads = threads});
   const double t1 = now_s();
   const std::string problem = check ? r.tin.validate() : "";
   std::printf(

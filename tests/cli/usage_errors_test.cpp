@@ -36,6 +36,8 @@ const std::pair<std::string, std::string> kUsageErrors[] = {
     {"-o t.ply --preview p.png --preview-size 99999", "--preview-size"},
     // coordinates
     {"-o t.gpkg --offset auto", "--offset"},
+    {"-o t.ply --offset 1e308,0,0", "within +-1e15"},
+    {"-o t.ply --offset 0,0,nan", "--offset"},
 };
 
 TEST(UsageErrors, ProductOptions) {
