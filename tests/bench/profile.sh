@@ -39,9 +39,9 @@ t = json.load(open(sys.argv[1]))["timings_s"]
 for k, v in t.items(): print("%-16s %8.3f" % (k, v))' "$OUT/stats.json"
 echo
 echo "## functions by their own share of the samples (top $TOP; all: $OUT/self.txt)"
-perf report -i "$OUT/perf.data" --no-children --sort symbol --stdio 2>/dev/null |
+perf report -i "$OUT/perf.data" --no-children -F overhead,sym --stdio 2>/dev/null |
   grep -v '^#' | grep -v '^$' >"$OUT/self.txt"
 grep -E '^ +[0-9.]+%' "$OUT/self.txt" | head -n "$TOP"
 echo
 echo "## call chains (callers included): $OUT/children.txt"
-perf report -i "$OUT/perf.data" --children --sort symbol --stdio 2>/dev/null >"$OUT/children.txt"
+perf report -i "$OUT/perf.data" --children -F overhead,sym --stdio 2>/dev/null >"$OUT/children.txt"

@@ -65,8 +65,8 @@ int run_cdt(const std::string& path, bool check, unsigned threads) {
   read_pslg(path, points, segments);
   const std::size_t n = points.size();
   const double t0 = now_s();
-  tincdt::delaunay::DelaunayResult r =
-      tincdt::delaunay::triangulate(std::move(points), {.keep_point_map = true, .threads = threads});
+  tincdt::delaunay::DelaunayResult r = tincdt::delaunay::triangulate(
+      std::move(points), {.keep_point_map = true, .threads = threads});
   const double t1 = now_s();
   for (auto& s : segments) {
     s.a = r.vertex_of_point[s.a];
