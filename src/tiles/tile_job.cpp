@@ -246,16 +246,39 @@ void check_tile_options(const TileOptions& t, const BuildOptions& o) {
     throw UsageError("--max-buffer must be a length >= 0");
   if (t.buffer_fixed && t.max_buffer >= 0)
     throw UsageError("--max-buffer and --buffer-fixed exclude each other");
+  // Each of these is a function of more of the whole TIN than a tile can prove final today; the
+  // way out is the build without --plan (docs/tiling.md says what each would need).
+  const std::string whole_job = " (build without --plan for it)";
   if (o.max_edge > 0)
-    refuse("--max-edge", "it trims inward from the whole TIN's hull, which a tile does not see");
-  if (o.fix_flats) refuse("--fix-flats", "its new vertices depend on triangles beyond the tile");
+    refuse("--max-edge",
+           "it trims inward from the whole TIN's hull, through as many triangles as are long, "
+           "which a tile does not see" +
+               whole_job);
+  if (o.fix_flats)
+    refuse("--fix-flats",
+           "a flat area and the vertices that fix it span as far as the contours around it, "
+           "beyond what a tile reads" +
+               whole_job);
   if (o.max_error || o.max_vertices > 0)
     refuse(o.max_error ? "--max-error" : "--max-vertices",
            "each tile's greedy insertion would keep its own points, and the seams would not "
            "match (simplify the merged TIN, or each tile without --plan)");
-  if (!o.soft_lines.empty() || !o.clip.empty() || !o.erase.empty() || !o.replace.empty())
-    refuse("--soft-lines, --clip, --erase and --replace",
-           "their vertices are draped on triangles a tile may not have");
+  if (!o.soft_lines.empty())
+    refuse("--soft-lines",
+           "a soft line's vertices take their heights from the TIN of the points and hard lines "
+           "wherever they lie, and a tile holds that TIN only near itself" +
+               whole_job);
+  for (const auto& [given, option] : {std::pair{&o.clip, "--clip"}, {&o.erase, "--erase"}})
+    if (!given->empty())
+      refuse(option,
+             "its rings are cut to the whole TIN's hull and, in 2D, draped on the TIN, and a "
+             "tile holds that TIN only near itself" +
+                 whole_job);
+  if (!o.replace.empty())
+    refuse("--replace",
+           "its rings are draped on the TIN and cross the contours' pieces, which a tile holds "
+           "only near itself" +
+               whole_job);
   if (o.dem.extent)
     refuse("--dem-extent",
            "a tile's DEM covers exactly its tile, so that the tiles join (gdalbuildvrt)");
@@ -263,7 +286,10 @@ void check_tile_options(const TileOptions& t, const BuildOptions& o) {
     refuse(
         "--restore " +
             std::string(o.constraint.restore == constraints::Restore::aspect ? "aspect" : "none"),
-        "only the constrained Delaunay triangulation is the same whatever the tiling");
+        "the triangles it leaves depend on the order the lines come in, which differs from "
+        "tile to tile; only the constrained Delaunay triangulation is the same whatever the "
+        "tiling" +
+            whole_job);
 }
 
 BuildOptions tile_options(const TileOptions& tiling, const BuildOptions& options,

@@ -98,6 +98,47 @@ inline std::string write_rings(const fs::path& path, double cx, double cy,
   return test::write_vector(path, layers, "GeoJSON", "NAME");
 }
 
+// N polylines across [x0, x0 + side)^2, alternately west to east and south to north, each of
+// VERTICES vertices jittered off its own straight course, at the terrain's height plus a lift of
+// its own: long segments that cross each other (at heights that disagree) and the tile borders.
+inline std::string write_crossing_lines(const fs::path& path, double x0, double y0, double side,
+                                        int n, int vertices, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> across(0.05 * side, 0.95 * side);
+  std::uniform_real_distribution<double> jitter(-0.02 * side, 0.02 * side);
+  std::vector<test::VectorLayer> layers(1);
+  layers[0].name = "lines";
+  for (int i = 0; i < n; ++i) {
+    const double course = across(rng);
+    std::string wkt = "LINESTRING Z (";
+    for (int k = 0; k < vertices; ++k) {
+      const double along = side * (0.03 + 0.94 * k / (vertices - 1)), off = course + jitter(rng);
+      const double x = x0 + (i % 2 == 0 ? along : off), y = y0 + (i % 2 == 0 ? off : along);
+      char v[96];
+      std::snprintf(v, sizeof v, "%s%.17g %.17g %.17g", k ? ", " : "", x, y,
+                    terrain_height(x, y) + i);
+      wkt += v;
+    }
+    layers[0].features.push_back({wkt + ")", 0});
+  }
+  return test::write_vector(path, layers, "GeoJSON", "NAME");
+}
+
+// Straight lines of one segment each between the given ends, at the terrain's height 5 above:
+// every other line crosses them, each crossing splitting the long segment anew.
+inline std::string write_straight_lines(const fs::path& path,
+                                        const std::vector<std::array<double, 4>>& ends) {
+  std::vector<test::VectorLayer> layers(1);
+  layers[0].name = "straight";
+  for (const auto& [x0, y0, x1, y1] : ends) {
+    char wkt[200];
+    std::snprintf(wkt, sizeof wkt, "LINESTRING Z (%.17g %.17g %.17g, %.17g %.17g %.17g)", x0, y0,
+                  terrain_height(x0, y0) + 5, x1, y1, terrain_height(x1, y1) + 5);
+    layers[0].features.push_back({wkt, 0});
+  }
+  return test::write_vector(path, layers, "GeoJSON", "NAME");
+}
+
 // ---- runs ---------------------------------------------------------------------------------------
 
 using Corner = std::array<double, 3>;
