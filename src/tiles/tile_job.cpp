@@ -374,9 +374,8 @@ pipeline::BuildReport build_tile_once(const TileOptions& tiling, const BuildOpti
     files.outputs.insert(files.outputs.begin() + static_cast<std::ptrdiff_t>(before),
                          {tiling.outline, "the tile's outline (--outline)"});
   }
-  pipeline::BuildReport report = pipeline::run_job(job, list, files);
-  report.figures.emplace_back("buffer", setup.buffer);
-  return report;
+  job.report.figures.emplace_back("buffer", setup.buffer);  // before --stats is written
+  return pipeline::run_job(job, list, files);
 }
 
 // The buffer after USED proved too small: what the unsettled triangles ask for, at least twice

@@ -35,9 +35,13 @@ TEST(TileLinesCli, CrossingContoursPlanTileMergeAsTheWholeJob) {
   ASSERT_GE(n, 4u);
   std::string merge = "merge";
   for (std::size_t i = 0; i < n; ++i) {
-    const std::string tile = "tile_" + std::to_string(i) + ".ply";
-    expect_success(dir, "--plan plan.json --tile " + std::to_string(i) + " -o " + tile + " -q");
-    merge += " " + tile;
+    const std::string tile = "tile_" + std::to_string(i);
+    expect_success(dir, "--plan plan.json --tile " + std::to_string(i) + " -o " + tile +
+                            ".ply --stats " + tile + ".json -q");
+    merge += " " + tile + ".ply";
+    // The buffer the tile read, in its stats: the plan's, or more where it had to grow.
+    const std::string stats = test::slurp(dir / (tile + ".json"));
+    EXPECT_NE(stats.find("\"figures\": {\n    \"buffer\": "), std::string::npos) << stats;
   }
   expect_success(dir, merge + " -o merged.ply -q");
   expect_same_tin((dir / "whole.ply").string(), (dir / "merged.ply").string());
