@@ -1,6 +1,6 @@
-// Crossing contours through the command line of tiled jobs, as a user runs them: plan, every
-// tile, merge, against the whole job (triangle sets, exact coordinates); and the options a tile
-// job still refuses, each a usage error that names it and says why.
+// Crossing contours and hard lines through the command line of tiled jobs, as a user runs them:
+// plan, every tile, merge, against the whole job (triangle sets, exact coordinates); and the
+// options a tile job still refuses, each a usage error that names it and says why.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -22,15 +22,17 @@ void expect_success(const fs::path& dir, const std::string& args) {
   EXPECT_EQ(r.exit_code, 0) << args << ": " << r.messages;
 }
 
-TEST(TileLinesCli, CrossingContoursPlanTileMergeAsTheWholeJob) {
+TEST(TileLinesCli, CrossingContoursAndHardLinesPlanTileMergeAsTheWholeJob) {
   const fs::path dir = test::scratch_dir("tile_lines_cli");
   const double x0 = 500000, y0 = 4000000;
   write_xyz(dir / "points.xyz", random_points(3000, x0, y0, 300, 41));
   write_crossing_lines(dir / "lines.geojson", x0, y0, 300, 10, 31, 42);
-  expect_success(dir, "points.xyz --contours lines.geojson -o whole.ply -q");
-  expect_success(dir,
-                 "plan points.xyz --contours lines.geojson --tile-size 150 --buffer 30 -o "
-                 "plan.json -q");
+  // Hard lines across the contours and each other, each one long segment.
+  write_straight_lines(dir / "roads.geojson", {{x0 + 12, y0 + 8, x0 + 290, y0 + 281},
+                                               {x0 + 5, y0 + 270, x0 + 294, y0 + 30}});
+  const std::string lines = " --contours lines.geojson --breaklines roads.geojson";
+  expect_success(dir, "points.xyz" + lines + " -o whole.ply -q");
+  expect_success(dir, "plan points.xyz" + lines + " --tile-size 150 --buffer 30 -o plan.json -q");
   const std::size_t n = tiles::read_plan((dir / "plan.json").string()).tiles.size();
   ASSERT_GE(n, 4u);
   std::string merge = "merge";
