@@ -1,7 +1,9 @@
 #include "constraints/constraints.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <optional>
 #include <string>
 #include <tuple>
 
@@ -27,6 +29,17 @@ using predicates::orient2d;
 struct VertexPair {
   VertexId u;
   VertexId v;
+};
+
+// Part a -> b of the input segment WHOLE (its two end vertices). Crossings are computed from the
+// whole segments, never from the parts left by earlier crossings, so that the vertex made where
+// two segments cross does not depend on the order of insertion nor on the other segments a job
+// holds: every job (every tile) that holds both segments makes the same vertex.
+struct Work {
+  VertexId a;
+  VertexId b;
+  std::uint32_t source;
+  VertexPair whole;
 };
 
 std::uint64_t edge_key(VertexId u, VertexId v) {
@@ -56,9 +69,9 @@ class ConstraintInserter {
 
   // REPORT hears of each piece: crossings can make one segment a long piece of work.
   void insert(const Segment& segment, Progress& report) {
-    work_.push_back(segment);
+    work_.push_back({segment.a, segment.b, segment.source, {segment.a, segment.b}});
     while (!work_.empty()) {
-      const Segment s = work_.back();
+      const Work s = work_.back();
       work_.pop_back();
       if (s.a != s.b) insert_piece(s);
       report.heartbeat();
@@ -74,9 +87,10 @@ class ConstraintInserter {
  private:
   Point2 pt(VertexId v) const { return tin_.point(v); }
 
-  void mark(EdgeId e, VertexId a, VertexId b, std::uint32_t source) {
+  void mark(EdgeId e, VertexId a, VertexId b, const Work& s) {
     tin_.set_constrained(e, true);
-    result_.pieces.push_back({a, b, source});
+    result_.pieces.push_back({a, b, s.source});
+    whole_of_piece_.push_back(s.whole);
     if (indexed_) index_piece(static_cast<std::uint32_t>(result_.pieces.size() - 1));
   }
 
@@ -88,7 +102,7 @@ class ConstraintInserter {
   }
 
   // Makes segment a -> b (or its first part, up to a vertex on it) an edge; queues the rest.
-  void insert_piece(const Segment& s) {
+  void insert_piece(const Work& s) {
     const VertexId a = s.a, b = s.b;
     const Point2 pa = pt(a), pb = pt(b);
 
@@ -97,7 +111,7 @@ class ConstraintInserter {
     // Most segments are edges already (the Delaunay stage saw their vertices): look first, with
     // no orientation test.
     if (const EdgeId ab = tin_.find_edge(a, b); ab != kNoId) {
-      mark(ab, a, b, s.source);
+      mark(ab, a, b, s);
       return;
     }
     EdgeId cur = kNoId;
@@ -111,8 +125,8 @@ class ConstraintInserter {
         if (side_u == 0 &&
             (pt(u).x - pa.x) * (pb.x - pa.x) + (pt(u).y - pa.y) * (pb.y - pa.y) > 0) {
           ++result_.split_at_vertices;  // the segment runs through u: a -> u now, u -> b later
-          mark(e, a, u, s.source);
-          work_.push_back({u, b, s.source});
+          mark(e, a, u, s);
+          work_.push_back({u, b, s.source, s.whole});
           return;
         }
         if (side_u < 0 && w != kInfinite && orient2d(pa, pb, pt(w)) > 0) {
@@ -144,7 +158,7 @@ class ConstraintInserter {
       if (side == 0) {  // x lies on the segment: insert a -> x now, x -> b later
         ++result_.split_at_vertices;
         end = x;
-        work_.push_back({x, b, s.source});
+        work_.push_back({x, b, s.source, s.whole});
         break;
       }
       if (side > 0) {
@@ -157,7 +171,7 @@ class ConstraintInserter {
     }
     swap_in(pa, pt(end));
     const EdgeId ab = tin_.find_edge(a, end);
-    mark(ab, a, end, s.source);
+    mark(ab, a, end, s);
     restore();
   }
 
@@ -229,15 +243,20 @@ class ConstraintInserter {
 
   // Segment s crosses the constrained edge r-l: join them at a new vertex (or at a vertex that
   // already sits exactly there) and queue the four halves.
-  void split_crossing(const Segment& s, VertexId r, VertexId l) {
+  void split_crossing(const Work& s, VertexId r, VertexId l) {
     if (!indexed_) {
       indexed_ = true;
       for (std::uint32_t p = 0; p < result_.pieces.size(); ++p) index_piece(p);
     }
     const std::uint32_t first_piece = index_.find(edge_key(r, l));
     std::uint32_t other = kNoId;
-    for (std::uint32_t p = first_piece; p != kNoId && other == kNoId; p = next_piece_[p])
+    // A constraint of an earlier call has no whole segment here: its crossings are made from
+    // the pieces, as they stand.
+    std::optional<VertexPair> other_whole;
+    for (std::uint32_t p = first_piece; p != kNoId && other == kNoId; p = next_piece_[p]) {
       other = result_.pieces[p].source;
+      other_whole = whole_of_piece_[p];
+    }
     const Point2 pa = pt(s.a), pb = pt(s.b), pr = pt(r), pl = pt(l);
     // The crossing point, from the signed areas (each a difference of nearby coordinates).
     const double area_a = (pl.x - pr.x) * (pa.y - pr.y) - (pl.y - pr.y) * (pa.x - pr.x);
@@ -261,12 +280,16 @@ class ConstraintInserter {
       nearer = off_a <= off_b ? s.a : s.b;
     }
     if (nearer != kNoId) at = pt(nearer);
+    WholeCrossing whole;
+    const bool from_wholes =
+        nearer == kNoId && other_whole && whole_crossing(s.whole, *other_whole, whole);
+    if (from_wholes) at = whole.at;
     if (options_.on_crossing == OnCrossing::error) throw CrossingError(s.source, other, at);
 
     const double len2 = (pl.x - pr.x) * (pl.x - pr.x) + (pl.y - pr.y) * (pl.y - pr.y);
     const double u = ((at.x - pr.x) * (pl.x - pr.x) + (at.y - pr.y) * (pl.y - pr.y)) / len2;
-    const double z_a = tin_.z(s.a) + t * (tin_.z(s.b) - tin_.z(s.a));
-    const double z_b = tin_.z(r) + u * (tin_.z(l) - tin_.z(r));
+    const double z_a = from_wholes ? whole.z_p : tin_.z(s.a) + t * (tin_.z(s.b) - tin_.z(s.a));
+    const double z_b = from_wholes ? whole.z_q : tin_.z(r) + u * (tin_.z(l) - tin_.z(r));
 
     // The true crossing of two nearly parallel segments is ill-conditioned: the rounded point
     // sits an ulp off both lines, so the halves cross again next to it, and again, without end.
@@ -310,8 +333,43 @@ class ConstraintInserter {
     requeue_through(first_piece, r, l, w);
     if (split_u != kNoId)
       requeue_through(index_.find(edge_key(split_u, split_v)), split_u, split_v, w);
-    work_.push_back({w, s.b, s.source});
-    work_.push_back({s.a, w, s.source});
+    work_.push_back({w, s.b, s.source, s.whole});
+    work_.push_back({s.a, w, s.source, s.whole});
+  }
+
+  struct WholeCrossing {
+    Point2 at;
+    double z_p, z_q;  // along each segment there
+  };
+
+  // Where the whole segments P and Q cross and the z along each there, from their ends taken in
+  // an order of their coordinates (each segment from its smaller end, the segment with the
+  // smaller ends first): the same doubles whichever of the two is being inserted. False when
+  // rounding puts the ends of one on one side of the other.
+  bool whole_crossing(VertexPair p, VertexPair q, WholeCrossing& x) const {
+    const auto key = [&](VertexPair e) {
+      return std::array{pt(e.u).x, pt(e.u).y, pt(e.v).x, pt(e.v).y};
+    };
+    const auto ordered = [&](VertexPair e) {
+      const auto k = key(e);
+      return std::tie(k[2], k[3]) < std::tie(k[0], k[1]) ? VertexPair{e.v, e.u} : e;
+    };
+    VertexPair first = ordered(p), second = ordered(q);
+    const bool swapped = key(second) < key(first);
+    if (swapped) std::swap(first, second);
+    const Point2 fa = pt(first.u), fb = pt(first.v), sa = pt(second.u), sb = pt(second.v);
+    const double area_a = (sb.x - sa.x) * (fa.y - sa.y) - (sb.y - sa.y) * (fa.x - sa.x);
+    const double area_b = (sb.x - sa.x) * (fb.y - sa.y) - (sb.y - sa.y) * (fb.x - sa.x);
+    if (!((area_a > 0 && area_b < 0) || (area_a < 0 && area_b > 0))) return false;
+    const double t = area_a / (area_a - area_b);
+    x.at = {fa.x + t * (fb.x - fa.x), fa.y + t * (fb.y - fa.y)};
+    const double len2 = (sb.x - sa.x) * (sb.x - sa.x) + (sb.y - sa.y) * (sb.y - sa.y);
+    const double u = ((x.at.x - sa.x) * (sb.x - sa.x) + (x.at.y - sa.y) * (sb.y - sa.y)) / len2;
+    const double z_first = tin_.z(first.u) + t * (tin_.z(first.v) - tin_.z(first.u));
+    const double z_second = tin_.z(second.u) + u * (tin_.z(second.v) - tin_.z(second.u));
+    x.z_p = swapped ? z_second : z_first;
+    x.z_q = swapped ? z_first : z_second;
+    return true;
   }
 
   // A hair at the vertices ENDS: 2^-40 of their coordinates' magnitude, thousands of ulps yet a
@@ -348,8 +406,8 @@ class ConstraintInserter {
     for (std::uint32_t p = first_piece; p != kNoId; p = next_piece_[p]) {
       Piece& piece = result_.pieces[p];
       if (piece.source == kNoId) continue;
-      if (w != u) work_.push_back({u, w, piece.source});
-      if (w != v) work_.push_back({w, v, piece.source});
+      if (w != u) work_.push_back({u, w, piece.source, whole_of_piece_[p]});
+      if (w != v) work_.push_back({w, v, piece.source, whole_of_piece_[p]});
       piece.source = kNoId;  // retired; removed at the end
     }
   }
@@ -364,7 +422,8 @@ class ConstraintInserter {
   std::uint64_t crossing_bound_;
   IdMap index_;                            // edge -> its latest piece (only crossings look)
   std::vector<std::uint32_t> next_piece_;  // piece -> the previous piece on the same edge
-  std::vector<Segment> work_;
+  std::vector<Work> work_;
+  std::vector<VertexPair> whole_of_piece_;  // per piece of result_.pieces: its Work::whole
   std::vector<VertexPair> crossed_;
   std::vector<VertexPair> waiting_;  // crossed edges for the next round of swap_in()
   std::vector<VertexPair> created_;

@@ -2,9 +2,11 @@
 // and every other triangle near the tile, is final: a triangle of the whole TIN (tile_rules.hpp).
 //
 // A triangle is final when no point or line the tile lacks can change it: its circumdisk meets
-// none of the regions where such data may lie (TileSetup::missing). Across a constrained edge of
-// the triangle nothing is visible, so for a triangle with constrained edges only the part of the
-// disk beyond its other edges counts (and the triangle itself).
+// none of the regions where such data may lie (TileSetup::missing). Across a constrained edge
+// nothing is visible: the part of the disk behind a constrained edge that holds the disk's whole
+// chord on its line (the triangle's own constrained edges, and others near: wall_of())
+// does not count, and of the rest only what lies beyond the triangle's unconstrained edges (and
+// the triangle itself).
 //
 // Checked: every triangle that meets the tile's box (grown by a hair for the rounding of the
 // owner point; the test errs on the side of meeting) and every hull edge whose outer side reaches
@@ -19,11 +21,13 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "core/error.hpp"
 #include "pipeline/stage.hpp"
+#include "predicates/predicates.hpp"
 #include "tiles/merge_outline.hpp"
 #include "tiles/tile_job.hpp"
 
@@ -75,6 +79,64 @@ BBox checked_region(const TileSetup& tile) {
   return tiles::grown(tile.box, 16 * 0x1p-52 * (magnitude + span));
 }
 
+// A line with the triangle on its left beyond which the triangle's circumdisk is hidden from it.
+struct Wall {
+  Point2 a, b;
+};
+
+// Constrained edge S0-S1 near triangle P (counter-clockwise) hides the part of the circumdisk
+// beyond its line when the disk's chord on that line lies within the edge: a segment from the
+// triangle to a point of the disk beyond the line stays in the disk, so it crosses the line
+// there, on the edge. So when the triangle lies on one side of the line, neither end is inside
+// the circle and the centre projects between the ends (kept clear of them by the bound on the
+// computed centre's error). The triangle's own constrained edges always hold (their ends are on
+// the circle).
+std::optional<Wall> wall_of(const Point2 (&p)[3], Point2 s0, Point2 s1, const tiles::Disk& d,
+                            double margin) {
+  int side = 0;
+  for (const Point2 q : p) {
+    const int o = predicates::orient2d(s0, s1, q);
+    if (o != 0 && side != 0 && o != side) return std::nullopt;
+    if (o != 0) side = o;
+  }
+  if (side == 0 || predicates::incircle(p[0], p[1], p[2], s0) > 0 ||
+      predicates::incircle(p[0], p[1], p[2], s1) > 0)
+    return std::nullopt;
+  const double lx = s1.x - s0.x, ly = s1.y - s0.y, length = std::hypot(lx, ly);
+  const double along = ((d.centre.x - s0.x) * lx + (d.centre.y - s0.y) * ly) / length;
+  const double slack = d.radius - std::hypot(d.centre.x - p[0].x, d.centre.y - p[0].y) + 4 * margin;
+  if (!(along > slack && along < length - slack)) return std::nullopt;
+  return side > 0 ? Wall{s0, s1} : Wall{s1, s0};
+}
+
+// The walls of triangle T (see wall_of()): its own constrained edges and the constrained edges
+// of the triangles at its corners.
+std::vector<Wall> walls_of(const mesh::Triangulation& tin, TriangleId t, const Point2 (&p)[3],
+                           const tiles::Disk& d, double margin) {
+  std::vector<Wall> walls;
+  for (std::uint32_t i = 0; i < 3; ++i) {
+    const auto own = static_cast<EdgeId>(3 * t + i);
+    if (tin.is_constrained(own)) walls.push_back({p[i], p[(i + 1) % 3]});
+    // Around corner i, through the ghosts too: every edge leaving it, and the far edge of each
+    // triangle there.
+    const auto consider = [&](EdgeId e) {
+      const VertexId from = tin.origin(e), to = tin.dest(e);
+      if (from == mesh::kInfinite || to == mesh::kInfinite || !tin.is_constrained(e)) return;
+      if (const auto wall = wall_of(p, tin.point(from), tin.point(to), d, margin))
+        walls.push_back(*wall);
+    };
+    EdgeId e = own;
+    do {
+      if (mesh::triangle_of(e) != t) {
+        if (mesh::triangle_of(tin.twin(e)) != t) consider(e);
+        consider(mesh::next_edge(e));
+      }
+      e = tin.twin(mesh::prev_edge(e));
+    } while (e != own);
+  }
+  return walls;
+}
+
 // Whether triangle T, whose circumdisk lies within D, is final (see the top of the file).
 bool is_final(const mesh::Triangulation& tin, const TileSetup& tile, TriangleId t,
               const tiles::Disk& d) {
@@ -83,15 +145,23 @@ bool is_final(const mesh::Triangulation& tin, const TileSetup& tile, TriangleId 
   const auto c = tin.triangle(t);
   const Point2 p[3] = {tin.point(c[0]), tin.point(c[1]), tin.point(c[2])};
   bool constrained[3];
-  bool any = false;
-  for (int i = 0; i < 3; ++i) any |= constrained[i] = tin.is_constrained(3 * t + i);
+  for (int i = 0; i < 3; ++i) constrained[i] = tin.is_constrained(3 * t + i);
+  std::vector<Wall> walls;
+  bool walls_found = false;
   for (const tiles::Polygon& piece : tile.missing) {
     if (!tiles::may_meet(d, piece, margin)) continue;
-    if (!any || tiles::may_meet(p[0], p[1], p[2], piece, margin)) return false;
-    for (int i = 0; i < 3; ++i) {
+    if (tiles::may_meet(p[0], p[1], p[2], piece, margin)) return false;
+    if (!walls_found) {
+      walls = walls_of(tin, t, p, d, margin);
+      walls_found = true;
+    }
+    if (walls.empty()) return false;
+    tiles::Polygon seen = piece;
+    for (const Wall& w : walls) seen = tiles::clip_left(seen, w.a, w.b, margin);
+    for (int i = 0; i < 3 && !seen.empty(); ++i) {
       if (constrained[i]) continue;
       // Beyond edge p[i] -> p[i + 1]: on its right, the left of p[i + 1] -> p[i].
-      const tiles::Polygon beyond = tiles::clip_left(piece, p[(i + 1) % 3], p[i], margin);
+      const tiles::Polygon beyond = tiles::clip_left(seen, p[(i + 1) % 3], p[i], margin);
       if (tiles::may_meet(d, beyond, margin)) return false;
     }
   }

@@ -13,7 +13,6 @@
 
 #include "core/error.hpp"
 #include "pipeline/stage.hpp"
-#include "predicates/predicates.hpp"
 #include "tiles/plan.hpp"
 
 namespace tincdt::tiles {
@@ -31,12 +30,6 @@ std::string number(double v) {
   return buf;
 }
 
-std::string point_text(double x, double y) {
-  char buf[80];
-  std::snprintf(buf, sizeof buf, "(%.3f, %.3f)", x, y);
-  return buf;
-}
-
 std::string box_text(const BBox& b) {
   return "x " + number(b.min_x) + " to " + number(b.max_x) + ", y " + number(b.min_y) + " to " +
          number(b.max_y);
@@ -45,89 +38,6 @@ std::string box_text(const BBox& b) {
 bool within(const BBox& inner, const BBox& outer) {
   return inner.min_x >= outer.min_x && inner.max_x <= outer.max_x && inner.min_y >= outer.min_y &&
          inner.max_y <= outer.max_y;
-}
-
-// ---- crossing lines ---------------------------------------------------------------------------
-
-struct SegmentBox {
-  Point2 a, b;
-  BBox box;
-};
-
-// Refuses the first proper crossing (the interiors cross at one point) between a segment marked
-// LOCAL and any other. Candidates are binned on a grid over the local segments' extent.
-void refuse_crossings(const Job& job, const std::vector<SegmentBox>& segs,
-                      const std::vector<char>& local) {
-  BBox region;
-  std::size_t locals = 0;
-  for (std::size_t i = 0; i < segs.size(); ++i) {
-    if (!local[i]) continue;
-    ++locals;
-    region.add(segs[i].box.min_x, segs[i].box.min_y);
-    region.add(segs[i].box.max_x, segs[i].box.max_y);
-  }
-  if (locals == 0) return;
-  std::vector<std::uint32_t> candidates;
-  for (std::uint32_t i = 0; i < segs.size(); ++i)
-    if (tiles::intersects(segs[i].box, region)) candidates.push_back(i);
-  const double width = std::max(region.max_x - region.min_x, 1e-300);
-  const double height = std::max(region.max_y - region.min_y, 1e-300);
-  const double cells_wanted = std::max(1.0, static_cast<double>(candidates.size()));
-  const double cell = std::sqrt(width * height / cells_wanted);
-  const auto dim = [&](double extent) {
-    return static_cast<std::size_t>(std::clamp(std::ceil(extent / cell), 1.0, 2048.0));
-  };
-  const std::size_t nx = dim(width), ny = dim(height);
-  const auto col = [&](double x) {
-    return static_cast<std::size_t>(std::clamp((x - region.min_x) / width * static_cast<double>(nx),
-                                               0.0, static_cast<double>(nx - 1)));
-  };
-  const auto row = [&](double y) {
-    return static_cast<std::size_t>(std::clamp(
-        (y - region.min_y) / height * static_cast<double>(ny), 0.0, static_cast<double>(ny - 1)));
-  };
-  // Cells as a counting sort: first, then entries.
-  std::vector<std::uint32_t> start(nx * ny + 1, 0);
-  const auto for_cells = [&](const BBox& b, auto&& f) {
-    for (std::size_t r = row(b.min_y); r <= row(b.max_y); ++r)
-      for (std::size_t c = col(b.min_x); c <= col(b.max_x); ++c) f(r * nx + c);
-  };
-  for (std::uint32_t i : candidates) for_cells(segs[i].box, [&](std::size_t k) { ++start[k + 1]; });
-  for (std::size_t k = 0; k < nx * ny; ++k) start[k + 1] += start[k];
-  std::vector<std::uint32_t> entries(start.back());
-  std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-  for (std::uint32_t i : candidates)
-    for_cells(segs[i].box, [&](std::size_t k) { entries[fill[k]++] = i; });
-
-  std::vector<std::uint32_t> seen(segs.size(), kNoId);
-  using predicates::orient2d;
-  for (std::uint32_t i = 0; i < segs.size(); ++i) {
-    if (!local[i]) continue;
-    const SegmentBox& s = segs[i];
-    for_cells(s.box, [&](std::size_t k) {
-      for (std::uint32_t e = start[k]; e < start[k + 1]; ++e) {
-        const std::uint32_t j = entries[e];
-        if (j == i || seen[j] == i || (local[j] && j < i)) continue;
-        seen[j] = i;
-        const SegmentBox& t = segs[j];
-        if (!tiles::intersects(s.box, t.box)) continue;
-        if (orient2d(s.a, s.b, t.a) * orient2d(s.a, s.b, t.b) >= 0) continue;
-        if (orient2d(t.a, t.b, s.a) * orient2d(t.a, t.b, s.b) >= 0) continue;
-        const io::LineData& lines = job.lines;
-        const io::LineFeature& fi = lines.features[lines.segments[i].feature];
-        const io::LineFeature& fj = lines.features[lines.segments[j].feature];
-        const double d1 = (t.b.x - t.a.x) * (s.a.y - t.a.y) - (t.b.y - t.a.y) * (s.a.x - t.a.x);
-        const double d2 = (t.b.x - t.a.x) * (s.b.y - t.a.y) - (t.b.y - t.a.y) * (s.b.x - t.a.x);
-        const double u = d1 / (d1 - d2);
-        throw InputError(lines.files[fi.file], "feature " + std::to_string(fi.fid),
-                         "crosses " + lines.files[fj.file] + " feature " + std::to_string(fj.fid) +
-                             " near " +
-                             point_text(s.a.x + u * (s.b.x - s.a.x), s.a.y + u * (s.b.y - s.a.y)) +
-                             ": tiled jobs (--plan) need contours and hard lines that do not "
-                             "cross (join them at a shared vertex), or a build without --plan");
-      }
-    });
-  }
 }
 
 // Throws unless the file of input IN (at PATH) is the one the plan was made from.
@@ -336,16 +246,39 @@ void check_tile_options(const TileOptions& t, const BuildOptions& o) {
     throw UsageError("--max-buffer must be a length >= 0");
   if (t.buffer_fixed && t.max_buffer >= 0)
     throw UsageError("--max-buffer and --buffer-fixed exclude each other");
+  // Each of these is a function of more of the whole TIN than a tile can prove final today; the
+  // way out is the build without --plan (docs/tiling.md says what each would need).
+  const std::string whole_job = " (build without --plan for it)";
   if (o.max_edge > 0)
-    refuse("--max-edge", "it trims inward from the whole TIN's hull, which a tile does not see");
-  if (o.fix_flats) refuse("--fix-flats", "its new vertices depend on triangles beyond the tile");
+    refuse("--max-edge",
+           "it trims inward from the whole TIN's hull, through as many triangles as are long, "
+           "which a tile does not see" +
+               whole_job);
+  if (o.fix_flats)
+    refuse("--fix-flats",
+           "a flat area and the vertices that fix it span as far as the contours around it, "
+           "beyond what a tile reads" +
+               whole_job);
   if (o.max_error || o.max_vertices > 0)
     refuse(o.max_error ? "--max-error" : "--max-vertices",
            "each tile's greedy insertion would keep its own points, and the seams would not "
            "match (simplify the merged TIN, or each tile without --plan)");
-  if (!o.soft_lines.empty() || !o.clip.empty() || !o.erase.empty() || !o.replace.empty())
-    refuse("--soft-lines, --clip, --erase and --replace",
-           "their vertices are draped on triangles a tile may not have");
+  if (!o.soft_lines.empty())
+    refuse("--soft-lines",
+           "a soft line's vertices take their heights from the TIN of the points and hard lines "
+           "wherever they lie, and a tile holds that TIN only near itself" +
+               whole_job);
+  for (const auto& [given, option] : {std::pair{&o.clip, "--clip"}, {&o.erase, "--erase"}})
+    if (!given->empty())
+      refuse(option,
+             "its rings are cut to the whole TIN's hull and, in 2D, draped on the TIN, and a "
+             "tile holds that TIN only near itself" +
+                 whole_job);
+  if (!o.replace.empty())
+    refuse("--replace",
+           "its rings are draped on the TIN and cross the contours' pieces, which a tile holds "
+           "only near itself" +
+               whole_job);
   if (o.dem.extent)
     refuse("--dem-extent",
            "a tile's DEM covers exactly its tile, so that the tiles join (gdalbuildvrt)");
@@ -353,7 +286,10 @@ void check_tile_options(const TileOptions& t, const BuildOptions& o) {
     refuse(
         "--restore " +
             std::string(o.constraint.restore == constraints::Restore::aspect ? "aspect" : "none"),
-        "only the constrained Delaunay triangulation is the same whatever the tiling");
+        "the triangles it leaves depend on the order the lines come in, which differs from "
+        "tile to tile; only the constrained Delaunay triangulation is the same whatever the "
+        "tiling" +
+            whole_job);
 }
 
 BuildOptions tile_options(const TileOptions& tiling, const BuildOptions& options,
@@ -438,9 +374,8 @@ pipeline::BuildReport build_tile_once(const TileOptions& tiling, const BuildOpti
     files.outputs.insert(files.outputs.begin() + static_cast<std::ptrdiff_t>(before),
                          {tiling.outline, "the tile's outline (--outline)"});
   }
-  pipeline::BuildReport report = pipeline::run_job(job, list, files);
-  report.figures.emplace_back("buffer", setup.buffer);
-  return report;
+  job.report.figures.emplace_back("buffer", setup.buffer);  // before --stats is written
+  return pipeline::run_job(job, list, files);
 }
 
 // The buffer after USED proved too small: what the unsettled triangles ask for, at least twice
@@ -510,26 +445,27 @@ void add_tile_rim(TileJob& job) {
 void keep_tile_lines(TileJob& job) {
   const TileSetup& tile = job.tile;
   io::LineData& lines = job.lines;
-  std::vector<SegmentBox> segs;
-  segs.reserve(lines.segments.size());
   std::vector<char> local(lines.segments.size(), 0);
   for (std::size_t i = 0; i < lines.segments.size(); ++i) {
     const io::LineData::Segment& s = lines.segments[i];
     const Point3 &a = lines.vertices[s.a], &b = lines.vertices[s.b];
-    SegmentBox sb{{a.x, a.y}, {b.x, b.y}, {}};
-    sb.box.add(a.x, a.y);
-    sb.box.add(b.x, b.y);
+    BBox box;
+    box.add(a.x, a.y);
+    box.add(b.x, b.y);
     const std::uint32_t file = lines.features[s.feature].file;
-    if (!within(sb.box, tile.line_bounds[file]))
+    if (!within(box, tile.line_bounds[file]))
       throw InputError(
           lines.files[file], "feature " + std::to_string(lines.features[s.feature].fid),
           "lies outside the layer extent the plan has (" + box_text(tile.line_bounds[file]) +
               "): tiled jobs rely on it; make the plan again");
-    const bool in_rim = !tile.rim_path.empty() && (tile.rim.holds(sb.a) || tile.rim.holds(sb.b));
-    local[i] = tiles::intersects(sb.box, tile.buffered) || in_rim ? 1 : 0;
-    segs.push_back(sb);
+    const bool in_rim =
+        !tile.rim_path.empty() && (tile.rim.holds({a.x, a.y}) || tile.rim.holds({b.x, b.y}));
+    local[i] = tiles::intersects(box, tile.buffered) || in_rim ? 1 : 0;
   }
-  refuse_crossings(job, segs, local);
+  // Lines may cross: the constraint stage makes each crossing vertex from the two whole
+  // segments, which every tile holding either near the crossing reads whole, so every such tile
+  // makes the same vertex. A crossing with a segment the tile leaves out lies outside the
+  // buffered box, where the tile proves nothing final.
   // Keep the local segments whole, and only their vertices, in their order (--on-duplicate first
   // takes the first of coincident points in input order).
   std::vector<std::uint32_t> renumber(lines.vertices.size(), kNoId);

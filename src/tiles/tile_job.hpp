@@ -147,9 +147,9 @@ void check_tile_points(const TileJob& job, std::size_t input, const BBox& extent
 // After the point files: the rim's points outside the buffered box.
 void add_tile_rim(TileJob& job);
 
-// Once every line source is read: checks their vertices against the plan's bounds, refuses lines
-// that cross (a crossing vertex's rounding depends on the segments the job sees), and keeps whole
-// the segments whose bounding box meets the buffered box or that end in the rim the tile reads.
+// Once every line source is read: checks their vertices against the plan's bounds and keeps
+// whole the segments whose bounding box meets the buffered box or that end in the rim the tile
+// reads (lines may cross: the constraint stage makes a crossing from the two whole segments).
 void keep_tile_lines(TileJob& job);
 
 }  // namespace detail
