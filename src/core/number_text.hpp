@@ -34,17 +34,22 @@ inline std::string count_text(std::uint64_t n) {
   return detail::group_thousands(std::to_string(n));
 }
 
-// Whole values below 1e15 in full, grouped ("1,000", "-25"); others as %g, the integer part
-// grouped ("12,345.7", "0.25", "1e+308", "nan").
+// Six significant digits, without an exponent from 1e-4 to 1e15 and the integer part grouped
+// ("0.25", "12,345.7", "19,876,500"); an exponent beyond ("1e-07", "1e+308"); "inf", "nan".
 inline std::string number_text(double v) {
   char text[48];
-  if (std::isfinite(v) && v == std::floor(v) && std::fabs(v) < 1e15)
-    std::snprintf(text, sizeof text, "%.0f", v);
-  else
+  const double size = std::fabs(v);
+  if (!std::isfinite(v) || size >= 1e15 || (size < 1e-4 && size != 0)) {
     std::snprintf(text, sizeof text, "%g", v);
-  const std::string_view s(text);
-  if (s.find_first_of("en") != std::string_view::npos) return std::string(s);  // exponent, inf, nan
-  return detail::group_thousands(s);
+    return text;
+  }
+  if (size >= 1e6) {  // %g would switch to an exponent here
+    const double unit = std::pow(10.0, std::floor(std::log10(size)) - 5);
+    std::snprintf(text, sizeof text, "%.0f", std::round(v / unit) * unit);
+  } else {
+    std::snprintf(text, sizeof text, "%g", v);
+  }
+  return detail::group_thousands(text);
 }
 
 }  // namespace tincdt
