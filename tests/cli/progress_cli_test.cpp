@@ -3,7 +3,10 @@
 // pipe or a file GDAL's "0...10...100 - done." per stage; -q silent; --progress forces it.
 #include <gtest/gtest.h>
 
+#include <stdlib.h>
+
 #include <algorithm>
+#include <filesystem>
 #include <regex>
 #include <string>
 #include <vector>
@@ -18,7 +21,7 @@ const std::string kSample = std::string(TINCDT_SOURCE_DIR) + "/data/sample.las";
 const std::string kContours = std::string(TINCDT_SOURCE_DIR) + "/data/sample_contours.shp";
 
 // The sample with its contours and every product that reports in phases (the DEM: rasterize,
-// then write; the contour lines: trace, then write).
+// then write, fine enough for GDAL to report its writing; the contour lines: trace, then write).
 std::vector<std::string> full_job(const std::string& dir) {
   return {kSample,
           "--contours",
@@ -28,7 +31,7 @@ std::vector<std::string> full_job(const std::string& dir) {
           "--dem",
           dir + "/d.tif",
           "--resolution",
-          "2",
+          "0.1",
           "--contour-lines",
           dir + "/c.gpkg",
           "--interval",
@@ -71,9 +74,9 @@ std::vector<std::string> lines_of(const std::string& text) {
   return lines;
 }
 
-class Progress : public ::testing::Test {
+class ProgressCli : public ::testing::Test {
  protected:
-  Progress()
+  ProgressCli()
       : dir_(tincdt::test::scratch_dir("progress")),
         capture_(tincdt::test::scratch_dir("progress-capture")) {}
 
@@ -90,9 +93,9 @@ class Progress : public ::testing::Test {
   std::string capture_;
 };
 
-// tincdt data/sample.las --contours data/sample_contours.shp -o t.ply --dem d.tif --resolution 2
+// tincdt data/sample.las --contours data/sample_contours.shp -o t.ply --dem d.tif --resolution 0.1
 //   --contour-lines c.gpkg --interval 1 --overwrite      (stderr a terminal)
-TEST_F(Progress, OnATerminalOneLineRedrawnWithHumanNamesNeverGoingBack) {
+TEST_F(ProgressCli, OnATerminalOneLineRedrawnWithHumanNamesNeverGoingBack) {
   const tincdt::test::TerminalRun r = run_on_terminal(full_job(dir_));
   ASSERT_EQ(r.exit_code, 0) << r.screen;
   const std::vector<Drawn> drawn = redraws(r.screen);
@@ -128,7 +131,7 @@ TEST_F(Progress, OnATerminalOneLineRedrawnWithHumanNamesNeverGoingBack) {
 }
 
 // The same job with stderr a file: one GDAL line per stage, every stage in order, no '\r'.
-TEST_F(Progress, ElsewhereGdalLinesPerStage) {
+TEST_F(ProgressCli, ElsewhereGdalLinesPerStage) {
   const tincdt::test::Spawned r = run_piped(full_job(dir_));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(r.err.find('\r'), std::string::npos) << r.err;
@@ -153,7 +156,7 @@ TEST_F(Progress, ElsewhereGdalLinesPerStage) {
 }
 
 // tincdt -q data/sample.las -o t.ply: nothing at all.
-TEST_F(Progress, QuietPrintsNoProgress) {
+TEST_F(ProgressCli, QuietPrintsNoProgress) {
   const tincdt::test::Spawned piped = run_piped({"-q", kSample, "-o", dir_ + "/t.ply"});
   EXPECT_EQ(piped.exit_code, 0) << piped.err;
   EXPECT_EQ(piped.err, "");
@@ -164,7 +167,7 @@ TEST_F(Progress, QuietPrintsNoProgress) {
 }
 
 // tincdt -q --progress data/sample.las -o t.ply: the progress alone, in either form.
-TEST_F(Progress, ProgressFlagForcesItPastQuiet) {
+TEST_F(ProgressCli, ProgressFlagForcesItPastQuiet) {
   const tincdt::test::Spawned piped =
       run_piped({"-q", "--progress", kSample, "-o", dir_ + "/t.ply"});
   ASSERT_EQ(piped.exit_code, 0) << piped.err;
@@ -181,8 +184,23 @@ TEST_F(Progress, ProgressFlagForcesItPastQuiet) {
   EXPECT_EQ(shown.screen.find("tincdt: TIN"), std::string::npos) << shown.screen;
 }
 
+// Ctrl-C at the Delaunay stage, on a terminal: the job stops by the progress callback, the line
+// is erased and the message says so; no file is written. (TINCDT_TEST_SIGNAL raises SIGINT as
+// the stage starts.)
+TEST_F(ProgressCli, CtrlCOnATerminalErasesTheLineAndStops) {
+  ::setenv("TINCDT_TEST_SIGNAL", "delaunay:INT", 1);
+  const tincdt::test::TerminalRun r = run_on_terminal({kSample, "-o", dir_ + "/stopped.ply"});
+  ::unsetenv("TINCDT_TEST_SIGNAL");
+  EXPECT_EQ(r.exit_code, -1) << "ends by the signal\n" << r.screen;
+  EXPECT_NE(r.screen.find("[2/3] triangulating"), std::string::npos) << r.screen;
+  EXPECT_NE(r.screen.find("\r\x1b[Ktincdt: error: interrupted; no file was changed\n"),
+            std::string::npos)
+      << r.screen;
+  EXPECT_FALSE(std::filesystem::exists(dir_ + "/stopped.ply"));
+}
+
 // An error before any progress is still the only line: tincdt missing.las -o t.ply.
-TEST_F(Progress, AnErrorAtOnceIsTheOnlyLine) {
+TEST_F(ProgressCli, AnErrorAtOnceIsTheOnlyLine) {
   const tincdt::test::Spawned r = run_piped({dir_ + "/missing.las", "-o", dir_ + "/t.ply"});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_EQ(lines_of(r.err).size(), 1u) << r.err;
