@@ -226,8 +226,13 @@ void tile_options(CLI::App& app, tiles::TileOptions& o) {
 void run_options(CLI::App& app, BuildOptions& o, Verbosity& v) {
   for (const OptionSpec& spec : pipeline::job_options()) bind(app, spec, o);
   const std::string group(pipeline::option_groups::run);
-  app.add_flag("-q,--quiet", v.quiet, "Only warnings and errors; no progress")->group(group);
+  app.add_flag("-q,--quiet", v.quiet, "Only warnings and errors; no progress (unless --progress)")
+      ->group(group);
   app.add_flag("-v,--verbose", v.verbose, "Also debug messages")->group(group);
+  app.add_flag("--progress", v.progress,
+               "Show progress even with -q (on a terminal one line, redrawn;\n"
+               "elsewhere GDAL's 0...10...100 - done. per stage)")
+      ->group(group);
   app.set_help_flag("-h,--help", "Print this help and exit")->group(group);
   app.set_version_flag("--version", "tincdt " TINCDT_VERSION, "Print the version and exit")
       ->group(group);

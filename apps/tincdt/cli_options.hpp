@@ -21,6 +21,7 @@ namespace tincdt::cli {
 struct Verbosity {
   bool quiet = false;
   bool verbose = false;
+  bool progress = false;  // --progress: progress even with -q
 };
 
 // The help's "Usage:" lines, each ending with '\n'.

@@ -165,18 +165,40 @@ int no_arguments() {
   return usage_error("no input and no output: give INPUT... (or --contours LINES) and -o OUTPUT");
 }
 
-// Runs the job, a tile of a plan when TILING names one; the exit code.
-int build(const pipeline::BuildOptions& options, const tiles::TileOptions& tiling, bool quiet) {
-  cli::Terminal::get().enable_progress(!quiet && ::isatty(STDERR_FILENO) == 1);
-  SignalHook hook = SignalHook::from_environment();
-  std::string stage_now = "read";  // the stage last heard of, for "out of memory"
-  const ProgressFn progress = [&hook, &stage_now](std::string_view stage, double fraction) {
-    if (stage_now != stage) stage_now = stage;
-    hook.at(stage, fraction);
+// The run's progress: each report is where a signal stops the job, and the terminal shows it.
+class RunProgress final : public StageWatcher {
+ public:
+  RunProgress() : hook_(SignalHook::from_environment()) {}
+  void stage_started(const StageStart& stage) override {
+    stage_now_ = stage.name;
+    cli::Terminal::get().stage_started(stage);
+  }
+  bool report(std::string_view stage, double fraction) override {
+    hook_.at(stage, fraction);
     if (g_signal != 0) return false;
-    cli::Terminal::get().progress(stage, fraction);
-    return true;
-  };
+    return cli::Terminal::get().report(stage, fraction);
+  }
+  // The stage last started, for "out of memory".
+  const std::string& stage_now() const { return stage_now_; }
+
+ private:
+  SignalHook hook_;
+  std::string stage_now_ = "read";
+};
+
+// On a terminal the redrawn line, elsewhere GDAL's per-stage lines; none with -q unless
+// --progress.
+cli::ProgressForm progress_form(const cli::Verbosity& verbosity) {
+  if (verbosity.quiet && !verbosity.progress) return cli::ProgressForm::none;
+  return ::isatty(STDERR_FILENO) == 1 ? cli::ProgressForm::line : cli::ProgressForm::log;
+}
+
+// Runs the job, a tile of a plan when TILING names one; the exit code.
+int build(const pipeline::BuildOptions& options, const tiles::TileOptions& tiling,
+          const cli::Verbosity& verbosity) {
+  cli::Terminal::get().start_progress(progress_form(verbosity));
+  RunProgress watcher;
+  const ProgressFn progress = watching(watcher);
   if (std::find(options.inputs.begin(), options.inputs.end(), "-") != options.inputs.end() &&
       ::isatty(STDIN_FILENO) == 1)
     spdlog::info("reading x y z lines from the terminal; end with Ctrl-D");
@@ -185,11 +207,11 @@ int build(const pipeline::BuildOptions& options, const tiles::TileOptions& tilin
     const pipeline::BuildReport report =
         tiling.plan.empty() ? pipeline::build(options, &progress, log_line)
                             : tiles::build_tile(tiling, options, &progress, log_line);
-    cli::Terminal::get().erase_progress();
+    cli::Terminal::get().end_progress();
     cli::log_summary(options, report);
     return options.stats_path == "-" ? print_stats(report) : kExitOk;
   } catch (const Cancelled& e) {
-    cli::Terminal::get().erase_progress();
+    cli::Terminal::get().end_progress();
     if (g_signal == 0) {
       spdlog::error(e.what());
       return kExitFailure;
@@ -202,8 +224,8 @@ int build(const pipeline::BuildOptions& options, const tiles::TileOptions& tilin
     ::raise(sig);
     return kExitFailure;
   } catch (const std::bad_alloc&) {
-    cli::Terminal::get().erase_progress();
-    spdlog::error("out of memory in the " + stage_now + " stage");
+    cli::Terminal::get().end_progress();
+    spdlog::error("out of memory in the " + watcher.stage_now() + " stage");
     return kExitFailure;
   }
 }
@@ -242,7 +264,7 @@ int run(int argc, char** argv) {
   } catch (const UsageError& e) {
     return usage_error(cli::error_message(e));
   }
-  return build(options, tiling, verbosity.quiet);
+  return build(options, tiling, verbosity);
 }
 
 }  // namespace
@@ -251,18 +273,18 @@ int main(int argc, char** argv) {
   try {
     return run(argc, argv);
   } catch (const InternalError& e) {
-    cli::Terminal::get().erase_progress();
+    cli::Terminal::get().end_progress();
     spdlog::error(e.what());
     return kExitInternal;
   } catch (const UsageError& e) {
-    cli::Terminal::get().erase_progress();
+    cli::Terminal::get().end_progress();
     return usage_error(cli::error_message(e));
   } catch (const Error& e) {
-    cli::Terminal::get().erase_progress();
+    cli::Terminal::get().end_progress();
     spdlog::error(cli::error_message(e));
     return kExitFailure;
   } catch (const std::bad_alloc&) {
-    cli::Terminal::get().erase_progress();
+    cli::Terminal::get().end_progress();
     spdlog::error("out of memory");
     return kExitFailure;
   } catch (const std::exception& e) {

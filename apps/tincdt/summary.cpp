@@ -8,19 +8,14 @@
 #include <cstdio>
 #include <string>
 
+#include "core/number_text.hpp"
 #include "io/mesh/tin_writer.hpp"
 
 namespace tincdt::cli {
 namespace {
 
-std::string count(std::uint64_t n) {  // 1234567 -> "1,234,567"
-  std::string digits = std::to_string(n);
-  std::string out;
-  for (std::size_t i = 0; i < digits.size(); ++i) {
-    if (i > 0 && (digits.size() - i) % 3 == 0) out += ',';
-    out += digits[i];
-  }
-  return out;
+std::string count(std::uint64_t n) {
+  return count_text(n);
 }
 
 std::string bytes(std::uint64_t n) {
@@ -122,8 +117,9 @@ void log_summary(const pipeline::BuildOptions& options, const pipeline::BuildRep
   for (const pipeline::BuildReport::Output& o : r.outputs) {
     if (o.kind == "dem" && o.path == r.dem.path) {
       spdlog::info("wrote {} ({} {}, {} x {} cells of {}, {}; rasterize {}, write {})", o.path,
-                   r.dem.driver, r.dem.type, r.dem.width, r.dem.height, r.dem.resolution,
-                   bytes(o.bytes), secs(r.dem.rasterize_s), secs(r.dem.write_s));
+                   r.dem.driver, r.dem.type, count(r.dem.width), count(r.dem.height),
+                   number_text(r.dem.resolution), bytes(o.bytes), secs(r.dem.rasterize_s),
+                   secs(r.dem.write_s));
     } else if (o.kind == "contour_lines" && o.path == r.contour_lines.path) {
       spdlog::info("wrote {} ({}, {} lines on {} levels, {}; trace {}, write {})", o.path,
                    r.contour_lines.driver, count(r.contour_lines.lines),

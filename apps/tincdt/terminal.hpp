@@ -1,74 +1,80 @@
-// stderr for the command line: log lines and the progress line share it.
+// stderr for the command line: log lines and the progress share it.
+//
+// Progress comes in two forms. On a terminal, one line for the whole run, redrawn in place:
+//   [3/6] triangulating [########------------]  42%  1.2M points/s  0:07 elapsed  0:09 left
+// (the stage's number, what it does, its bar and percent, its rate, the run's time so far and
+// the stage's time left). Elsewhere (a pipe, a batch log), GDAL's form, one line per stage:
+//   tincdt: [3/6] triangulating 0...10...20...30...40...50...60...70...80...90...100 - done.
+// A stage's line starts once it has made progress or has run for a second, so that an error at
+// once stays the only line. Percentages never go back within a stage.
 #pragma once
 
-#include <algorithm>
 #include <chrono>
-#include <cstdio>
+#include <condition_variable>
+#include <cstdint>
 #include <mutex>
 #include <string>
 #include <string_view>
+#include <thread>
+
+#include "core/progress.hpp"
 
 namespace tincdt::cli {
 
-class Terminal {
+enum class ProgressForm { none, line, log };
+
+class Terminal final : public StageWatcher {
  public:
   static Terminal& get() {
     static Terminal t;
     return t;
   }
+  ~Terminal() override;
 
-  void enable_progress(bool on) {
-    std::lock_guard lock(mutex_);
-    progress_on_ = on;
-  }
+  // From now on progress in FORM (none: no progress); the run's clock starts here.
+  void start_progress(ProgressForm form);
+  // Stops the progress: erases the line, or ends a stage's unfinished log line.
+  void end_progress();
 
-  // Writes one complete line, erasing the progress line first (the next update redraws it).
-  void line(std::string_view text) {
-    std::lock_guard lock(mutex_);
-    erase_locked();
-    std::fwrite(text.data(), 1, text.size(), stderr);
-    std::fputc('\n', stderr);
-    std::fflush(stderr);
-  }
+  // Writes one complete line, the progress line out of its way (it comes back at the next
+  // report).
+  void line(std::string_view text);
 
-  // "tincdt: delaunay 80%", redrawn at most every 100 ms unless the stage changes.
-  void progress(std::string_view stage, double fraction) {
-    std::lock_guard lock(mutex_);
-    if (!progress_on_) return;
-    const int percent = static_cast<int>(std::clamp(fraction, 0.0, 1.0) * 100.0);
-    const auto now = std::chrono::steady_clock::now();
-    const bool new_stage = stage != stage_;
-    if (!new_stage &&
-        (percent == percent_ || (now - drawn_ < std::chrono::milliseconds(100) && percent != 100)))
-      return;
-    stage_.assign(stage);
-    percent_ = percent;
-    drawn_ = now;
-    std::fprintf(stderr, "\r\x1b[Ktincdt: %s %d%%", stage_.c_str(), percent);
-    std::fflush(stderr);
-    shown_ = true;
-  }
-
-  void erase_progress() {
-    std::lock_guard lock(mutex_);
-    erase_locked();
-  }
+  // StageWatcher: the display. report() always says go on; stopping is the caller's.
+  void stage_started(const StageStart& stage) override;
+  bool report(std::string_view stage, double fraction) override;
 
  private:
-  void erase_locked() {
-    if (!shown_) return;
-    std::fputs("\r\x1b[K", stderr);
-    shown_ = false;
-    stage_.clear();
-    percent_ = -1;
-  }
+  Terminal() = default;
+  using Clock = std::chrono::steady_clock;
+
+  void draw_line_locked(Clock::time_point now);
+  void write_ticks_locked(int upto);
+  void erase_locked();
+  void tick_every_second();
 
   std::mutex mutex_;
-  bool progress_on_ = false;
+  ProgressForm form_ = ProgressForm::none;
+  Clock::time_point run_started_{};
+  // The running stage, as announced.
+  std::string name_, title_, unit_;
+  int number_ = 0, count_ = 0;
+  std::uint64_t items_ = 0;
+  Clock::time_point stage_started_{};
+  double fraction_ = 0;  // the largest heard in the stage
+  bool in_stage_ = false;
+  // Line form: what is on screen.
   bool shown_ = false;
-  std::string stage_;
-  int percent_ = -1;
-  std::chrono::steady_clock::time_point drawn_{};
+  Clock::time_point drawn_{};
+  int percent_drawn_ = -1;
+  // Log form: GDAL's ticks (0 to 40, each 2.5%) written of the stage's line, and whether that
+  // line is open (written, not yet ended).
+  int ticks_ = 0;
+  bool log_open_ = false;
+  // Redraws the line (its clock) or starts a stage's log line while a stage reports nothing.
+  std::thread ticker_;
+  std::condition_variable wake_;
+  bool stop_ticker_ = false;
 };
 
 // spdlog's default logger: "tincdt: warning: ..." lines on stderr through the Terminal; info

@@ -14,6 +14,7 @@
 #include "cli_options.hpp"
 #include "command_words.hpp"
 #include "core/error.hpp"
+#include "core/number_text.hpp"
 #include "error_message.hpp"
 #include "terminal.hpp"
 #include "tiles/merge.hpp"
@@ -171,7 +172,8 @@ int run_plan(int argc, char** argv) {
     std::size_t most = 0;
     for (const tiles::PlanTile& t : plan.tiles) most = std::max(most, t.inputs.size());
     spdlog::info("wrote {}: {} tiles of {} (buffer {}) over {} inputs; a tile reads at most {}",
-                 o.output, plan.tiles.size(), o.tile_size, o.buffer, plan.inputs.size(), most);
+                 o.output, count_text(plan.tiles.size()), number_text(o.tile_size),
+                 number_text(o.buffer), count_text(plan.inputs.size()), count_text(most));
   });
 }
 
@@ -211,8 +213,9 @@ int run_merge(int argc, char** argv) {
   return guarded("merge", [&] {
     const tiles::MergeReport r = tiles::merge_tiles(o, kLog);
     spdlog::info("{} {} tiles: {} vertices, {} triangles, {} seam edges matched, {} hull edges{}",
-                 o.check_only ? "checked" : "merged", r.tiles, r.vertices, r.triangles,
-                 r.seam_edges, r.hull_edges, o.check_only ? "" : "; wrote " + o.output);
+                 o.check_only ? "checked" : "merged", count_text(r.tiles), count_text(r.vertices),
+                 count_text(r.triangles), count_text(r.seam_edges), count_text(r.hull_edges),
+                 o.check_only ? "" : "; wrote " + o.output);
   });
 }
 

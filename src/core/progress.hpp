@@ -13,6 +13,45 @@ namespace tincdt {
 // Returning false asks the library to stop; it then throws Cancelled.
 using ProgressFn = std::function<bool(std::string_view stage, double fraction)>;
 
+// A stage as a person follows it: its place among the stages that will run, what it does, and
+// what it counts (for a rate).
+struct StageStart {
+  std::string_view name;   // as the ProgressFn's stage
+  std::string_view title;  // "triangulating"
+  int number = 0;          // 1-based, of COUNT
+  int count = 0;
+  std::string_view unit;    // what ITEMS counts ("points", "bytes"), "" when nothing
+  std::uint64_t items = 0;  // over the whole stage
+};
+
+// A progress display: hears each stage start besides the fractions. Given to the library as a
+// ProgressFn (watching()), so that every call that takes a ProgressFn takes it; whoever runs the
+// stages finds it there (watcher_of()) and tells it of each stage.
+class StageWatcher {
+ public:
+  virtual ~StageWatcher() = default;
+  virtual void stage_started(const StageStart& stage) = 0;
+  // As a ProgressFn: false asks the library to stop.
+  virtual bool report(std::string_view stage, double fraction) = 0;
+};
+
+struct StageWatcherCall {
+  StageWatcher* watcher;
+  bool operator()(std::string_view stage, double fraction) const {
+    return watcher->report(stage, fraction);
+  }
+};
+
+inline ProgressFn watching(StageWatcher& watcher) {
+  return StageWatcherCall{&watcher};
+}
+
+// The watcher FN wraps, or null when FN is an ordinary callback (or null).
+inline StageWatcher* watcher_of(const ProgressFn* fn) {
+  const StageWatcherCall* call = fn ? fn->target<StageWatcherCall>() : nullptr;
+  return call ? call->watcher : nullptr;
+}
+
 // Rate-limited wrapper used inside hot loops: tick(i) costs one compare unless a report is due.
 class Progress {
  public:

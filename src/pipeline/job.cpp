@@ -4,6 +4,7 @@
 #include <utility>
 
 #include "core/error.hpp"
+#include "core/number_text.hpp"
 #include "io/crs.hpp"
 
 namespace tincdt::pipeline {
@@ -37,7 +38,11 @@ Job::Job(const BuildOptions& job_options, const CheckedOptions& checked, const P
   write.target_crs_wkt = checked.target_crs_wkt;
   write.ogr_tin = options.write.gpkg_tin;
   if (user_progress_)
-    stage_progress_ = [this](std::string_view, double fraction) {
+    stage_progress_ = [this](std::string_view call, double fraction) {
+      const auto phase = std::find(phases_.begin(), phases_.end(), call);
+      if (phase != phases_.end())
+        fraction = (static_cast<double>(phase - phases_.begin()) + fraction) /
+                   static_cast<double>(phases_.size());
       return (*user_progress_)(stage_, fraction);
     };
 }
@@ -55,6 +60,12 @@ void Job::finish_output(io::OutputFile& out) {
   out.close();
   for (const io::OutputSet::Entry& e : outputs.entries())
     if (e.file.get() == &out) report.outputs.push_back({out.path(), e.kind, out.bytes_written()});
+}
+
+void Job::start_stage(const StageStart& stage, std::span<const std::string_view> phases) {
+  stage_ = stage.name;
+  phases_ = phases;
+  if (StageWatcher* watcher = watcher_of(user_progress_)) watcher->stage_started(stage);
 }
 
 void Job::progress(double fraction) const {
@@ -79,9 +90,9 @@ void check_triangles_left(Job& job) {
   const BuildReport& r = job.report;
   throw GeometryError(job.describe_inputs(), "",
                       "no triangle is left after --max-edge, --clip and --erase (" +
-                          std::to_string(r.trimmed_triangles) + " trimmed, " +
-                          std::to_string(r.clipped_triangles) + " clipped, " +
-                          std::to_string(r.erased_triangles) + " erased)");
+                          count_text(r.trimmed_triangles) + " trimmed, " +
+                          count_text(r.clipped_triangles) + " clipped, " +
+                          count_text(r.erased_triangles) + " erased)");
 }
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {

@@ -9,6 +9,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -151,6 +152,10 @@ struct Job {
   const ProgressFn* stage_progress() const { return user_progress_ ? &stage_progress_ : nullptr; }
   std::string_view stage() const { return stage_; }
   void enter_stage(std::string_view name) { stage_ = name; }
+  // Enters STAGE and tells a StageWatcher among the callbacks of it. PHASES: the names the
+  // library calls of the stage report under, in the order they run, each taking an equal share
+  // of the stage's fraction (so that it never goes back); empty: one call, or any.
+  void start_stage(const StageStart& stage, std::span<const std::string_view> phases);
   // The inputs for messages: "a.las", "a.las, b.las and 3 more".
   std::string describe_inputs() const;
 
@@ -165,6 +170,7 @@ struct Job {
   ProgressFn stage_progress_;
   LogFn log_;
   std::string_view stage_;
+  std::span<const std::string_view> phases_;
 };
 
 // For the stages that remove triangles: a GeometryError when none is left.

@@ -9,6 +9,7 @@
 #include "constraints/constraints.hpp"
 #include "core/error.hpp"
 #include "core/memory.hpp"
+#include "core/number_text.hpp"
 #include "pipeline/stage.hpp"
 
 namespace tincdt::pipeline {
@@ -49,7 +50,7 @@ void log_crossings(const Job& job, const constraints::ConstraintResult& c) {
   }
   char dz[32];
   std::snprintf(dz, sizeof dz, "%.3f", c.max_z_disagreement);
-  job.warn(std::to_string(c.crossings.size()) +
+  job.warn(count_text(c.crossings.size()) +
            " crossing line segments joined at new vertices; the largest z disagreement is " + dz +
            " between " + sources.describe(worst->source_a) + " and " +
            sources.describe(worst->source_b));
@@ -80,7 +81,7 @@ void run(Job& job) {
   report.flips.insertion = c.flips_insertion;
   report.flips.restoration = c.flips_restoration;
   if (c.segments_skipped > 0)
-    job.debug(std::to_string(c.segments_skipped) +
+    job.debug(count_text(c.segments_skipped) +
               " line segments have both ends on one vertex (merged points): skipped");
   log_crossings(job, c);
   job.crossings = std::move(c.crossings);

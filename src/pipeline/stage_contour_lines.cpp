@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/number_text.hpp"
 #include "io/vector/contour_writer.hpp"
 #include "pipeline/stage.hpp"
 #include "products/contours.hpp"
@@ -65,7 +66,7 @@ void run(Job& job) {
   for (io::OutputFile* s : siblings) job.finish_output(*s);
   r.driver = stats.driver;
   r.write_s = seconds_since(t0);
-  job.info("contour lines: " + std::to_string(r.lines) + " lines on " + std::to_string(r.levels) +
+  job.info("contour lines: " + count_text(r.lines) + " lines on " + count_text(r.levels) +
            " levels");
 }
 

@@ -4,6 +4,7 @@
 
 #include "core/error.hpp"
 #include "core/memory.hpp"
+#include "core/number_text.hpp"
 #include "delaunay/delaunay.hpp"
 #include "pipeline/stage.hpp"
 
@@ -25,10 +26,10 @@ void run(Job& job) {
   if (report.points_read == 0 && !lines)
     throw GeometryError(job.describe_inputs(), "", "no points in the input");
   if (report.points_kept == 0 && !lines)
-    throw GeometryError(job.describe_inputs(), "",
-                        "the class/return filters kept none of the " +
-                            std::to_string(report.points_read) + " points");
-  job.debug("triangulating " + std::to_string(job.points.size()) + " points");
+    throw GeometryError(
+        job.describe_inputs(), "",
+        "the class/return filters kept none of the " + count_text(report.points_read) + " points");
+  job.debug("triangulating " + count_text(job.points.size()) + " points");
   delaunay::DelaunayOptions options;
   options.on_duplicate = job.options.on_duplicate;
   options.keep_point_map = lines;
@@ -39,14 +40,14 @@ void run(Job& job) {
   } catch (const GeometryError& e) {
     std::string detail = e.detail();
     if (filtering(job.options.filter) && report.points_kept < report.points_read)
-      detail += " (the class/return filters kept " + std::to_string(report.points_kept) + " of " +
-                std::to_string(report.points_read) + " points)";
+      detail += " (the class/return filters kept " + count_text(report.points_kept) + " of " +
+                count_text(report.points_read) + " points)";
     throw GeometryError(e.file().empty() ? job.describe_inputs() : e.file(), e.where(), detail);
   }
   release(job.points);  // moved-from; free whatever is left
   job.report.duplicates_merged = job.mesh.duplicates_merged;
   if (job.mesh.duplicates_merged > 0)
-    job.debug(std::to_string(job.mesh.duplicates_merged) + " duplicate points merged (same x, y)");
+    job.debug(count_text(job.mesh.duplicates_merged) + " duplicate points merged (same x, y)");
 }
 
 // ---- options -----------------------------------------------------------------------------------

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/number_text.hpp"
 #include "io/raster/dem_writer.hpp"
 #include "pipeline/stage.hpp"
 #include "products/rasterize.hpp"
@@ -59,7 +60,7 @@ void check_enough_cells(const BuildOptions::Dem& o, const products::Grid& grid, 
                         short_number(extent.max_y) + " (" +
                         short_number(extent.max_x - extent.min_x) + " x " +
                         short_number(extent.max_y - extent.min_y) + " " + unit + ") gives " +
-                        std::to_string(grid.width) + " x " + std::to_string(grid.height) +
+                        count_text(grid.width) + " x " + count_text(grid.height) +
                         " cells; a DEM needs at least 2 x 2 (the resolution is in the CRS's unit)");
 }
 
@@ -72,9 +73,9 @@ void check_fits_in_memory(const BuildOptions::Dem& o, const products::Grid& grid
   if (memory == 0 || bytes <= static_cast<double>(memory)) return;
   constexpr double kGiB = 1024.0 * 1024 * 1024;
   throw OutputError(o.path, "",
-                    "a DEM of " + std::to_string(grid.width) + " x " + std::to_string(grid.height) +
+                    "a DEM of " + count_text(grid.width) + " x " + count_text(grid.height) +
                         " cells of " + short_number(o.resolution) + " needs about " +
-                        short_number(bytes / kGiB) + " GiB (" + std::to_string(cell_bytes) +
+                        short_number(bytes / kGiB) + " GiB (" + count_text(cell_bytes) +
                         " bytes a cell, a third more for the overviews), more than this "
                         "machine's memory (" +
                         short_number(static_cast<double>(memory) / kGiB) +
@@ -145,8 +146,8 @@ void run(Job& job) {
     rasterize_and_write<double>(job, grid, out);
   else
     rasterize_and_write<float>(job, grid, out);
-  job.info("DEM: " + std::to_string(grid.width) + " x " + std::to_string(grid.height) + " cells, " +
-           std::to_string(r.cells_with_value) + " with a value");
+  job.info("DEM: " + count_text(grid.width) + " x " + count_text(grid.height) + " cells, " +
+           count_text(r.cells_with_value) + " with a value");
 }
 
 // The further files of the format (an ASCII grid's .prj) are planned with it, so that an

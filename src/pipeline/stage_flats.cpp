@@ -3,6 +3,7 @@
 // any triangle removed.
 #include <string>
 
+#include "core/number_text.hpp"
 #include "pipeline/stage.hpp"
 #include "pipeline/surface.hpp"
 #include "terrain/flats.hpp"
@@ -35,9 +36,9 @@ void run(Job& job) {
   flats.left_no_level = f.flats_left_no_level;
   flats.left_unplaced = f.flats_left_unplaced;
   flats.non_delaunay_edges = f.non_delaunay_edges;
-  job.debug("flat triangles: " + std::to_string(f.flats_before) + " before, " +
-            std::to_string(f.flats_after) + " after " + std::to_string(f.swaps) + " swaps and " +
-            std::to_string(f.vertices_added) + " new vertices");
+  job.debug("flat triangles: " + count_text(f.flats_before) + " before, " +
+            count_text(f.flats_after) + " after " + count_text(f.swaps) + " swaps and " +
+            count_text(f.vertices_added) + " new vertices");
 }
 
 constexpr OptionSpec kOptions[] = {

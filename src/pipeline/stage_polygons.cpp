@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "core/number_text.hpp"
 #include "pipeline/stage.hpp"
 #include "pipeline/surface.hpp"
 #include "terrain/polygons.hpp"
@@ -54,7 +55,7 @@ void run(Job& job) {
   if (input.data.features.empty()) return;
   std::uint64_t& count = job.report.*S.count;
   count = S.apply(job.tin(), detail::polygons_of(input.data), {});
-  job.debug(std::string(job.stage()) + ": " + std::to_string(count) + " " + S.counted);
+  job.debug(std::string(job.stage()) + ": " + count_text(count) + " " + S.counted);
   if (S.removes) check_triangles_left(job);
 }
 

@@ -2,6 +2,7 @@
 // with the constrained edges and the outline drawn, transparent where there is no surface.
 #include <string>
 
+#include "core/number_text.hpp"
 #include "io/crs.hpp"
 #include "io/raster/png_writer.hpp"
 #include "pipeline/stage.hpp"
@@ -39,8 +40,8 @@ void run(Job& job) {
   io::OutputFile& out = job.add_output(o.path, "preview");
   io::write_png(out, image.grid.width, image.grid.height, image.rgba);
   job.finish_output(out);
-  job.info("preview: " + std::to_string(image.grid.width) + " x " +
-           std::to_string(image.grid.height) + " pixels");
+  job.info("preview: " + count_text(image.grid.width) + " x " + count_text(image.grid.height) +
+           " pixels");
 }
 
 void plan(const BuildOptions& o, FilePlan& files) {

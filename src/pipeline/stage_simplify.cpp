@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/memory.hpp"
+#include "core/number_text.hpp"
 #include "pipeline/stage.hpp"
 #include "simplify/simplify.hpp"
 
@@ -49,11 +50,11 @@ void run(Job& job) {
   s.rmse = r.report.rmse;
   s.stopped_at_max_vertices = r.report.stopped_at_max_vertices;
   if (options.max_vertices > 0 && r.report.kept_vertices > options.max_vertices)
-    job.warn("--max-vertices " + std::to_string(options.max_vertices) + ": the lines, rings and " +
-             "hull corners alone need " + std::to_string(r.report.kept_vertices) +
+    job.warn("--max-vertices " + count_text(options.max_vertices) + ": the lines, rings and " +
+             "hull corners alone need " + count_text(r.report.kept_vertices) +
              " vertices; the TIN keeps them all");
-  job.debug("simplify: " + std::to_string(r.report.kept_vertices) +
-            " vertices kept for the features and the hull, " + std::to_string(r.report.inserted) +
+  job.debug("simplify: " + count_text(r.report.kept_vertices) +
+            " vertices kept for the features and the hull, " + count_text(r.report.inserted) +
             " points inserted" +
             (r.report.stopped_at_max_vertices ? " (stopped at --max-vertices)" : ""));
 }

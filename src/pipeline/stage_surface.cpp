@@ -3,6 +3,7 @@
 #include <string>
 #include <vector>
 
+#include "core/number_text.hpp"
 #include "pipeline/stage.hpp"
 #include "pipeline/surface.hpp"
 
@@ -38,14 +39,14 @@ void run(Job& job) {
   job.pieces = std::move(sr.constraints.pieces);
   if (job.options.validate)
     job.given_segments.insert(job.given_segments.end(), sr.given.begin(), sr.given.end());
-  job.debug(std::to_string(report.surface_features) + " surface features: " +
-            std::to_string(sr.vertices) + " vertices (" + std::to_string(sr.draped) + " draped, " +
-            std::to_string(sr.reused) + " on existing vertices), " + std::to_string(sr.segments) +
-            " segments, " + std::to_string(c.crossings.size()) + " crossings (" +
-            std::to_string(sr.crossings_with_hard_z) + " at a hard line's z)");
+  job.debug(count_text(report.surface_features) + " surface features: " + count_text(sr.vertices) +
+            " vertices (" + count_text(sr.draped) + " draped, " + count_text(sr.reused) +
+            " on existing vertices), " + count_text(sr.segments) + " segments, " +
+            count_text(c.crossings.size()) + " crossings (" + count_text(sr.crossings_with_hard_z) +
+            " at a hard line's z)");
   if (sr.rings_cut + sr.rings_outside > 0)
-    job.debug(std::to_string(sr.rings_cut) + " clip / erase rings cut to the TIN's hull, " +
-              std::to_string(sr.rings_outside) + " wholly outside it left out");
+    job.debug(count_text(sr.rings_cut) + " clip / erase rings cut to the TIN's hull, " +
+              count_text(sr.rings_outside) + " wholly outside it left out");
 }
 
 }  // namespace

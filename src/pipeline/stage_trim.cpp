@@ -2,6 +2,7 @@
 // so that a concave outline is not bridged; before clip and erase open new boundaries.
 #include <string>
 
+#include "core/number_text.hpp"
 #include "pipeline/stage.hpp"
 #include "terrain/trim.hpp"
 
@@ -14,7 +15,7 @@ bool wanted(const BuildOptions& o) {
 
 void run(Job& job) {
   job.report.trimmed_triangles = terrain::trim_long_edges(job.tin(), job.options.max_edge);
-  job.debug("trim: " + std::to_string(job.report.trimmed_triangles) +
+  job.debug("trim: " + count_text(job.report.trimmed_triangles) +
             " triangles with an edge longer than --max-edge removed");
   check_triangles_left(job);
 }

@@ -7,6 +7,7 @@
 #include <string_view>
 
 #include "core/coordinates.hpp"
+#include "core/number_text.hpp"
 #include "io/mesh/tin_writer.hpp"
 #include "pipeline/stage.hpp"
 
@@ -66,8 +67,8 @@ void run(Job& job) {
   report.output_bytes = out.bytes_written();
   report.vertices = ws.vertices;
   if (ws.triangles != report.triangles)
-    job.debug("writer reports " + std::to_string(ws.triangles) + " triangles, the TIN " +
-              std::to_string(report.triangles));
+    job.debug("writer reports " + count_text(ws.triangles) + " triangles, the TIN " +
+              count_text(report.triangles));
 }
 
 void plan(const BuildOptions& o, FilePlan& files) {

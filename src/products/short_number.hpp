@@ -1,16 +1,16 @@
-// A number as a message shows it: printf's %g, six significant digits ("0.001", "1e+308"),
-// never the hundreds of digits std::to_string gives a huge double.
+// A number as a message shows it: number_text(), six significant digits, thousands separated
+// ("0.001", "12,345.7", "1e+308"), never the hundreds of digits std::to_string gives a huge
+// double.
 #pragma once
 
-#include <cstdio>
 #include <string>
+
+#include "core/number_text.hpp"
 
 namespace tincdt::products {
 
 inline std::string short_number(double v) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%g", v);
-  return text;
+  return number_text(v);
 }
 
 }  // namespace tincdt::products

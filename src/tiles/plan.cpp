@@ -14,6 +14,7 @@
 
 #include "core/error.hpp"
 #include "core/json.hpp"
+#include "core/number_text.hpp"
 #include "core/parallel.hpp"
 #include "io/output_set.hpp"
 #include "io/points/point_summary.hpp"
@@ -348,8 +349,8 @@ void find_rim(const PlanOptions& options, TilePlan& plan, const BBox& all,
       hull.insert(hull.end(), scan.hull.begin(), scan.hull.end());
       for (const Point3& p : scan.near_outline) near.emplace_back(batch[k], p);
       if (log)
-        log(log_debug, in.path + ": " + std::to_string(scan.points) + " points, " +
-                           std::to_string(scan.near_outline.size()) + " near its outline");
+        log(log_debug, in.path + ": " + count_text(scan.points) + " points, " +
+                           count_text(scan.near_outline.size()) + " near its outline");
     }
     hull = tiles::convex_hull(std::move(hull));
   }
@@ -361,11 +362,10 @@ void find_rim(const PlanOptions& options, TilePlan& plan, const BBox& all,
   for (const auto& [i, p] : near)
     if (r.holds({p.x, p.y})) rim.push_back(p);
   if (log)
-    log(log_info, "rim: " + std::to_string(rim.size()) + " points within " +
-                      json_number(plan.rim_width) + " of the data's hull (" +
-                      std::to_string(plan.hull.size()) + " vertices); read " +
-                      std::to_string(scanned) + " point files for it, skipped " +
-                      std::to_string(skipped) + " inside");
+    log(log_info, "rim: " + count_text(rim.size()) + " points within " +
+                      number_text(plan.rim_width) + " of the data's hull (" +
+                      count_text(plan.hull.size()) + " vertices); read " + count_text(scanned) +
+                      " point files for it, skipped " + count_text(skipped) + " inside");
 }
 
 void set_extent(TilePlan& plan, const LogFn& log) {

@@ -209,7 +209,7 @@ TEST(DemResolution, GridLargerThanMemoryIsRefusedWithTheEstimate) {
   // 160 m x 120 m at 0.1 mm: 1.6 million x 1.2 million cells, 7 TiB of Float32.
   const Outcome r = run(dir, sample_with("--dem d.tif --resolution 0.0001"));
   EXPECT_EQ(r.exit_code, 1) << r.messages;
-  EXPECT_TRUE(has(r.messages, "1600000 x 1200000 cells")) << r.messages;
+  EXPECT_TRUE(has(r.messages, "1,600,000 x 1,200,000 cells")) << r.messages;
   EXPECT_TRUE(has(r.messages, "GiB")) << r.messages;
   EXPECT_TRUE(tincdt::test::names_in(dir).empty());
 }
@@ -223,7 +223,7 @@ TEST(ContourGuard, RefusedByTheEstimatedOutputBeforeTracing) {
   const Outcome r = run(dir, sample_with("--contour-lines c.gpkg --interval 1e-4"));
   EXPECT_EQ(r.exit_code, 1) << r.messages;
   EXPECT_LT(r.seconds, 30);
-  for (const std::string part : {"c.gpkg", "interval of 0.0001", "segments", "GB", "2e+07"})
+  for (const std::string part : {"c.gpkg", "interval of 0.0001", "segments", "GB", "20,000,000"})
     EXPECT_TRUE(has(r.messages, part)) << part << " in " << r.messages;
   EXPECT_TRUE(tincdt::test::names_in(dir).empty());
 }
