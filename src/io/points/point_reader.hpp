@@ -24,10 +24,14 @@ struct PointFilter {
 };
 
 struct PointReadStats {
-  std::uint64_t points_read = 0;  // records in the file
+  // Records in the file; for a COPC file read by box (PointFilter::box), in the nodes decoded.
+  std::uint64_t points_read = 0;
   std::uint64_t points_kept = 0;  // appended after filtering
-  std::string crs_wkt;            // empty when the file carries no CRS
-  std::string format;             // "xyz", "las 1.4 pdrf 6", "laz 1.2 pdrf 3", for the log
+  // Bytes of the file read: the whole file, but for a COPC file read by box only its header,
+  // VLRs, the hierarchy pages and the chunks of the nodes that meet the box. 0 for stdin.
+  std::uint64_t bytes_read = 0;
+  std::string crs_wkt;  // empty when the file carries no CRS
+  std::string format;   // "xyz", "las 1.4 pdrf 6", "laz 1.2 pdrf 3", for the log
   BBox extent;  // with PointFilter::box: the x, y range of the points the other filters kept
   // Things the caller should log: the data was read, but something about it is odd (an
   // unreadable CRS record, more VLRs announced than present). Each names the file.
