@@ -13,12 +13,14 @@
 #include <vector>
 
 #include "io/mesh/ply_reader.hpp"
+#include "io/points/point_reader.hpp"
 #include "pipeline/build.hpp"
 #include "support/files.hpp"
 #include "support/shared_data.hpp"
 #include "support/tincdt_run.hpp"
 #include "tiles/merge.hpp"
 #include "tiles/plan.hpp"
+#include "tiles/plan_rim.hpp"
 #include "tiles/tile_job.hpp"
 
 namespace {
@@ -144,6 +146,35 @@ TEST(CopcTiles, LoneStarInTwentyFiveTilesIsTheWholeTin) {
   const std::uint64_t least = *std::min_element(r.tile_bytes_read.begin(), r.tile_bytes_read.end());
   EXPECT_LT(least, r.file_bytes / 4);
   EXPECT_GT(least, 431475u);  // the root node's chunk
+}
+
+// The plan's rim from the hierarchy: the two level-2 nodes deep inside the hull of the others
+// are not read, and the hull, the bounds and the points near the outline (in order) are those
+// of the whole file.
+TEST(CopcTiles, ThePlanSkipsTheNodesDeepInsideTheHull) {
+  TINCDT_REQUIRE_SHARED_DATA("copc");
+  const std::string path = shared("copc/lone-star.copc.laz");
+  const double width = 0.5;
+  const tiles::detail::PointScan by_nodes = tiles::detail::scan_points(path, {}, width, 1);
+  std::vector<Point3> all;
+  io::read_points(path, {}, all, 1);
+  const tiles::detail::PointScan whole = tiles::detail::measure_points(all, width);
+  EXPECT_EQ(by_nodes.nodes, 15u);
+  EXPECT_EQ(by_nodes.unread_nodes, 2u);
+  EXPECT_EQ(by_nodes.points + by_nodes.unread_points, 518862u);
+  EXPECT_LT(by_nodes.points, 518862u * 2 / 3);
+  ASSERT_EQ(by_nodes.hull.size(), whole.hull.size());
+  for (std::size_t i = 0; i < whole.hull.size(); ++i) {
+    EXPECT_EQ(by_nodes.hull[i].x, whole.hull[i].x);
+    EXPECT_EQ(by_nodes.hull[i].y, whole.hull[i].y);
+  }
+  EXPECT_EQ(by_nodes.bounds.min_x, whole.bounds.min_x);
+  EXPECT_EQ(by_nodes.bounds.max_y, whole.bounds.max_y);
+  ASSERT_EQ(by_nodes.near_outline.size(), whole.near_outline.size());
+  for (std::size_t i = 0; i < whole.near_outline.size(); ++i) {
+    ASSERT_EQ(by_nodes.near_outline[i].x, whole.near_outline[i].x) << i;
+    ASSERT_EQ(by_nodes.near_outline[i].z, whole.near_outline[i].z) << i;
+  }
 }
 
 TEST(CopcTiles, StatsTellTheBytesEachTileRead) {

@@ -48,6 +48,24 @@ struct PointReadStats {
 PointReadStats read_points(const std::string& path, const PointFilter& filter,
                            std::vector<Point3>& out, unsigned threads = 0);
 
+// A COPC file's octree nodes that hold points, for reading a file part by part.
+struct CopcNodeSummary {
+  BBox bounds;  // x, y of the node's cube, grown by the points' rounding: its points lie inside
+  int level = 0;
+  std::uint64_t points = 0;
+  std::uint64_t bytes = 0;
+};
+
+// The nodes of the COPC file at PATH, from its hierarchy (every page); empty for a file that is
+// not COPC. Throws InputError naming the file and the place for a damaged hierarchy.
+std::vector<CopcNodeSummary> copc_nodes(const std::string& path);
+
+// Appends the points of the COPC file's nodes NODES (indices into copc_nodes()) that pass
+// FILTER (its box ignored), in file order.
+PointReadStats read_copc_nodes(const std::string& path, const PointFilter& filter,
+                               const std::vector<std::size_t>& nodes, std::vector<Point3>& out,
+                               unsigned threads = 0);
+
 PointReadStats read_xyz(const std::string& path, std::vector<Point3>& out, unsigned threads = 0);
 PointReadStats read_xyz(const std::string& path, const PointFilter& filter,
                         std::vector<Point3>& out, unsigned threads = 0);

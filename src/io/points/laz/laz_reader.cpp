@@ -62,17 +62,15 @@ Prepared prepare(const LazSource& src, std::vector<std::string>& warnings) {
   return p;
 }
 
-// The chunks of the COPC nodes meeting BOX, in file order. Each node's chunk must hold the
-// points the hierarchy gives it: a whole read takes the chunk's own count.
-Prepared prepare_copc(const LazSource& src, const PointLayout& layout, const BBox& box,
-                      LazReadFigures& figures) {
+// The chunks of the COPC nodes NODES (in file order). Each node's chunk must hold the points the
+// hierarchy gives it: a whole read takes the chunk's own count.
+Prepared prepare_copc(const LazSource& src, const PointLayout& layout,
+                      std::vector<CopcNode> nodes) {
   Prepared p;
   p.layout = layout;
-  CopcHierarchy h = read_hierarchy(src, &box);
-  figures.hierarchy_bytes = h.page_bytes;
   p.plan.data_end = src.data_limit;
   std::uint64_t first = 0;
-  for (const CopcNode& node : h.nodes) {
+  for (const CopcNode& node : nodes) {
     const std::string name =
         "COPC node " + node.key.text() + ", byte " + std::to_string(node.offset);
     if (node.bytes < src.record_length + 4)
@@ -88,7 +86,7 @@ Prepared prepare_copc(const LazSource& src, const PointLayout& layout, const BBo
     p.names.push_back(name);
     first += node.points;
   }
-  p.nodes = std::move(h.nodes);
+  p.nodes = std::move(nodes);
   return p;
 }
 
@@ -274,21 +272,11 @@ std::uint64_t data_bytes(const LazSource& src) {
 
 }  // namespace
 
-std::uint64_t read_points(const LazSource& src, const PointFilter& filter, unsigned threads,
-                          std::vector<Point3>& out, std::vector<std::string>& warnings,
-                          LazReadFigures* figures) {
-  LazReadFigures local;
-  LazReadFigures& fig = figures != nullptr ? *figures : local;
-  fig = {};
-  Prepared prep;
-  if (filter.box && src.copc_info != nullptr) {
-    // COPC requires formats 6-8, whose chunks state their point counts; other layouts are
-    // read whole.
-    const PointLayout layout = layout_of(src);
-    fig.by_box = layout.layered;
-    if (fig.by_box) prep = prepare_copc(src, layout, *filter.box, fig);
-  }
-  if (!fig.by_box) prep = prepare(src, warnings);
+namespace {
+
+// Decodes the chunks of PREP into OUT (see read_points), the figures into FIG.
+std::uint64_t decode_points(const LazSource& src, const Prepared& prep, const PointFilter& filter,
+                            unsigned threads, std::vector<Point3>& out, LazReadFigures& fig) {
   for (const ChunkEntry& c : prep.plan.chunks) fig.points_decoded += c.points;
   if (fig.by_box) {
     for (const ChunkEntry& c : prep.plan.chunks) fig.chunk_bytes += c.size;
@@ -334,6 +322,44 @@ std::uint64_t read_points(const LazSource& src, const PointFilter& filter, unsig
   const unsigned fields = kCoordinates | (sel.filter_classes ? kClassification : 0u);
   decode_all<std::vector<Xyz>>(src, prep, fields, threads, decode, commit);
   return kept;
+}
+
+}  // namespace
+
+std::uint64_t read_points(const LazSource& src, const PointFilter& filter, unsigned threads,
+                          std::vector<Point3>& out, std::vector<std::string>& warnings,
+                          LazReadFigures* figures) {
+  LazReadFigures local;
+  LazReadFigures& fig = figures != nullptr ? *figures : local;
+  fig = {};
+  if (filter.box && src.copc_info != nullptr) {
+    // COPC requires formats 6-8, whose chunks state their point counts; other layouts are
+    // read whole.
+    const PointLayout layout = layout_of(src);
+    if (layout.layered) {
+      fig.by_box = true;
+      CopcHierarchy h = read_hierarchy(src, &*filter.box);
+      fig.hierarchy_bytes = h.page_bytes;
+      return decode_points(src, prepare_copc(src, layout, std::move(h.nodes)), filter, threads, out,
+                           fig);
+    }
+  }
+  return decode_points(src, prepare(src, warnings), filter, threads, out, fig);
+}
+
+std::uint64_t read_nodes(const LazSource& src, std::vector<CopcNode> nodes,
+                         const PointFilter& filter, unsigned threads, std::vector<Point3>& out,
+                         LazReadFigures& figures) {
+  const PointLayout layout = layout_of(src);
+  if (!layout.layered)
+    throw InputError(src.path, "header",
+                     "COPC needs point format 6, 7 or 8, not " + std::to_string(src.point_format));
+  std::sort(nodes.begin(), nodes.end(),
+            [](const CopcNode& a, const CopcNode& b) { return a.offset < b.offset; });
+  figures = {};
+  figures.by_box = true;
+  return decode_points(src, prepare_copc(src, layout, std::move(nodes)), filter, threads, out,
+                       figures);
 }
 
 std::vector<std::uint8_t> read_records(const LazSource& src, unsigned threads,

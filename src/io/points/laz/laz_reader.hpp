@@ -11,6 +11,7 @@
 
 #include "core/types.hpp"
 #include "io/mapped_file.hpp"
+#include "io/points/laz/copc_hierarchy.hpp"
 #include "io/points/point_reader.hpp"
 #include "io/points/point_selection.hpp"
 
@@ -61,6 +62,12 @@ struct LazReadFigures {
 std::uint64_t read_points(const LazSource& source, const PointFilter& filter, unsigned threads,
                           std::vector<Point3>& out, std::vector<std::string>& warnings,
                           LazReadFigures* figures = nullptr);
+
+// Appends the points of the COPC nodes NODES (from read_hierarchy()) that pass FILTER, whose box
+// is ignored, in file order. Throws as read_points().
+std::uint64_t read_nodes(const LazSource& source, std::vector<CopcNode> nodes,
+                         const PointFilter& filter, unsigned threads, std::vector<Point3>& out,
+                         LazReadFigures& figures);
 
 // Every record in full, as the uncompressed LAS file holds them (all layers decoded): what the
 // tests compare with a LAS twin, and what the fuzz target exercises.
