@@ -1,4 +1,6 @@
 // COPC files node by node, for callers that choose the nodes themselves (the tile plan's rim).
+#include <sys/stat.h>
+
 #include <string>
 #include <vector>
 
@@ -11,6 +13,8 @@
 namespace tincdt::io {
 
 std::vector<CopcNodeSummary> copc_nodes(const std::string& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return {};  // read_points() says
   const detail::MappedFile file(path);
   if (file.size() < 4 || std::string(file.chars(), 4) != "LASF") return {};
   std::vector<std::string> warnings;
