@@ -120,9 +120,9 @@ void put_inputs(json::Writer& j, const std::vector<BuildReport::Input>& inputs) 
     put(j, member("path", in.path), member("kind", in.kind), member("crs", in.crs));
     if (in.kind == "points")
       put(j, member("format", in.format), member("points_read", in.points_read),
-          member("points_kept", in.points_kept), member("read", in.points_read),
-          member("kept", in.points_kept), member("filtered", in.points_read - in.points_kept),
-          member("skipped", std::uint64_t{0}));
+          member("points_kept", in.points_kept), member("bytes_read", in.bytes_read),
+          member("read", in.points_read), member("kept", in.points_kept),
+          member("filtered", in.points_read - in.points_kept), member("skipped", std::uint64_t{0}));
     else
       put(j, member("layer", in.format), member("features_read", in.features_read),
           member("features_used", in.features_used),

@@ -21,6 +21,7 @@ struct BuildReport {
     std::string crs;     // label, "" when the file has none
     std::uint64_t points_read = 0;
     std::uint64_t points_kept = 0;
+    std::uint64_t bytes_read = 0;  // of the point file (a COPC file read by box: the part read)
     // Vector sources.
     std::uint64_t features_read = 0;
     std::uint64_t features_used = 0;     // with at least one usable line or ring

@@ -121,6 +121,7 @@ void read_point_files(Job& job, CrsAgreement& crs) {
     in.crs = job.crs_names.label(s.crs_wkt);
     in.points_read = s.points_read;
     in.points_kept = s.points_kept;
+    in.bytes_read = s.bytes_read;
     job.report.points_read += s.points_read;
     job.report.points_kept += s.points_kept;
     job.debug(path + ": " + (s.format.empty() ? std::string("points") : s.format) + ", " +

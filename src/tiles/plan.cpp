@@ -307,7 +307,8 @@ struct BatchScans {
 };
 
 BatchScans scan_batch(const PlanOptions& options, const TilePlan& plan,
-                      const std::vector<std::size_t>& batch, std::size_t threads) {
+                      const std::vector<std::size_t>& batch, std::size_t threads,
+                      const std::vector<Point2>& hull) {
   BatchScans b{std::vector<detail::PointScan>(batch.size()),
                std::vector<std::exception_ptr>(batch.size())};
   parallel_chunks(
@@ -315,7 +316,7 @@ BatchScans scan_batch(const PlanOptions& options, const TilePlan& plan,
       [&](std::size_t begin, std::size_t end) {
         for (std::size_t k = begin; k < end; ++k) try {
             b.scans[k] = detail::scan_points(options.inputs[batch[k]], plan.filter, plan.rim_width,
-                                             batch.size() > 1 ? 1 : 0);
+                                             batch.size() > 1 ? 1 : 0, hull);
           } catch (...) {
             b.errors[k] = std::current_exception();
           }
@@ -337,20 +338,25 @@ void find_rim(const PlanOptions& options, TilePlan& plan, const BBox& all,
   for (std::size_t next = 0; next < order.size();) {
     const std::vector<std::size_t> batch =
         next_scan_batch(order, next, plan, hull, threads, skipped);
-    const BatchScans b = scan_batch(options, plan, batch, threads);
+    const BatchScans b = scan_batch(options, plan, batch, threads, hull);
     for (std::size_t k = 0; k < batch.size(); ++k) {
       if (b.errors[k]) std::rethrow_exception(b.errors[k]);
       PlanInput& in = plan.inputs[batch[k]];
       const detail::PointScan& scan = b.scans[k];
       ++scanned;
-      in.count = scan.points;  // exact now, and the bounds too
+      // Exact now, and the bounds too (a COPC file's unread nodes hold no hull point).
+      in.count = scan.points + scan.unread_points;
       in.bounds = scan.bounds;
       in.tolerance = 0;
       hull.insert(hull.end(), scan.hull.begin(), scan.hull.end());
       for (const Point3& p : scan.near_outline) near.emplace_back(batch[k], p);
       if (log)
-        log(log_debug, in.path + ": " + count_text(scan.points) + " points, " +
-                           count_text(scan.near_outline.size()) + " near its outline");
+        log(log_debug,
+            in.path + ": " + count_text(scan.points) + " points, " +
+                count_text(scan.near_outline.size()) + " near its outline" +
+                (scan.nodes == 0 ? std::string()
+                                 : "; read " + count_text(scan.nodes - scan.unread_nodes) +
+                                       " of its " + count_text(scan.nodes) + " COPC nodes"));
     }
     hull = tiles::convex_hull(std::move(hull));
   }

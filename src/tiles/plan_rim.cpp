@@ -45,10 +45,16 @@ double magnitude(const BBox& b) {
 }  // namespace
 
 PointScan scan_points(const std::string& path, const io::PointFilter& filter, double width,
-                      unsigned threads) {
-  PointScan s;
+                      unsigned threads, const std::vector<Point2>& hull) {
+  const std::vector<io::CopcNodeSummary> nodes = io::copc_nodes(path);
+  if (!nodes.empty()) return scan_copc(path, filter, width, threads, nodes, hull);
   std::vector<Point3> points;
   io::read_points(path, filter, points, threads);
+  return measure_points(points, width);
+}
+
+PointScan measure_points(const std::vector<Point3>& points, double width) {
+  PointScan s;
   s.points = points.size();
   if (points.empty()) return s;
   // The extremes in eight directions span an octagon inside the hull; the points strictly

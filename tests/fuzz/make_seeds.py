@@ -129,6 +129,47 @@ def vector_seeds():
             yield f"{stem}_mode{mode:02x}", bytes([mode]) + doc
 
 
+def copc_seed(path, max_level=2):
+    """A COPC file of at most 32 KiB (run.sh's -max_len) from a real one: its header and VLRs,
+    the chunks of the nodes down to MAX_LEVEL, no chunk table (the whole read walks the chunks),
+    and the hierarchy split into a root page and one child page per level-1 node."""
+    b = open(path, "rb").read()
+    offset_to_points = struct.unpack_from("<I", b, 96)[0]
+    info = 375 + 54  # the COPC info VLR's payload comes first
+    root_offset, root_size = struct.unpack_from("<QQ", b, info + 40)
+    entries = [struct.unpack_from("<4iQii", b, root_offset + 32 * i) for i in range(root_size // 32)]
+    nodes = sorted((e for e in entries if 0 < e[6] and e[0] <= max_level), key=lambda e: e[4])
+    out = bytearray(b[:offset_to_points]) + struct.pack("<q", 0)
+    moved = {}
+    for e in nodes:
+        moved[e[:4]] = len(out)
+        out += b[e[4]:e[4] + e[5]]
+    def entry(e, offset=None, size=None, count=None):
+        return struct.pack("<4iQii", *e[:4], moved[e[:4]] if offset is None else offset,
+                           e[5] if size is None else size, e[6] if count is None else count)
+    evlr = len(out)
+    out += struct.pack("<H16sHQ32s", 0, b"copc", 1000, 0, b"")
+    pages = bytearray()
+    children = []
+    for top in (e for e in nodes if e[0] == 1):
+        page = b"".join(entry(e) for e in nodes
+                        if e[0] >= 1 and (e[1] >> (e[0] - 1), e[2] >> (e[0] - 1),
+                                          e[3] >> (e[0] - 1)) == top[1:4])
+        children.append((top, len(out) + len(pages), len(page)))
+        pages += page
+    root = b"".join(entry(e) for e in nodes if e[0] == 0)
+    root += b"".join(entry(t, offset, size, -1) for t, offset, size in children)
+    root_at = len(out) + len(pages)
+    pages += root
+    out += pages
+    struct.pack_into("<Q", out, evlr + 20, len(pages))
+    struct.pack_into("<QQ", out, info + 40, root_at, len(root))
+    struct.pack_into("<QI", out, 235, evlr, 1)
+    struct.pack_into("<Q", out, 247, sum(e[6] for e in nodes))
+    assert len(out) <= 32768, len(out)
+    return bytes(out)
+
+
 def main():
     write_las = [os.path.join(ROOT, "data", "sample.las")]
     las_dir = os.path.join(SHARED, "las")
@@ -137,6 +178,9 @@ def main():
                             if n.endswith(".las"))
     for path in write_las:
         write("las_fuzz", os.path.basename(path), las_seed(path))
+    copc = os.path.join(SHARED, "laz", "simple.copc.laz")
+    if os.path.exists(copc):
+        write("laz_fuzz", "simple_levels_0_2.copc.laz", copc_seed(copc))
     for name, data in xyz_seeds():
         write("xyz_fuzz", name, data)
     for name, data in vector_seeds():

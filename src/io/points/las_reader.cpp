@@ -188,6 +188,9 @@ struct VlrRecords {
   const std::uint8_t* laszip = nullptr;  // the LASzip VLR's payload
   std::size_t laszip_size = 0;
   bool copc = false;  // a COPC info VLR: the file is a cloud-optimised point cloud
+  const std::uint8_t* copc_info = nullptr;
+  std::size_t copc_info_size = 0;
+  std::uint64_t evlr_bytes = 0;  // of the extended VLRs' headers and the payloads taken
 };
 
 std::string user_id(const std::uint8_t* vlr) {
@@ -203,7 +206,11 @@ void take_record(const std::string& uid, unsigned record_id, const std::uint8_t*
     crs.laszip_size = length;
     return;
   }
-  if (uid == "copc" && record_id == 1) crs.copc = true;
+  if (uid == "copc" && record_id == 1) {
+    crs.copc = true;
+    crs.copc_info = payload;
+    crs.copc_info_size = length;
+  }
   if (uid != "LASF_Projection") return;
   switch (record_id) {
     case 2112: {
@@ -294,8 +301,11 @@ void read_evlrs(const std::string& path, const LasHeader& h, const std::uint8_t*
                        "truncated: the record announces " + std::to_string(length) +
                            " bytes but the file ends at byte " + std::to_string(size));
     }
-    take_record(user_id(d + pos), load_le<std::uint16_t>(d + pos + 18), d + pos + kEvlrHeaderSize,
+    const std::string uid = user_id(d + pos);
+    take_record(uid, load_le<std::uint16_t>(d + pos + 18), d + pos + kEvlrHeaderSize,
                 static_cast<std::size_t>(length), crs);
+    // The COPC hierarchy is read page by page, and only where a box read needs it.
+    crs.evlr_bytes += kEvlrHeaderSize + (uid == "copc" ? 0 : length);
     pos += kEvlrHeaderSize + length;
   }
 }
@@ -425,6 +435,8 @@ laz::LazSource laz_source(const std::string& path, const LasHeader& h, const Vlr
   src.data_limit = point_data_limit(h, size);
   src.laszip_vlr = vlrs.laszip;
   src.laszip_vlr_size = vlrs.laszip_size;
+  src.copc_info = vlrs.copc_info;
+  src.copc_info_size = vlrs.copc_info_size;
   src.transform = transform_of(h);
   src.check_range = !src.transform.in_range_by_header();
   return src;
@@ -467,7 +479,14 @@ PointReadStats read_las(const std::string& path, const PointFilter& filter,
   if (laz) {
     laz::LazSource src = laz_source(path, h, vlrs, file.data(), file.size());
     src.mapping = &file;
-    stats.points_kept = laz::read_points(src, filter, threads, out, stats.warnings);
+    laz::LazReadFigures figures;
+    stats.points_kept = laz::read_points(src, filter, threads, out, stats.warnings, &figures);
+    if (figures.by_box) {
+      // The header and VLRs, the extended VLRs' headers, the hierarchy pages and the chunks.
+      stats.points_read = figures.points_decoded;
+      stats.bytes_read =
+          h.offset_to_points + vlrs.evlr_bytes + figures.hierarchy_bytes + figures.chunk_bytes;
+    }
     return stats;
   }
 

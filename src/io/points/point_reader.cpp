@@ -269,6 +269,11 @@ PointReadStats read_points(const std::string& path, const PointFilter& filter,
                            std::vector<Point3>& out, unsigned threads) {
   const std::size_t first = out.size();
   PointReadStats stats = read_any(path, filter, out, threads);
+  if (stats.bytes_read == 0 && path != "-") {
+    struct stat st {};
+    if (::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode))
+      stats.bytes_read = static_cast<std::uint64_t>(st.st_size);
+  }
   if (filter.box) keep_inside(*filter.box, first, out, stats);
   return stats;
 }

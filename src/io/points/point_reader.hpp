@@ -24,10 +24,14 @@ struct PointFilter {
 };
 
 struct PointReadStats {
-  std::uint64_t points_read = 0;  // records in the file
+  // Records in the file; for a COPC file read by box (PointFilter::box), in the nodes decoded.
+  std::uint64_t points_read = 0;
   std::uint64_t points_kept = 0;  // appended after filtering
-  std::string crs_wkt;            // empty when the file carries no CRS
-  std::string format;             // "xyz", "las 1.4 pdrf 6", "laz 1.2 pdrf 3", for the log
+  // Bytes of the file read: the whole file, but for a COPC file read by box only its header,
+  // VLRs, the hierarchy pages and the chunks of the nodes that meet the box. 0 for stdin.
+  std::uint64_t bytes_read = 0;
+  std::string crs_wkt;  // empty when the file carries no CRS
+  std::string format;   // "xyz", "las 1.4 pdrf 6", "laz 1.2 pdrf 3", for the log
   BBox extent;  // with PointFilter::box: the x, y range of the points the other filters kept
   // Things the caller should log: the data was read, but something about it is odd (an
   // unreadable CRS record, more VLRs announced than present). Each names the file.
@@ -43,6 +47,24 @@ struct PointReadStats {
 // 0 = every core.
 PointReadStats read_points(const std::string& path, const PointFilter& filter,
                            std::vector<Point3>& out, unsigned threads = 0);
+
+// A COPC file's octree nodes that hold points, for reading a file part by part.
+struct CopcNodeSummary {
+  BBox bounds;  // x, y of the node's cube, grown by the points' rounding: its points lie inside
+  int level = 0;
+  std::uint64_t points = 0;
+  std::uint64_t bytes = 0;
+};
+
+// The nodes of the COPC file at PATH, from its hierarchy (every page); empty for a file that is
+// not COPC. Throws InputError naming the file and the place for a damaged hierarchy.
+std::vector<CopcNodeSummary> copc_nodes(const std::string& path);
+
+// Appends the points of the COPC file's nodes NODES (indices into copc_nodes()) that pass
+// FILTER (its box ignored), in file order.
+PointReadStats read_copc_nodes(const std::string& path, const PointFilter& filter,
+                               const std::vector<std::size_t>& nodes, std::vector<Point3>& out,
+                               unsigned threads = 0);
 
 PointReadStats read_xyz(const std::string& path, std::vector<Point3>& out, unsigned threads = 0);
 PointReadStats read_xyz(const std::string& path, const PointFilter& filter,

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <exception>
 #include <string>
+#include <vector>
 
 #include "core/error.hpp"
 
@@ -29,9 +30,14 @@ struct ChunkInput {
   const std::string* path = nullptr;
   std::size_t index = 0;          // chunk number, from 0
   std::uint64_t first_point = 0;  // file-wide index of the chunk's first point
+  // The chunks' own names ("COPC node 2-1-3-0, byte 2706") when they are not the file's chunks
+  // in order: points are then counted within the chunk.
+  const std::vector<std::string>* names = nullptr;
 
   // "FILE: chunk 2, point 100017: WHAT" (point = file-wide index, from 0).
   InputError error(std::uint64_t point_in_chunk, const std::string& what) const {
+    if (names != nullptr)
+      return InputError(*path, (*names)[index] + ", point " + std::to_string(point_in_chunk), what);
     return InputError(*path,
                       "chunk " + std::to_string(index) + ", point " +
                           std::to_string(first_point + point_in_chunk),

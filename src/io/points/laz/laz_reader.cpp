@@ -12,9 +12,11 @@
 #include "core/parallel.hpp"
 #include "io/points/laz/chunk.hpp"
 #include "io/points/laz/chunk_table.hpp"
+#include "io/points/laz/copc_hierarchy.hpp"
 #include "io/points/laz/laszip_vlr.hpp"
 #include "io/points/laz/point10_decoder.hpp"
 #include "io/points/laz/point14_decoder.hpp"
+#include "io/points/load_le.hpp"
 
 namespace tincdt::io::laz {
 namespace {
@@ -31,12 +33,19 @@ std::size_t plausible(std::uint64_t points, std::uint64_t bytes) {
 struct Prepared {
   PointLayout layout;
   ChunkPlan plan;
+  // A COPC read by box: the nodes decoded, one per chunk of the plan, and their names.
+  std::vector<CopcNode> nodes;
+  std::vector<std::string> names;
 };
 
-Prepared prepare(const LazSource& src, std::vector<std::string>& warnings) {
+PointLayout layout_of(const LazSource& src) {
   const LaszipVlr vlr = parse_laszip_vlr(src.path, src.laszip_vlr, src.laszip_vlr_size);
+  return check_layout(src.path, vlr, src.point_format, src.record_length);
+}
+
+Prepared prepare(const LazSource& src, std::vector<std::string>& warnings) {
   Prepared p;
-  p.layout = check_layout(src.path, vlr, src.point_format, src.record_length);
+  p.layout = layout_of(src);
   if (p.layout.waveform && !p.layout.layered) {
     // The waveform item sits in the same stream as the coordinates: it would have to be decoded.
     throw InputError(src.path, "LASzip VLR",
@@ -53,8 +62,38 @@ Prepared prepare(const LazSource& src, std::vector<std::string>& warnings) {
   return p;
 }
 
-ChunkInput input_for(const LazSource& src, const ChunkEntry& c, std::size_t index) {
+// The chunks of the COPC nodes NODES (in file order). Each node's chunk must hold the points the
+// hierarchy gives it: a whole read takes the chunk's own count.
+Prepared prepare_copc(const LazSource& src, const PointLayout& layout,
+                      std::vector<CopcNode> nodes) {
+  Prepared p;
+  p.layout = layout;
+  p.plan.data_end = src.data_limit;
+  std::uint64_t first = 0;
+  for (const CopcNode& node : nodes) {
+    const std::string name =
+        "COPC node " + node.key.text() + ", byte " + std::to_string(node.offset);
+    if (node.bytes < src.record_length + 4)
+      throw InputError(src.path, name,
+                       "its chunk of " + std::to_string(node.bytes) +
+                           " bytes is too short for a first point and a point count");
+    const std::uint64_t held = load_le<std::uint32_t>(src.file + node.offset + src.record_length);
+    if (held != node.points)
+      throw InputError(src.path, name,
+                       "the hierarchy gives it " + std::to_string(node.points) +
+                           " points, its chunk holds " + std::to_string(held));
+    p.plan.chunks.push_back({node.offset, node.bytes, node.points, first});
+    p.names.push_back(name);
+    first += node.points;
+  }
+  p.nodes = std::move(nodes);
+  return p;
+}
+
+ChunkInput input_for(const LazSource& src, const Prepared& prep, const ChunkEntry& c,
+                     std::size_t index) {
   ChunkInput in;
+  if (!prep.names.empty()) in.names = &prep.names;
   in.data = src.file + c.offset;
   in.size = static_cast<std::size_t>(c.size);
   in.points = c.points;
@@ -93,7 +132,7 @@ void decode_in_sequence(const LazSource& src, const Prepared& prep, unsigned fie
     ChunkEntry chunk = plan.chunks[c];
     chunk.offset = offset;
     chunk.size = plan.data_end - offset;
-    offset += decode(decoder, input_for(src, chunk, c), out);
+    offset += decode(decoder, input_for(src, prep, chunk, c), out);
     commit(out);
     releaser.up_to(offset);
   }
@@ -147,7 +186,7 @@ void decode_in_parallel(const LazSource& src, const Prepared& prep, unsigned fie
           if (stop || next >= n) return;
           chunk = next++;
         }
-        decode(decoder, input_for(src, plan.chunks[chunk], chunk), out);
+        decode(decoder, input_for(src, prep, plan.chunks[chunk], chunk), out);
         std::lock_guard lock(mutex);
         std::swap(slots[chunk % window], out);
         ready[chunk % window] = 1;
@@ -178,7 +217,7 @@ void decode_chunks(const LazSource& src, const Prepared& prep, unsigned fields, 
   const std::size_t n = plan.chunks.size();
   if (n == 0) return;
   PageReleaser releaser(src);
-  if (src.mapping != nullptr) {
+  if (src.mapping != nullptr && prep.nodes.empty()) {  // a box read skips most of the data
     src.mapping->advise_sequential(static_cast<std::size_t>(src.offset_to_points),
                                    static_cast<std::size_t>(plan.data_end));
   }
@@ -194,7 +233,7 @@ void decode_chunks(const LazSource& src, const Prepared& prep, unsigned fields, 
   Decoder decoder(prep.layout, fields);
   Output out;
   for (std::size_t c = 0; c < n; ++c) {
-    decode(decoder, input_for(src, plan.chunks[c], c), out);
+    decode(decoder, input_for(src, prep, plan.chunks[c], c), out);
     commit(out);
     releaser.up_to(plan.chunks[c].offset + plan.chunks[c].size);
   }
@@ -210,41 +249,71 @@ void decode_all(const LazSource& src, const Prepared& prep, unsigned fields, uns
   }
 }
 
+// A box read trusts that every point lies in its node's cube: one that does not would be missed
+// by the boxes it lies in, so the file cannot be read by box.
+template <class Xyz>
+void check_in_node(const LazSource& src, const CopcNode& node, const ChunkInput& in,
+                   const std::vector<Xyz>& points) {
+  const BBox& b = node.bounds;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Point3 p = src.transform.apply(points[i][0], points[i][1], points[i][2]);
+    if (p.x >= b.min_x && p.x <= b.max_x && p.y >= b.min_y && p.y <= b.max_y) continue;
+    throw InputError(*in.path, (*in.names)[in.index],
+                     "a point at (" + std::to_string(p.x) + ", " + std::to_string(p.y) +
+                         ") lies outside the node's cube (x " + std::to_string(b.min_x) + " to " +
+                         std::to_string(b.max_x) + ", y " + std::to_string(b.min_y) + " to " +
+                         std::to_string(b.max_y) + "): the file cannot be read by box");
+  }
+}
+
 std::uint64_t data_bytes(const LazSource& src) {
   return src.data_limit > src.offset_to_points ? src.data_limit - src.offset_to_points : 0;
 }
 
 }  // namespace
 
-std::uint64_t read_points(const LazSource& src, const PointFilter& filter, unsigned threads,
-                          std::vector<Point3>& out, std::vector<std::string>& warnings) {
-  const Prepared prep = prepare(src, warnings);
+namespace {
+
+// Decodes the chunks of PREP into OUT (see read_points), the figures into FIG.
+std::uint64_t decode_points(const LazSource& src, const Prepared& prep, const PointFilter& filter,
+                            unsigned threads, std::vector<Point3>& out, LazReadFigures& fig) {
+  for (const ChunkEntry& c : prep.plan.chunks) fig.points_decoded += c.points;
+  if (fig.by_box) {
+    for (const ChunkEntry& c : prep.plan.chunks) fig.chunk_bytes += c.size;
+  } else {
+    fig.chunk_bytes = data_bytes(src);
+  }
   const detail::Selection sel(filter);
   using Xyz = std::array<std::int32_t, 3>;
-  out.reserve(out.size() + plausible(src.point_count, data_bytes(src)));
+  out.reserve(out.size() + plausible(fig.points_decoded, fig.chunk_bytes));
   detail::advise_huge_pages(out);
   std::uint64_t kept = 0;
   const auto decode = [&](auto& decoder, const ChunkInput& in, std::vector<Xyz>& buffer) {
     buffer.clear();
     buffer.reserve(plausible(in.points, in.size));
+    std::size_t length = 0;
     if (sel.any()) {
-      return decoder.decode_chunk(in, [&](const auto& p) {
+      length = decoder.decode_chunk(in, [&](const auto& p) {
         if (sel.keeps(p.classification(), p.return_number(), p.number_of_returns())) {
           buffer.push_back({p.x(), p.y(), p.z()});
         }
       });
+    } else {
+      length = decoder.decode_chunk(in, [&](const auto& p) {
+        buffer.push_back({p.x(), p.y(), p.z()});
+      });
     }
-    return decoder.decode_chunk(in, [&](const auto& p) {
-      buffer.push_back({p.x(), p.y(), p.z()});
-    });
+    if (!prep.nodes.empty()) check_in_node(src, prep.nodes[in.index], in, buffer);
+    return length;
   };
   const auto commit = [&](std::vector<Xyz>& buffer) {
     if (src.check_range) {
       for (std::size_t i = 0; i < buffer.size(); ++i) {
         const Point3 p = src.transform.apply(buffer[i][0], buffer[i][1], buffer[i][2]);
         // Without filters the points kept are the file's points, in order.
-        src.transform.check_range(p, src.path,
-                                  sel.any() ? std::string() : "point " + std::to_string(kept + i));
+        src.transform.check_range(
+            p, src.path,
+            sel.any() || fig.by_box ? std::string() : "point " + std::to_string(kept + i));
       }
     }
     for (const Xyz& v : buffer) out.push_back(src.transform.apply(v[0], v[1], v[2]));
@@ -253,6 +322,44 @@ std::uint64_t read_points(const LazSource& src, const PointFilter& filter, unsig
   const unsigned fields = kCoordinates | (sel.filter_classes ? kClassification : 0u);
   decode_all<std::vector<Xyz>>(src, prep, fields, threads, decode, commit);
   return kept;
+}
+
+}  // namespace
+
+std::uint64_t read_points(const LazSource& src, const PointFilter& filter, unsigned threads,
+                          std::vector<Point3>& out, std::vector<std::string>& warnings,
+                          LazReadFigures* figures) {
+  LazReadFigures local;
+  LazReadFigures& fig = figures != nullptr ? *figures : local;
+  fig = {};
+  if (filter.box && src.copc_info != nullptr) {
+    // COPC requires formats 6-8, whose chunks state their point counts; other layouts are
+    // read whole.
+    const PointLayout layout = layout_of(src);
+    if (layout.layered) {
+      fig.by_box = true;
+      CopcHierarchy h = read_hierarchy(src, &*filter.box);
+      fig.hierarchy_bytes = h.page_bytes;
+      return decode_points(src, prepare_copc(src, layout, std::move(h.nodes)), filter, threads, out,
+                           fig);
+    }
+  }
+  return decode_points(src, prepare(src, warnings), filter, threads, out, fig);
+}
+
+std::uint64_t read_nodes(const LazSource& src, std::vector<CopcNode> nodes,
+                         const PointFilter& filter, unsigned threads, std::vector<Point3>& out,
+                         LazReadFigures& figures) {
+  const PointLayout layout = layout_of(src);
+  if (!layout.layered)
+    throw InputError(src.path, "header",
+                     "COPC needs point format 6, 7 or 8, not " + std::to_string(src.point_format));
+  std::sort(nodes.begin(), nodes.end(),
+            [](const CopcNode& a, const CopcNode& b) { return a.offset < b.offset; });
+  figures = {};
+  figures.by_box = true;
+  return decode_points(src, prepare_copc(src, layout, std::move(nodes)), filter, threads, out,
+                       figures);
 }
 
 std::vector<std::uint8_t> read_records(const LazSource& src, unsigned threads,
