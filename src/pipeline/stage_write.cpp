@@ -54,6 +54,7 @@ void run(Job& job) {
     const std::string warning = io::stl_precision_warning(tin, job.write.offset);
     if (!warning.empty()) job.warn(warning + "; shift them with --offset (e.g. --offset auto)");
   }
+  if (job.options.output.empty()) return;  // no -o: only the products
   io::TinWriteOptions options = job.write;
   options.progress = job.stage_progress();
   io::TinWriteStats ws;
@@ -70,7 +71,7 @@ void run(Job& job) {
 }
 
 void plan(const BuildOptions& o, FilePlan& files) {
-  files.outputs.push_back({o.output, "the TIN (-o)"});
+  if (!o.output.empty()) files.outputs.push_back({o.output, "the TIN (-o)"});
 }
 
 // ---- options: the TIN's, and --overwrite for every output -------------------------------------
@@ -98,7 +99,6 @@ const OptionSpec kOptions[] = {
      .value_name = "FILE",
      .help = kOutputHelp,
      .group = option_groups::output,
-     .required = true,
      .set = set_text<&BuildOptions::output>},
     {.flags = "-f,--format",
      .help = "Output format, overriding the extension",
