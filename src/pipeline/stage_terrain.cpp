@@ -138,6 +138,11 @@ void run(Job& job) {
              short_number(s.error.max) + " m (allowed " +
              short_number(qm::geometric_error_at_level(level)) + "), RMSE " + short_number(rmse) +
              " m over " + std::to_string(s.error.count) + " vertices");
+    if (s.error.max > qm::geometric_error_at_level(level))
+      job.warn("terrain level " + std::to_string(level) + ": vertices up to " +
+               short_number(s.error.max) + " m from the TIN, above the level's error: points " +
+               "closer than a tile's quantization step (1/32767 of its width) differ more in " +
+               "height (walls, trees; ground points alone make a smoother terrain)");
   }
   write_file(job, o.path + "/layer.json", qm::layer_json(layer));
 }

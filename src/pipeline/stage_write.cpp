@@ -38,6 +38,15 @@ std::uint64_t kept_constraints(const mesh::Triangulation& tin) {
   return n;
 }
 
+// Vertices of the kept triangles: what a writer would have written.
+std::uint64_t kept_vertices(const mesh::Triangulation& tin) {
+  std::vector<bool> used(tin.vertex_count(), false);
+  tin.for_each_triangle([&](TriangleId, const std::array<VertexId, 3>& c) {
+    for (const VertexId v : c) used[v] = true;
+  });
+  return static_cast<std::uint64_t>(std::count(used.begin(), used.end(), true));
+}
+
 bool wanted(const BuildOptions&) {
   return true;
 }
@@ -54,7 +63,10 @@ void run(Job& job) {
     const std::string warning = io::stl_precision_warning(tin, job.write.offset);
     if (!warning.empty()) job.warn(warning + "; shift them with --offset (e.g. --offset auto)");
   }
-  if (job.options.output.empty()) return;  // no -o: only the products
+  if (job.options.output.empty()) {  // no -o: only the products
+    report.vertices = kept_vertices(tin);
+    return;
+  }
   io::TinWriteOptions options = job.write;
   options.progress = job.stage_progress();
   io::TinWriteStats ws;

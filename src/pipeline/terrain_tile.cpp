@@ -24,7 +24,7 @@ constexpr double kMax = kQuantizedMax;
 constexpr double kBorderShare = 0.75;
 // Tries of the greedy insertion at a tighter tolerance when the measured error is above the
 // level's (the quantization of the vertices moved the surface).
-constexpr int kTries = 4;
+constexpr int kTries = 3;
 
 // A side of a tile: where its points go on the quantized grid.
 enum class Side { south, east, north, west };
@@ -152,12 +152,16 @@ BuiltTile build_tile(const TerrainSource& source, const io::terrain::TileKey& ke
     simplify::SimplifyOptions options;
     options.max_error = tolerance;
     options.threads = 1;
-    const simplify::SimplifyResult result = simplify::simplify(p.xy, p.z, p.kept, p.segments,
-                                                               options);
+    const simplify::SimplifyResult result =
+        simplify::simplify(p.xy, p.z, p.kept, p.segments, options);
     assert(result.tin.vertex_count() >= border);
     (void)border;
-    best.mesh = tile_mesh(r, result.tin);
-    best.error = measure_tile(source, best.mesh);
+    BuiltTile tile{tile_mesh(r, result.tin), {}};
+    tile.error = measure_tile(source, tile.mesh);
+    // A tighter run is kept only when it meets the error. One that does not met an error no
+    // vertex can remove: the quantized grid moves a point of a near-vertical face (a wall, a
+    // tree) by up to half a step. The sparsest tile is kept then.
+    if (attempt == 0 || tile.error.max <= error) best = std::move(tile);
     if (best.error.max <= error || tolerance == 0) break;
     tolerance = std::max(0.0, tolerance - (best.error.max - error) - 0.1 * error);
   }
