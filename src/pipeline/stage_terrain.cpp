@@ -79,12 +79,12 @@ struct LevelStats {
   TileError error;
 };
 
-LevelStats write_level(Job& job, const TerrainSource& source, int level, int max_level,
-                       double done, double share) {
+LevelStats write_level(Job& job, const TerrainSource& source, int level, int max_level, double done,
+                       double share) {
   const qm::TileRange range = qm::tiles_covering(source.bounds(), level);
   const double error = qm::geometric_error_at_level(level);
-  const std::uint64_t count = std::uint64_t{range.end_x - range.start_x + 1} *
-                              (range.end_y - range.start_y + 1);
+  const std::uint64_t count =
+      std::uint64_t{range.end_x - range.start_x + 1} * (range.end_y - range.start_y + 1);
   LevelStats stats;
   for (std::uint32_t x = range.start_x; x <= range.end_x; ++x)
     for (std::uint32_t y = range.start_y; y <= range.end_y; ++y) {
@@ -118,8 +118,8 @@ void run(Job& job) {
   const TerrainSource source(job.tin(), job.crs_wkt, job.describe_inputs(), o.fill_height);
   log_units(job, source);
   const double spacing = source.point_spacing_metres();
-  const int max_level = o.max_level ? *o.max_level
-                                    : std::max(o.min_level, level_for_spacing(spacing));
+  const int max_level =
+      o.max_level ? *o.max_level : std::max(o.min_level, level_for_spacing(spacing));
   job.info("terrain: levels " + std::to_string(o.min_level) + "-" + std::to_string(max_level) +
            (o.max_level ? "" : " (point spacing " + short_number(spacing) + " m)"));
   qm::TerrainLayer layer;
@@ -132,7 +132,8 @@ void run(Job& job) {
     layer.available[level] = {qm::tiles_covering(source.bounds(), level)};
     const LevelStats s =
         write_level(job, source, level, max_level, (level - o.min_level) * share, share);
-    const double rmse = s.error.count ? std::sqrt(s.error.sum_squares / static_cast<double>(s.error.count)) : 0;
+    const double rmse =
+        s.error.count ? std::sqrt(s.error.sum_squares / static_cast<double>(s.error.count)) : 0;
     job.info("terrain level " + std::to_string(level) + ": " + std::to_string(s.tiles) +
              " tiles, " + std::to_string(s.vertices) + " vertices, max error " +
              short_number(s.error.max) + " m (allowed " +
@@ -185,8 +186,8 @@ bool parse_levels(std::string_view text, int& min, int& max) {
 std::string check_levels(std::string_view text) {
   int min = 0, max = 0;
   if (parse_levels(text, min, max)) return {};
-  return in_quotes(text) + " is not MIN-MAX, two levels 0 <= MIN <= MAX <= " +
-         std::to_string(qm::kMaxTileLevel);
+  return in_quotes(text) +
+         " is not MIN-MAX, two levels 0 <= MIN <= MAX <= " + std::to_string(qm::kMaxTileLevel);
 }
 
 void set_levels(BuildOptions& o, std::string_view text) {
@@ -204,12 +205,10 @@ constexpr OptionSpec kOptions[] = {
                 "Web terrain: a Cesium quantized-mesh-1.0 pyramid, DIR/layer.json and\n"
                 "DIR/{z}/{x}/{y}.terrain, each level within Cesium's geometric error\n"
                 "(needs a CRS)"),
-    checked_option("--terrain-levels", "MIN-MAX", option_groups::products, check_levels,
-                   set_levels,
+    checked_option("--terrain-levels", "MIN-MAX", option_groups::products, check_levels, set_levels,
                    "The pyramid's levels (default: 0 to the level of the data's point\n"
                    "spacing)"),
-    with_default(checked_option("--terrain-fill-height", "H", option_groups::products,
-                                check_number,
+    with_default(checked_option("--terrain-fill-height", "H", option_groups::products, check_number,
                                 set_number<&BuildOptions::terrain, &Terrain::fill_height>,
                                 "Height (metres) of the tiles' surface beyond the data"),
                  "0", show_number<&BuildOptions::terrain, &Terrain::fill_height>),

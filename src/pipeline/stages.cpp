@@ -22,7 +22,7 @@ extern const Stage validate_stage;     // --validate
 extern const Stage quality_stage;      // the quality block of --stats
 extern const Stage write_stage;        // the TIN (-o) and its .prj
 extern const Stage dem_stage;          // --dem: the final TIN rasterized
-extern const Stage terrain_stage;           // --terrain: the quantized-mesh pyramid
+extern const Stage terrain_stage;      // --terrain: the quantized-mesh pyramid
 extern const Stage contour_lines_stage;     // --contour-lines: traced on the final TIN
 extern const Stage preview_stage;           // --preview: a hillshade PNG of the final TIN
 extern const Stage constraint_lines_stage;  // --constraints-out

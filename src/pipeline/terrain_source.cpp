@@ -170,8 +170,8 @@ std::vector<SectionPoint> TerrainSource::section(bool along_meridian, double at,
   const auto u_of = [&](const Point3& p) { return (along_meridian ? p.x : p.y) - at; };
   const auto s_of = [&](const Point3& p) { return along_meridian ? p.y : p.x; };
   std::vector<SectionPoint> out;
-  const GeoRectangle r = along_meridian ? GeoRectangle{at, from, at, to}
-                                        : GeoRectangle{from, at, to, at};
+  const GeoRectangle r =
+      along_meridian ? GeoRectangle{at, from, at, to} : GeoRectangle{from, at, to, at};
   for_cells(r, triangle_cells_, [&](std::size_t cell) {
     for (std::uint32_t i = triangle_cells_.begin[cell]; i < triangle_cells_.begin[cell + 1]; ++i) {
       const auto& t = triangles_[triangle_cells_.items[i]];

@@ -29,8 +29,8 @@ class TerrainSource {
  public:
   // TIN's kept triangles, its coordinates in CRS_WKT transformed (InputError naming WHAT when
   // there is no CRS or PROJ fails).
-  TerrainSource(const mesh::Triangulation& tin, const std::string& crs_wkt,
-                const std::string& what, double fill_height);
+  TerrainSource(const mesh::Triangulation& tin, const std::string& crs_wkt, const std::string& what,
+                double fill_height);
 
   const std::vector<Point3>& vertices() const { return vertices_; }
   const GeoRectangle& bounds() const { return bounds_; }
@@ -46,8 +46,7 @@ class TerrainSource {
   // The TIN's section along the meridian LON = AT (ALONG_MERIDIAN) or the parallel LAT = AT,
   // from FROM to TO (FROM < TO): where the line crosses an edge or meets a vertex, strictly
   // between the ends, sorted; the ends with height_at(). The same arguments give the same points.
-  std::vector<SectionPoint> section(bool along_meridian, double at, double from,
-                                    double to) const;
+  std::vector<SectionPoint> section(bool along_meridian, double at, double from, double to) const;
 
   // The mean spacing of the vertices in metres: the square root of the triangles' area per
   // vertex.

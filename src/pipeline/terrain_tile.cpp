@@ -40,7 +40,7 @@ std::vector<std::pair<double, double>> side_vertices(const TerrainSource& source
                                                      const GeoRectangle& r, Side side,
                                                      double tolerance) {
   const bool meridian = side == Side::east || side == Side::west;
-  const double at = side == Side::south ? r.south
+  const double at = side == Side::south   ? r.south
                     : side == Side::north ? r.north
                     : side == Side::west  ? r.west
                                           : r.east;

@@ -58,8 +58,9 @@ HeightUnits to_lon_lat_metres(const std::string& wkt, std::span<Point3> points,
   target.importFromEPSG(4326);
   detail::OgrTransform transform(OGRCreateCoordinateTransformation(&source, &target));
   if (!transform)
-    throw InputError(what, "", "no transformation from the CRS to WGS 84: " +
-                                   detail::last_gdal_message("PROJ gave none"));
+    throw InputError(
+        what, "",
+        "no transformation from the CRS to WGS 84: " + detail::last_gdal_message("PROJ gave none"));
   const HeightUnits units = height_units(wkt);
   std::vector<double> x, y;
   for (std::size_t first = 0; first < points.size(); first += kBlock) {

@@ -11,10 +11,10 @@ namespace tincdt::io::terrain {
 
 // How the heights were read.
 struct HeightUnits {
-  std::string unit;         // the heights' unit as the CRS names it: "metre", "US survey foot"
-  double to_metres = 1;     // metres per unit
-  std::string vertical;     // the vertical CRS's name; "" when the CRS has none
-  bool ellipsoidal = false; // heights above the ellipsoid (a geographic 3D CRS)
+  std::string unit;          // the heights' unit as the CRS names it: "metre", "US survey foot"
+  double to_metres = 1;      // metres per unit
+  std::string vertical;      // the vertical CRS's name; "" when the CRS has none
+  bool ellipsoidal = false;  // heights above the ellipsoid (a geographic 3D CRS)
 };
 
 // The heights' unit of the CRS WKT: its vertical CRS's when it has one, else its linear unit
