@@ -1,10 +1,10 @@
-// terrain: --terrain DIR, the final TIN as a Cesium quantized-mesh-1.0 pyramid: DIR/layer.json
+// web_terrain: --terrain DIR, the final TIN as a Cesium quantized-mesh-1.0 pyramid: DIR/layer.json
 // and DIR/{z}/{x}/{y}.terrain in the geographic TMS tiling (EPSG:4326, two root tiles), each tile
 // within its level's geometric error of the full TIN (terrain_tile.hpp), neighbours sharing their
 // border vertices. Every tile is an output of the job: written to a temporary beside it and moved
 // into place with the other outputs, or not at all.
 //
-// terrain_crs runs right after read: a pyramid needs the data's CRS, so none stops the job
+// web_terrain_crs runs right after read: a pyramid needs the data's CRS, so none stops the job
 // before any work.
 #include <algorithm>
 #include <charconv>
@@ -216,7 +216,7 @@ constexpr OptionSpec kOptions[] = {
 
 }  // namespace
 
-extern const Stage terrain_crs_stage{"terrain_crs", "", wanted, check_crs};
-extern const Stage terrain_stage{"terrain", "terrain", wanted, run, plan, "", kOptions};
+extern const Stage terrain_crs_stage{"web_terrain_crs", "", wanted, check_crs};
+extern const Stage terrain_stage{"web_terrain", "web_terrain", wanted, run, plan, "", kOptions};
 
 }  // namespace tincdt::pipeline
