@@ -75,6 +75,8 @@ void write_file(Job& job, const std::string& path, const std::string& bytes) {
 
 struct LevelStats {
   std::size_t tiles = 0;
+  std::size_t line_segments = 0;
+  std::size_t lines_dropped = 0;
   std::uint64_t vertices = 0;
   TileError error;
 };
@@ -96,6 +98,8 @@ LevelStats write_level(Job& job, const TerrainSource& source, int level, int max
                  qm::encode_quantized_mesh(tile.mesh, options));
       ++stats.tiles;
       stats.vertices += tile.mesh.vertices.size();
+      stats.line_segments += tile.line_segments;
+      stats.lines_dropped += tile.lines_dropped;
       stats.error.add(tile.error);
       job.progress(done + share * static_cast<double>(stats.tiles) / static_cast<double>(count));
     }
@@ -138,7 +142,13 @@ void run(Job& job) {
              " tiles, " + std::to_string(s.vertices) + " vertices, max error " +
              short_number(s.error.max) + " m (allowed " +
              short_number(qm::geometric_error_at_level(level)) + "), RMSE " + short_number(rmse) +
-             " m over " + std::to_string(s.error.count) + " vertices");
+             " m over " + std::to_string(s.error.count) + " vertices" +
+             (s.line_segments ? ", " + std::to_string(s.line_segments) + " line pieces as edges"
+                              : std::string()));
+    if (s.lines_dropped)
+      job.debug("terrain level " + std::to_string(level) + ": " + std::to_string(s.lines_dropped) +
+                " tiles without their lines: simplified onto the tile's grid, they overlap "
+                "(coarse tiles over small data)");
     if (s.error.max > qm::geometric_error_at_level(level))
       job.warn("terrain level " + std::to_string(level) + ": vertices up to " +
                short_number(s.error.max) + " m from the TIN, above the level's error: points " +

@@ -52,6 +52,7 @@ TerrainSource::TerrainSource(const mesh::Triangulation& tin, const std::string& 
       std::swap(t[1], t[2]);
     triangles_.push_back(t);
   });
+  collect_constraints(tin, number);
   if (!vertices_.empty()) {
     bounds_ = {vertices_[0].x, vertices_[0].y, vertices_[0].x, vertices_[0].y};
     for (const Point3& p : vertices_) {
@@ -62,6 +63,39 @@ TerrainSource::TerrainSource(const mesh::Triangulation& tin, const std::string& 
     }
   }
   build_index();
+}
+
+void TerrainSource::collect_constraints(const mesh::Triangulation& tin,
+                                        const std::vector<std::uint32_t>& number) {
+  on_constraint_.assign(vertices_.size(), 0);
+  tin.for_each_constrained_edge([&](EdgeId e) {
+    if (!tin.is_kept(mesh::triangle_of(e)) && !tin.is_kept(mesh::triangle_of(tin.twin(e)))) return;
+    std::uint32_t a = number[tin.origin(e)], b = number[tin.dest(e)];
+    if (a == UINT32_MAX || b == UINT32_MAX) return;
+    if (a > b) std::swap(a, b);
+    constrained_.push_back({a, b});
+    on_constraint_[a] = on_constraint_[b] = 1;
+  });
+  std::sort(constrained_.begin(), constrained_.end());
+  constrained_.erase(std::unique(constrained_.begin(), constrained_.end()), constrained_.end());
+}
+
+bool TerrainSource::is_constrained(std::uint32_t a, std::uint32_t b) const {
+  if (a > b) std::swap(a, b);
+  return std::binary_search(constrained_.begin(), constrained_.end(),
+                            std::array<std::uint32_t, 2>{a, b});
+}
+
+std::vector<std::uint32_t> TerrainSource::constrained_edges_in(const GeoRectangle& r) const {
+  std::vector<std::uint32_t> out;
+  for_cells(r, constraint_cells_, [&](std::size_t cell) {
+    for (std::uint32_t i = constraint_cells_.begin[cell]; i < constraint_cells_.begin[cell + 1];
+         ++i)
+      out.push_back(constraint_cells_.items[i]);
+  });
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
 }
 
 void TerrainSource::build_index() {
@@ -79,6 +113,7 @@ void TerrainSource::build_index() {
   cells.height = h / cells.down;
   triangle_cells_ = cells;
   vertex_cells_ = cells;
+  constraint_cells_ = cells;
   const auto fill = [&](Cells& c, std::size_t count, auto&& rect_of) {
     c.begin.assign(std::size_t{c.across} * c.down + 1, 0);
     for (int pass = 0; pass < 2; ++pass) {
@@ -102,6 +137,11 @@ void TerrainSource::build_index() {
                  &c = vertices_[triangles_[t][2]];
     return GeoRectangle{std::min({a.x, b.x, c.x}), std::min({a.y, b.y, c.y}),
                         std::max({a.x, b.x, c.x}), std::max({a.y, b.y, c.y})};
+  });
+  fill(constraint_cells_, constrained_.size(), [&](std::size_t e) {
+    const Point3 &a = vertices_[constrained_[e][0]], &b = vertices_[constrained_[e][1]];
+    return GeoRectangle{std::min(a.x, b.x), std::min(a.y, b.y), std::max(a.x, b.x),
+                        std::max(a.y, b.y)};
   });
   fill(vertex_cells_, vertices_.size(), [&](std::size_t v) {
     return GeoRectangle{vertices_[v].x, vertices_[v].y, vertices_[v].x, vertices_[v].y};
@@ -181,26 +221,29 @@ std::vector<SectionPoint> TerrainSource::section(bool along_meridian, double at,
         if (ia > ib) std::swap(ia, ib);
         const Point3 &a = vertices_[ia], &b = vertices_[ib];
         const double ua = u_of(a), ub = u_of(b);
-        if (ua == 0) out.push_back({s_of(a), a.z});
-        if (ub == 0) out.push_back({s_of(b), b.z});
+        if (ua == 0) out.push_back({s_of(a), a.z, on_constraint_[ia] != 0});
+        if (ub == 0) out.push_back({s_of(b), b.z, on_constraint_[ib] != 0});
         if ((ua < 0 && ub > 0) || (ua > 0 && ub < 0)) {
           const double f = ua / (ua - ub);
-          out.push_back({s_of(a) + f * (s_of(b) - s_of(a)), a.z + f * (b.z - a.z)});
+          out.push_back(
+              {s_of(a) + f * (s_of(b) - s_of(a)), a.z + f * (b.z - a.z), is_constrained(ia, ib)});
         }
       }
     }
   });
   std::erase_if(out, [&](const SectionPoint& p) { return !(p.at > from && p.at < to); });
   std::sort(out.begin(), out.end(), [](const SectionPoint& a, const SectionPoint& b) {
-    return a.at < b.at || (a.at == b.at && a.height < b.height);
+    if (a.at != b.at) return a.at < b.at;
+    if (a.on_constraint != b.on_constraint) return a.on_constraint;
+    return a.height < b.height;
   });
   out.erase(std::unique(out.begin(), out.end(),
                         [](const SectionPoint& a, const SectionPoint& b) { return a.at == b.at; }),
             out.end());
   const double h_from = along_meridian ? height_at(at, from) : height_at(from, at);
   const double h_to = along_meridian ? height_at(at, to) : height_at(to, at);
-  out.insert(out.begin(), {from, h_from});
-  out.push_back({to, h_to});
+  out.insert(out.begin(), {from, h_from, false});
+  out.push_back({to, h_to, false});
   return out;
 }
 

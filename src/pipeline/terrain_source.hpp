@@ -23,6 +23,7 @@ using io::terrain::GeoRectangle;
 struct SectionPoint {
   double at;
   double height;
+  bool on_constraint = false;  // where a constrained edge (a contour, a hard line) meets the line
 };
 
 class TerrainSource {
@@ -48,6 +49,14 @@ class TerrainSource {
   // between the ends, sorted; the ends with height_at(). The same arguments give the same points.
   std::vector<SectionPoint> section(bool along_meridian, double at, double from, double to) const;
 
+  // The constrained edges (contours, hard lines) of kept triangles, each from its lower-numbered
+  // vertex, and those whose box meets RECTANGLE, ascending.
+  const std::vector<std::array<std::uint32_t, 2>>& constrained_edges() const {
+    return constrained_;
+  }
+  std::vector<std::uint32_t> constrained_edges_in(const GeoRectangle& rectangle) const;
+  bool is_constrained(std::uint32_t a, std::uint32_t b) const;
+
   // The mean spacing of the vertices in metres: the square root of the triangles' area per
   // vertex.
   double point_spacing_metres() const;
@@ -60,18 +69,23 @@ class TerrainSource {
     std::vector<std::uint32_t> items;
   };
   void build_index();
+  void collect_constraints(const mesh::Triangulation& tin,
+                           const std::vector<std::uint32_t>& number);
   std::uint32_t column(double lon) const;
   std::uint32_t row(double lat) const;
   template <class F>
   void for_cells(const GeoRectangle& r, const Cells& cells, F&& f) const;
 
   std::vector<Point3> vertices_;
-  std::vector<std::array<std::uint32_t, 3>> triangles_;  // counter-clockwise in lon/lat
+  std::vector<std::array<std::uint32_t, 3>> triangles_;    // counter-clockwise in lon/lat
+  std::vector<std::array<std::uint32_t, 2>> constrained_;  // sorted
+  std::vector<std::uint8_t> on_constraint_;                // per vertex
   GeoRectangle bounds_{0, 0, 0, 0};
   io::terrain::HeightUnits units_;
   double fill_height_;
   Cells triangle_cells_;
   Cells vertex_cells_;
+  Cells constraint_cells_;
 };
 
 }  // namespace tincdt::pipeline::terrain

@@ -7,13 +7,17 @@
 #include <tuple>
 #include <vector>
 
+#include "core/error.hpp"
 #include "io/terrain/quantized_mesh_detail.hpp"
+#include "pipeline/terrain_tile_points.hpp"
 #include "simplify/profile.hpp"
 #include "simplify/simplify.hpp"
 
 namespace tincdt::pipeline::terrain {
 namespace {
 
+using detail::grid_place;
+using detail::TilePoints;
 using io::terrain::GeoRectangle;
 using io::terrain::kQuantizedMax;
 using io::terrain::TileMesh;
@@ -29,11 +33,6 @@ constexpr int kTries = 3;
 // A side of a tile: where its points go on the quantized grid.
 enum class Side { south, east, north, west };
 
-// The quantized place of AT between FROM and TO.
-double grid_place(double at, double from, double to) {
-  return std::round((at - from) / (to - from) * kMax);
-}
-
 // SIDE's vertices, (place along the side 0..kMax, height), from its first corner to its last
 // (west to east, south to north).
 std::vector<std::pair<double, double>> side_vertices(const TerrainSource& source,
@@ -47,27 +46,27 @@ std::vector<std::pair<double, double>> side_vertices(const TerrainSource& source
   const double from = meridian ? r.south : r.west, to = meridian ? r.north : r.east;
   const std::vector<SectionPoint> section = source.section(meridian, at, from, to);
   std::vector<double> place, height;
+  std::vector<std::uint8_t> forced;  // where a constrained line crosses: a vertex of both tiles
   for (std::size_t i = 0; i < section.size(); ++i) {
     const bool end = i == 0 || i + 1 == section.size();
     const double q = end ? (i == 0 ? 0.0 : kMax) : grid_place(section[i].at, from, to);
-    if (!end && (q <= 0 || q >= kMax || (!place.empty() && q == place.back()))) continue;
+    if (!end && (q <= 0 || q >= kMax)) continue;
+    if (!place.empty() && q == place.back()) {
+      // One point a grid place: a line's crossing before any other, else the first.
+      if (end || !section[i].on_constraint || forced.back()) continue;
+      place.pop_back();
+      height.pop_back();
+      forced.pop_back();
+    }
     place.push_back(q);
     height.push_back(section[i].height);
+    forced.push_back(section[i].on_constraint ? 1 : 0);
   }
   std::vector<std::pair<double, double>> out;
-  for (const std::size_t i : simplify::simplify_profile(place, height, tolerance))
+  for (const std::size_t i : simplify::simplify_profile(place, height, tolerance, forced))
     out.emplace_back(place[i], height[i]);
   return out;
 }
-
-// The points of a tile's greedy run: the border first (kept, chained by segments), then the
-// candidates.
-struct TilePoints {
-  std::vector<Point2> xy;
-  std::vector<double> z;
-  std::vector<std::uint32_t> kept;
-  std::vector<constraints::Segment> segments;
-};
 
 void add_border(const TerrainSource& source, const GeoRectangle& r, double tolerance,
                 TilePoints& p) {
@@ -83,10 +82,7 @@ void add_border(const TerrainSource& source, const GeoRectangle& r, double toler
                         : side == Side::east  ? Point2{kMax, q}
                         : side == Side::north ? Point2{q, kMax}
                                               : Point2{0, q};
-      const auto id = static_cast<std::uint32_t>(p.xy.size());
-      p.xy.push_back(xy);
-      p.z.push_back(v[i].second);
-      p.kept.push_back(id);
+      const std::uint32_t id = p.kept_point(xy, v[i].second);
       if (id > 0) p.segments.push_back({id - 1, id, 0});
     }
   }
@@ -105,6 +101,7 @@ void add_candidates(const TerrainSource& source, const GeoRectangle& r, TilePoin
   for (std::size_t i = 0; i < cells.size(); ++i) {
     const auto& [u, w, id] = cells[i];
     if (i > 0 && std::get<0>(cells[i - 1]) == u && std::get<1>(cells[i - 1]) == w) continue;
+    if (p.find({u, w}) != nullptr) continue;  // a line's vertex is there
     p.xy.push_back({u, w});
     p.z.push_back(source.vertices()[id].z);
   }
@@ -131,18 +128,43 @@ TileMesh tile_mesh(const GeoRectangle& r, const mesh::Triangulation& tin) {
 
 }  // namespace
 
+double detail::grid_place(double at, double from, double to) {
+  return std::round((at - from) / (to - from) * kMax);
+}
+
 void TileError::add(const TileError& other) {
   max = std::max(max, other.max);
   sum_squares += other.sum_squares;
   count += other.count;
 }
 
-BuiltTile build_tile(const TerrainSource& source, const io::terrain::TileKey& key, double error) {
-  const GeoRectangle r = io::terrain::tile_rectangle(key);
+namespace {
+
+// Throws GeometryError when a triangle of MESH has no area once quantized: lines that cross on
+// the grid meet at a vertex between its places, which quantization can put on a line.
+void check_quantized_triangles(const TileMesh& mesh) {
+  const io::terrain::detail::QuantizedVertices q = io::terrain::detail::quantize_vertices(mesh);
+  for (const auto& t : mesh.triangles) {
+    const std::int64_t cross =
+        (std::int64_t{q.u[t[1]]} - q.u[t[0]]) * (std::int64_t{q.v[t[2]]} - q.v[t[0]]) -
+        (std::int64_t{q.v[t[1]]} - q.v[t[0]]) * (std::int64_t{q.u[t[2]]} - q.u[t[0]]);
+    if (cross <= 0) throw GeometryError("a tile triangle has no area on the quantized grid");
+  }
+}
+
+TilePoints tile_points(const TerrainSource& source, const GeoRectangle& r, double error,
+                       bool with_lines, std::size_t& line_segments) {
   TilePoints p;
   add_border(source, r, kBorderShare * error, p);
-  const std::size_t border = p.xy.size();
+  line_segments = with_lines ? detail::add_lines(source, r, kBorderShare * error, p) : 0;
   add_candidates(source, r, p);
+  return p;
+}
+
+// The greedy runs on P: at the tolerance that leaves room for the quantization of the heights,
+// then tighter while the measured error is above ERROR.
+BuiltTile greedy_tile(const TerrainSource& source, const GeoRectangle& r, const TilePoints& p,
+                      double error) {
   const auto [low, high] = std::minmax_element(p.z.begin(), p.z.end());
   // A height step of the tile's quantization, at most.
   const double step = (*high - *low) / kMax;
@@ -154,9 +176,9 @@ BuiltTile build_tile(const TerrainSource& source, const io::terrain::TileKey& ke
     options.threads = 1;
     const simplify::SimplifyResult result =
         simplify::simplify(p.xy, p.z, p.kept, p.segments, options);
-    assert(result.tin.vertex_count() >= border);
-    (void)border;
-    BuiltTile tile{tile_mesh(r, result.tin), {}};
+    assert(result.tin.vertex_count() >= p.kept.size());
+    BuiltTile tile{tile_mesh(r, result.tin), {}, 0};
+    check_quantized_triangles(tile.mesh);
     tile.error = measure_tile(source, tile.mesh);
     // A tighter run is kept only when it meets the error. One that does not met an error no
     // vertex can remove: the quantized grid moves a point of a near-vertical face (a wall, a
@@ -166,6 +188,26 @@ BuiltTile build_tile(const TerrainSource& source, const io::terrain::TileKey& ke
     tolerance = std::max(0.0, tolerance - (best.error.max - error) - 0.1 * error);
   }
   return best;
+}
+
+}  // namespace
+
+BuiltTile build_tile(const TerrainSource& source, const io::terrain::TileKey& key, double error) {
+  const GeoRectangle r = io::terrain::tile_rectangle(key);
+  std::size_t lines = 0;
+  const TilePoints p = tile_points(source, r, error, true, lines);
+  try {
+    BuiltTile tile = greedy_tile(source, r, p, error);
+    tile.line_segments = lines;
+    return tile;
+  } catch (const GeometryError&) {
+    // Lines simplified onto the grid can overlap where the full TIN's do not; the tile is then
+    // made without them (its error still holds).
+    if (lines == 0) throw;
+  }
+  BuiltTile tile = greedy_tile(source, r, tile_points(source, r, error, false, lines), error);
+  tile.lines_dropped = true;
+  return tile;
 }
 
 }  // namespace tincdt::pipeline::terrain

@@ -6,9 +6,12 @@
 // vertical Douglas–Peucker at a tolerance that depends on the level only, held as constrained
 // edges. The two tiles of a border compute the same section from the same numbers, so they get
 // the same vertices there: no crack, no skirt needed. Inside, the full TIN's vertices (on the
-// tile's quantized grid) are candidates for the project's greedy insertion.
+// tile's quantized grid) are candidates for the project's greedy insertion. The full TIN's
+// constrained lines (contours, hard lines) inside the tile, simplified by 3D Douglas–Peucker at
+// the sides' tolerance, are constrained edges of the tile's TIN too.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 
 #include "io/terrain/geographic_tiling.hpp"
@@ -29,6 +32,8 @@ struct TileError {
 struct BuiltTile {
   io::terrain::TileMesh mesh;
   TileError error;
+  std::size_t line_segments = 0;  // pieces of constrained lines held as edges
+  bool lines_dropped = false;     // the lines could not be held (they overlap on the grid)
 };
 
 // The tile KEY of the pyramid over SOURCE, within ERROR (metres).
