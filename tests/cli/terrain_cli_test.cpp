@@ -163,6 +163,19 @@ void expect_pyramid(const std::string& dir, int min, int max, const std::string&
   }
 }
 
+// The contours of the run (the PLY's constrained edges) follow edges of the tiles of level Z:
+// each one's midpoint within the level's error of a tile edge (Douglas–Peucker's tolerance).
+void expect_lines_are_edges(const std::string& dir, int z) {
+  const auto pyramid = read_pyramid(dir + "/t");
+  const auto full = lon_lat_metres(dir + "/full.ply", dir + "/full.prj");
+  const auto edges = constrained_edges(dir + "/full.ply");
+  ASSERT_GT(edges.size(), 100u);
+  const double farthest = farthest_line_from_tile_edges(pyramid, z, full, edges);
+  std::cout << "contour edges: farthest from a tile edge at level " << z << ": " << farthest
+            << " m\n";
+  EXPECT_LE(farthest, level_error(z));
+}
+
 TEST(TerrainCli, SamplePyramidWithinErrorsWithoutCracks) {
   const std::string dir = scratch_dir("terrain_cli");
   const ShellRun r = run_tincdt(
@@ -172,6 +185,7 @@ TEST(TerrainCli, SamplePyramidWithinErrorsWithoutCracks) {
   const int max = static_cast<int>(at(layer, "maxzoom").number());
   EXPECT_GE(max, 15);  // the sample's points are a few metres apart
   expect_pyramid(dir, 0, max, "sample");
+  expect_lines_are_edges(dir, max);
 }
 
 TEST(TerrainCli, LevelsChosenAndNoTinFileNeeded) {
@@ -296,6 +310,7 @@ TEST(TerrainCli, PairTopographyLevels14To19) {
                           "--terrain t --terrain-levels 14-19");
   ASSERT_EQ(r.exit_code, 0) << r.messages;
   expect_pyramid(dir, 14, 19, "pair_topography");
+  expect_lines_are_edges(dir, 19);
 }
 
 TEST(TerrainCli, AutzenHeightsInFeetBecomeMetres) {

@@ -134,6 +134,47 @@ inline std::map<int, LevelError> level_errors(const std::map<Key, DecodedTile>& 
   return out;
 }
 
+// The constrained edges of the PLY (ASCII) at PLY_PATH, as indices into its vertices.
+inline std::vector<std::array<std::size_t, 2>> constrained_edges(const std::string& ply_path) {
+  return read_mesh(ply_path).e;
+}
+
+// The largest horizontal distance, in metres, from the midpoint of an edge of EDGES lying inside
+// a tile of level Z of PYRAMID to the nearest edge of that tile's TIN.
+inline double farthest_line_from_tile_edges(const std::map<Key, DecodedTile>& pyramid, int z,
+                                            const std::vector<std::array<double, 3>>& full,
+                                            const std::vector<std::array<std::size_t, 2>>& edges) {
+  double farthest = 0;
+  for (const auto& [key, tile] : pyramid) {
+    if (key.z != z) continue;
+    const GeoRectangle r = rectangle_of(key);
+    const double lat = (r.south + r.north) / 2 * std::numbers::pi / 180;
+    const double mx = (r.east - r.west) / kQ * 111320 * std::cos(lat);
+    const double my = (r.north - r.south) / kQ * 111320;
+    const auto inside = [&](const std::array<double, 3>& p) {
+      return p[0] > r.west && p[0] < r.east && p[1] > r.south && p[1] < r.north;
+    };
+    for (const auto& e : edges) {
+      const auto &a = full[e[0]], &b = full[e[1]];
+      if (!inside(a) || !inside(b)) continue;
+      const double px = ((a[0] + b[0]) / 2 - r.west) / (r.east - r.west) * kQ * mx;
+      const double py = ((a[1] + b[1]) / 2 - r.south) / (r.north - r.south) * kQ * my;
+      double nearest = INFINITY;
+      for (std::size_t t = 0; t + 2 < tile.indices.size(); t += 3)
+        for (int i = 0; i < 3; ++i) {
+          const auto k0 = tile.indices[t + i], k1 = tile.indices[t + (i + 1) % 3];
+          const double x0 = tile.u[k0] * mx, y0 = tile.v[k0] * my;
+          const double dx = tile.u[k1] * mx - x0, dy = tile.v[k1] * my - y0;
+          const double f =
+              std::clamp(((px - x0) * dx + (py - y0) * dy) / (dx * dx + dy * dy), 0.0, 1.0);
+          nearest = std::min(nearest, std::hypot(x0 + f * dx - px, y0 + f * dy - py));
+        }
+      farthest = std::max(farthest, nearest);
+    }
+  }
+  return farthest;
+}
+
 // The vertices of TILE on one side (0 west, 1 south, 2 east, 3 north): their place along it and
 // their decoded height, sorted.
 inline std::vector<std::pair<std::uint16_t, double>> side_of(const DecodedTile& tile, int side) {
