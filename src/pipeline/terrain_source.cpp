@@ -53,6 +53,7 @@ TerrainSource::TerrainSource(const mesh::Triangulation& tin, const std::string& 
     triangles_.push_back(t);
   });
   collect_constraints(tin, number);
+  collect_holes(tin, all);
   if (!vertices_.empty()) {
     bounds_ = {vertices_[0].x, vertices_[0].y, vertices_[0].x, vertices_[0].y};
     for (const Point3& p : vertices_) {
@@ -78,6 +79,36 @@ void TerrainSource::collect_constraints(const mesh::Triangulation& tin,
   });
   std::sort(constrained_.begin(), constrained_.end());
   constrained_.erase(std::unique(constrained_.begin(), constrained_.end()), constrained_.end());
+}
+
+void TerrainSource::collect_holes(const mesh::Triangulation& tin, const std::vector<Point3>& all) {
+  for (std::size_t t = 0; t < tin.triangle_slots(); ++t) {
+    const auto id = static_cast<TriangleId>(t);
+    if (tin.is_ghost(id) || !tin.is_removed(id)) continue;
+    const auto c = tin.triangle(id);
+    std::array<Point2, 3> h{};
+    for (int i = 0; i < 3; ++i) h[i] = {all[c[i]].x, all[c[i]].y};
+    if ((h[1].x - h[0].x) * (h[2].y - h[0].y) - (h[1].y - h[0].y) * (h[2].x - h[0].x) < 0)
+      std::swap(h[1], h[2]);
+    holes_.push_back(h);
+  }
+}
+
+bool TerrainSource::in_hole(double lon, double lat) const {
+  bool found = false;
+  for_cells({lon, lat, lon, lat}, hole_cells_, [&](std::size_t cell) {
+    for (std::uint32_t i = hole_cells_.begin[cell]; !found && i < hole_cells_.begin[cell + 1];
+         ++i) {
+      const auto& h = holes_[hole_cells_.items[i]];
+      bool inside = true;
+      for (int k = 0; k < 3 && inside; ++k) {
+        const Point2 &a = h[k], &b = h[(k + 1) % 3];
+        inside = (b.x - a.x) * (lat - a.y) - (b.y - a.y) * (lon - a.x) > 0;
+      }
+      found = inside;
+    }
+  });
+  return found;
 }
 
 bool TerrainSource::is_constrained(std::uint32_t a, std::uint32_t b) const {
@@ -114,6 +145,7 @@ void TerrainSource::build_index() {
   triangle_cells_ = cells;
   vertex_cells_ = cells;
   constraint_cells_ = cells;
+  hole_cells_ = cells;
   const auto fill = [&](Cells& c, std::size_t count, auto&& rect_of) {
     c.begin.assign(std::size_t{c.across} * c.down + 1, 0);
     for (int pass = 0; pass < 2; ++pass) {
@@ -142,6 +174,12 @@ void TerrainSource::build_index() {
     const Point3 &a = vertices_[constrained_[e][0]], &b = vertices_[constrained_[e][1]];
     return GeoRectangle{std::min(a.x, b.x), std::min(a.y, b.y), std::max(a.x, b.x),
                         std::max(a.y, b.y)};
+  });
+  fill(hole_cells_, holes_.size(), [&](std::size_t t) {
+    const auto& tri = holes_[t];
+    return GeoRectangle{
+        std::min({tri[0].x, tri[1].x, tri[2].x}), std::min({tri[0].y, tri[1].y, tri[2].y}),
+        std::max({tri[0].x, tri[1].x, tri[2].x}), std::max({tri[0].y, tri[1].y, tri[2].y})};
   });
   fill(vertex_cells_, vertices_.size(), [&](std::size_t v) {
     return GeoRectangle{vertices_[v].x, vertices_[v].y, vertices_[v].x, vertices_[v].y};

@@ -41,6 +41,10 @@ class TerrainSource {
   // The TIN's height at LON, LAT, or the fill height outside every triangle.
   double height_at(double lon, double lat) const;
 
+  // Whether LON, LAT is in a triangle the TIN removed (clip, erase, --max-edge): a hole, which
+  // the tiles leave without triangles too.
+  bool in_hole(double lon, double lat) const;
+
   // The vertices inside RECTANGLE (sides included), ascending.
   std::vector<std::uint32_t> vertices_in(const GeoRectangle& rectangle) const;
 
@@ -69,6 +73,7 @@ class TerrainSource {
     std::vector<std::uint32_t> items;
   };
   void build_index();
+  void collect_holes(const mesh::Triangulation& tin, const std::vector<Point3>& all);
   void collect_constraints(const mesh::Triangulation& tin,
                            const std::vector<std::uint32_t>& number);
   std::uint32_t column(double lon) const;
@@ -79,6 +84,7 @@ class TerrainSource {
   std::vector<Point3> vertices_;
   std::vector<std::array<std::uint32_t, 3>> triangles_;    // counter-clockwise in lon/lat
   std::vector<std::array<std::uint32_t, 2>> constrained_;  // sorted
+  std::vector<std::array<Point2, 3>> holes_;               // removed triangles, counter-clockwise
   std::vector<std::uint8_t> on_constraint_;                // per vertex
   GeoRectangle bounds_{0, 0, 0, 0};
   io::terrain::HeightUnits units_;
@@ -86,6 +92,7 @@ class TerrainSource {
   Cells triangle_cells_;
   Cells vertex_cells_;
   Cells constraint_cells_;
+  Cells hole_cells_;
 };
 
 }  // namespace tincdt::pipeline::terrain

@@ -152,6 +152,15 @@ void check_quantized_triangles(const TileMesh& mesh) {
   }
 }
 
+// Removes the triangles of MESH whose centroid is in a hole of SOURCE. The holes' rings are
+// constrained lines of the full TIN, so the tile's TIN has edges along them.
+void drop_holes(const TerrainSource& source, TileMesh& mesh) {
+  std::erase_if(mesh.triangles, [&](const std::array<std::uint32_t, 3>& t) {
+    const Point3 &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
+    return source.in_hole((a.x + b.x + c.x) / 3, (a.y + b.y + c.y) / 3);
+  });
+}
+
 TilePoints tile_points(const TerrainSource& source, const GeoRectangle& r, double error,
                        bool with_lines, std::size_t& line_segments) {
   TilePoints p;
@@ -179,6 +188,7 @@ BuiltTile greedy_tile(const TerrainSource& source, const GeoRectangle& r, const 
     assert(result.tin.vertex_count() >= p.kept.size());
     BuiltTile tile{tile_mesh(r, result.tin), {}, 0};
     check_quantized_triangles(tile.mesh);
+    drop_holes(source, tile.mesh);
     tile.error = measure_tile(source, tile.mesh);
     // A tighter run is kept only when it meets the error. One that does not met an error no
     // vertex can remove: the quantized grid moves a point of a near-vertical face (a wall, a

@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <memory>
 #include <set>
 #include <sstream>
 #include <string>
@@ -296,6 +297,57 @@ TEST(TerrainCli, ExistingLayerKeptWithoutOverwrite) {
   EXPECT_NE(r.messages.find("already exists"), std::string::npos) << r.messages;
   EXPECT_EQ(names_in(dir + "/t"), std::set<std::string>{"layer.json"});
   EXPECT_EQ(slurp(dir + "/t/layer.json"), "old");
+}
+
+TEST(TerrainCli, ErasedAreaIsAHoleAtEveryLevel) {
+  const std::string dir = scratch_dir("terrain_cli");
+  // A 40 m square inside the sample (EPSG:32632).
+  spit(dir + "/erase.geojson",
+       R"({"type":"FeatureCollection",)"
+       R"("crs":{"type":"name","properties":{"name":"urn:ogc:def:crs:EPSG::32632"}},)"
+       R"("features":[{"type":"Feature","properties":{},"geometry":{"type":"Polygon",)"
+       R"("coordinates":[[[600250,5190340],[600290,5190340],[600290,5190380],)"
+       R"([600250,5190380],[600250,5190340]]]}}]})");
+  const ShellRun r =
+      run_tincdt(dir, "'" + kSample + "' --erase erase.geojson --terrain t --terrain-levels 14-18");
+  ASSERT_EQ(r.exit_code, 0) << r.messages;
+  OGRSpatialReference utm, geographic;
+  utm.importFromEPSG(32632);
+  geographic.importFromEPSG(4326);
+  utm.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+  geographic.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+  std::unique_ptr<OGRCoordinateTransformation> to_lon_lat(
+      OGRCreateCoordinateTransformation(&utm, &geographic));
+  double x[4] = {600250, 600290, 600290, 600250}, y[4] = {5190340, 5190340, 5190380, 5190380};
+  ASSERT_TRUE(to_lon_lat->Transform(4, x, y));
+  const auto in_square = [&](double lon, double lat) {
+    for (int k = 0; k < 4; ++k) {
+      const int n = (k + 1) % 4;
+      if ((x[n] - x[k]) * (lat - y[k]) - (y[n] - y[k]) * (lon - x[k]) <= 0) return false;
+    }
+    return true;
+  };
+  std::map<int, double> missing;  // per level: the tiles' squares less their triangles' area
+  for (const auto& [key, tile] : read_pyramid(dir + "/t")) {
+    const GeoRectangle g = rectangle_of(key);
+    double area = 0;
+    for (std::size_t t = 0; t + 2 < tile.indices.size(); t += 3) {
+      double lon = 0, lat = 0;
+      for (int i = 0; i < 3; ++i) {
+        lon += g.west + (g.east - g.west) * tile.u[tile.indices[t + i]] / kQ / 3;
+        lat += g.south + (g.north - g.south) * tile.v[tile.indices[t + i]] / kQ / 3;
+      }
+      EXPECT_FALSE(in_square(lon, lat)) << key.z << "/" << key.x << "/" << key.y;
+      const auto a = tile.indices[t], b = tile.indices[t + 1], c = tile.indices[t + 2];
+      area += (static_cast<double>(tile.u[b]) - tile.u[a]) *
+                  (static_cast<double>(tile.v[c]) - tile.v[a]) -
+              (static_cast<double>(tile.v[b]) - tile.v[a]) *
+                  (static_cast<double>(tile.u[c]) - tile.u[a]);
+    }
+    missing[key.z] += 1 - area / 2 / (kQ * kQ);
+  }
+  ASSERT_EQ(missing.size(), 5u);
+  for (const auto& [z, m] : missing) EXPECT_GT(m, 0) << "level " << z;
 }
 
 // ---- the shared data ------------------------------------------------------------------------
