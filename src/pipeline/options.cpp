@@ -69,7 +69,7 @@ bool other_output(const BuildOptions& o) {
 io::TinFormat check_outputs(const BuildOptions& o) {
   if (o.output.empty() && !other_output(o))
     throw UsageError(
-        "no output: give the TIN's file name with -o, or a product (--dem, --terrain, "
+        "no output: give the TIN's file name with -o (--output), or a product (--dem, --terrain, "
         "--contour-lines, --preview)");
   io::TinFormat format{};
   if (o.output.empty()) {
