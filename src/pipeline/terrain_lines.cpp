@@ -131,6 +131,15 @@ std::vector<std::vector<Node>> chains_of(const std::vector<std::pair<Node, Node>
   return out;
 }
 
+// Whether POINTS all lie within TOLERANCE of the first, horizontally and vertically.
+bool within(const std::vector<Point3>& points, double tolerance) {
+  for (const Point3& q : points)
+    if (std::fabs(q.x - points[0].x) > tolerance || std::fabs(q.y - points[0].y) > tolerance ||
+        std::fabs(q.z - points[0].z) > tolerance)
+      return false;
+  return true;
+}
+
 }  // namespace
 
 std::size_t add_lines(const TerrainSource& source, const GeoRectangle& r, double tolerance,
@@ -146,6 +155,8 @@ std::size_t add_lines(const TerrainSource& source, const GeoRectangle& r, double
       metres.push_back({n.u * mx, n.v * my, n.z});
       keep.push_back(n.on_side ? 1 : 0);
     }
+    if (within(metres, tolerance) && !line.front().on_side && !line.back().on_side)
+      continue;  // a line smaller than the tolerance is no feature at this level
     // A ring keeps its farthest node too, so that it does not fold onto its start.
     if (line.front().id == line.back().id && line.size() > 3) keep[line.size() / 2] = 1;
     std::uint32_t previous = UINT32_MAX;
