@@ -1,6 +1,6 @@
 // The error of a web-terrain tile as a client sees it: the vertices quantized as the file holds
 // them, the surface interpolated linearly in the quantized u, v, and compared with every vertex of
-// the full TIN in the tile's rectangle at its own longitude and latitude.
+// the full TIN in the tile's rectangle at its place on the tile's grid.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -89,8 +89,10 @@ TileError measure_tile(const TerrainSource& source, const io::terrain::TileMesh&
   TileError error;
   for (const std::uint32_t id : source.vertices_in(r)) {
     const Point3& p = source.vertices()[id];
-    const double u = (p.x - r.west) / (r.east - r.west) * kQuantizedMax;
-    const double v = (p.y - r.south) / (r.north - r.south) * kQuantizedMax;
+    // At the vertex's place on the tile's grid, the finest a tile can place it: beside a steep
+    // triangle (the fill's ramp down from the data's outline) half a step sideways is a height.
+    const double u = std::round((p.x - r.west) / (r.east - r.west) * kQuantizedMax);
+    const double v = std::round((p.y - r.south) / (r.north - r.south) * kQuantizedMax);
     const double e = std::fabs(p.z - surface_at(triangles, grid, u, v));
     error.max = std::max(error.max, e);
     error.sum_squares += e * e;

@@ -365,6 +365,17 @@ TEST(TerrainCli, PairTopographyLevels14To19) {
   expect_lines_are_edges(dir, 19);
 }
 
+TEST(TerrainCli, HexbinGroundAllLevels) {
+  TINCDT_REQUIRE_SHARED_DATA("las");
+  const std::string dir = scratch_dir("terrain_cli");
+  const std::string input = shared_data() + "/las/hexbin-crop.las";
+  const ShellRun r =
+      run_tincdt(dir, "'" + input + "' --keep-class 2 -o full.ply --ply-ascii --terrain t");
+  ASSERT_EQ(r.exit_code, 0) << r.messages;
+  const json::Value layer = json::parse(slurp(dir + "/t/layer.json"));
+  expect_pyramid(dir, 0, static_cast<int>(at(layer, "maxzoom").number()), "hexbin-crop (ground)");
+}
+
 TEST(TerrainCli, AutzenHeightsInFeetBecomeMetres) {
   TINCDT_REQUIRE_SHARED_DATA("laz");
   const std::string dir = scratch_dir("terrain_cli");

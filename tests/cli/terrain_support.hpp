@@ -80,11 +80,11 @@ inline std::vector<std::array<double, 3>> lon_lat_metres(const std::string& ply_
   return out;
 }
 
-// The decoded surface of TILE (rectangle R) at LON, LAT: linear in the quantized u, v over the
-// triangle that holds the point best.
+// The decoded surface of TILE (rectangle R) at LON, LAT on the tile's grid (the nearest u, v a
+// tile can hold): linear in the quantized u, v over the triangle that holds the point best.
 inline double surface_at(const DecodedTile& tile, const GeoRectangle& r, double lon, double lat) {
-  const double u = (lon - r.west) / (r.east - r.west) * kQ;
-  const double v = (lat - r.south) / (r.north - r.south) * kQ;
+  const double u = std::round((lon - r.west) / (r.east - r.west) * kQ);
+  const double v = std::round((lat - r.south) / (r.north - r.south) * kQ);
   const double low = tile.minimum_height, high = tile.maximum_height;
   double best = -INFINITY, height = NAN;
   for (std::size_t t = 0; t + 2 < tile.indices.size(); t += 3) {
