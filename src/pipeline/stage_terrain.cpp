@@ -65,9 +65,7 @@ std::vector<std::vector<qm::TileRange>> children(const qm::TileKey& key, int max
 }
 
 void write_file(Job& job, const std::string& path, const std::string& bytes) {
-  std::error_code ec;
-  std::filesystem::create_directories(std::filesystem::path(path).parent_path(), ec);
-  if (ec) throw OutputError(path, "", "cannot create its folder: " + ec.message());
+  job.outputs.make_folders(std::filesystem::path(path).parent_path().string());
   io::OutputFile& out = job.add_output(path, "terrain");
   out.write(bytes);
   job.finish_output(out);

@@ -350,6 +350,16 @@ TEST(TerrainCli, ErasedAreaIsAHoleAtEveryLevel) {
   for (const auto& [z, m] : missing) EXPECT_GT(m, 0) << "level " << z;
 }
 
+TEST(TerrainCli, FailedJobLeavesNoTileNorFolder) {
+  const std::string dir = scratch_dir("terrain_cli");
+  // The contour lines, after the pyramid, are refused: too many for the interval.
+  const ShellRun r = run_tincdt(dir, "'" + kSample +
+                                         "' --terrain t --terrain-levels 10-12 "
+                                         "--contour-lines l.geojson --interval 0.0001");
+  EXPECT_EQ(r.exit_code, 1) << r.messages;
+  EXPECT_EQ(names_in(dir), std::set<std::string>{});
+}
+
 // ---- the shared data ------------------------------------------------------------------------
 
 TEST(TerrainCli, PairTopographyLevels14To19) {
