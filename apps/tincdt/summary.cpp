@@ -113,8 +113,14 @@ void log_summary(const pipeline::BuildOptions& options, const pipeline::BuildRep
                   r.offset.z);
     w += buf;
   }
-  spdlog::info(w + ")");
+  if (!r.output.empty()) spdlog::info(w + ")");
+  std::size_t terrain_tiles = 0, terrain_bytes = 0;
   for (const pipeline::BuildReport::Output& o : r.outputs) {
+    if (o.kind == "terrain") {  // one line for the whole pyramid
+      terrain_tiles += o.path.ends_with(".terrain");
+      terrain_bytes += o.bytes;
+      continue;
+    }
     if (o.kind == "dem" && o.path == r.dem.path) {
       spdlog::info("wrote {} ({} {}, {} x {} cells of {}, {}; rasterize {}, write {})", o.path,
                    r.dem.driver, r.dem.type, count(r.dem.width), count(r.dem.height),
@@ -129,6 +135,9 @@ void log_summary(const pipeline::BuildOptions& options, const pipeline::BuildRep
       spdlog::info("wrote {}", o.path);
     }
   }
+  if (terrain_tiles > 0)
+    spdlog::info("wrote {} ({} tiles and layer.json, {})", options.terrain.path,
+                 count(terrain_tiles), bytes(terrain_bytes));
   if (options.stats_path == "-")
     spdlog::info("wrote the stats to standard output");
   else if (!options.stats_path.empty())

@@ -285,6 +285,7 @@ void OutputFile::close() {
     const int err = errno;
     throw OutputError(path_, "", "cannot close: " + error_text(err));
   }
+  buffer_.reset();  // a job may hold thousands of closed outputs (web-terrain tiles)
   closed_ = true;
 }
 

@@ -8,6 +8,7 @@
 
 #include <cerrno>
 #include <cstdio>
+#include <filesystem>
 #include <set>
 #include <system_error>
 #include <utility>
@@ -94,6 +95,27 @@ void take_back(const std::string& from, const std::string& to, Undo undo) noexce
 }
 
 }  // namespace
+
+OutputSet::~OutputSet() {
+  entries_.clear();
+  if (committed_) return;
+  std::error_code ec;
+  for (auto it = made_folders_.rbegin(); it != made_folders_.rend(); ++it)
+    std::filesystem::remove(*it, ec);  // only an empty folder goes
+}
+
+void OutputSet::make_folders(const std::string& folder) {
+  std::vector<std::filesystem::path> missing;
+  std::error_code ec;
+  for (std::filesystem::path p = folder; !p.empty() && !std::filesystem::exists(p, ec);
+       p = p.parent_path())
+    missing.push_back(p);
+  for (auto it = missing.rbegin(); it != missing.rend(); ++it) {
+    if (!std::filesystem::create_directory(*it, ec) && ec)
+      throw OutputError(it->string(), "", "cannot create the folder: " + ec.message());
+    made_folders_.push_back(it->string());
+  }
+}
 
 OutputFile& OutputSet::add(const std::string& path, std::string kind) {
   if (committed_) throw OutputError(path, "", "the outputs were committed already");

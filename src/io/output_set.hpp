@@ -25,7 +25,12 @@ class OutputSet {
   explicit OutputSet(bool overwrite) : overwrite_(overwrite) {}
   OutputSet(const OutputSet&) = delete;
   OutputSet& operator=(const OutputSet&) = delete;
-  ~OutputSet() = default;  // uncommitted: the OutputFiles remove their temporaries
+  // Uncommitted: the OutputFiles remove their temporaries, then the folders make_folders()
+  // made go, those left empty.
+  ~OutputSet();
+
+  // Makes FOLDER and its missing parents, for outputs of the set inside it.
+  void make_folders(const std::string& folder);
 
   // A new output at PATH; its temporary is created now (OutputFile's checks: the target exists
   // without overwrite, the folder is not writable). Throws OutputError when PATH is already an
@@ -46,6 +51,7 @@ class OutputSet {
 
  private:
   std::vector<Entry> entries_;
+  std::vector<std::string> made_folders_;  // in the order made, parents first
   bool overwrite_;
   bool committed_ = false;
 };

@@ -60,10 +60,23 @@ void check_terrain(const BuildOptions& o) {
     throw UsageError("--max-edge: " + std::to_string(o.max_edge) + " is not a length > 0");
 }
 
+// Whether a product other than the TIN file is asked for: then -o may be left out.
+bool other_output(const BuildOptions& o) {
+  return !o.dem.path.empty() || !o.terrain.path.empty() || !o.contour_lines.path.empty() ||
+         !o.preview.path.empty();
+}
+
 io::TinFormat check_outputs(const BuildOptions& o) {
-  if (o.output.empty()) throw UsageError("no output: give the TIN's file name with -o");
+  if (o.output.empty() && !other_output(o))
+    throw UsageError(
+        "no output: give the TIN's file name with -o (--output), or a product (--dem, --terrain, "
+        "--contour-lines, --preview)");
   io::TinFormat format{};
-  if (o.write.format) {
+  if (o.output.empty()) {
+    // No TIN file: GeoJSON, which takes no .prj beside it, stands for the format the options
+    // below check.
+    format = io::TinFormat::geojson;
+  } else if (o.write.format) {
     format = *o.write.format;
   } else {
     try {
@@ -166,10 +179,16 @@ void check_contour_lines(const BuildOptions::ContourLines& c) {
   if (c.field.empty()) throw UsageError("--contour-field: give a field name");
 }
 
-// --dem and --contour-lines: their settings only with them, and the ones each needs.
+void check_terrain_output(const BuildOptions::Terrain& t) {
+  if (t.path.empty() && (t.max_level || t.fill_height != 0))
+    throw UsageError("--terrain-levels and --terrain-fill-height need --terrain");
+}
+
+// --dem, --contour-lines and --terrain: their settings only with them, and the ones each needs.
 void check_products(const BuildOptions& o) {
   check_dem(o.dem);
   check_contour_lines(o.contour_lines);
+  check_terrain_output(o.terrain);
 }
 
 }  // namespace

@@ -116,6 +116,12 @@ struct BuildOptions {
     std::vector<double> levels;  // --levels: fixed levels instead of an interval
     std::string field = "elev";  // --contour-field: the level's attribute (none in DXF, DGN)
   } contour_lines;
+  struct Terrain {
+    std::string path;              // --terrain DIR: a quantized-mesh pyramid; "" = none
+    int min_level = 0;             // --terrain-levels MIN-MAX
+    std::optional<int> max_level;  // default: from the data's point spacing
+    double fill_height = 0;        // --terrain-fill-height: the surface beyond the data, metres
+  } terrain;
 };
 
 // What check_options() found, resolved for the job.

@@ -40,6 +40,15 @@ std::uint64_t kept_constraints(const mesh::Triangulation& tin) {
   return n;
 }
 
+// Vertices of the kept triangles: what a writer would have written.
+std::uint64_t kept_vertices(const mesh::Triangulation& tin) {
+  std::vector<bool> used(tin.vertex_count(), false);
+  tin.for_each_triangle([&](TriangleId, const std::array<VertexId, 3>& c) {
+    for (const VertexId v : c) used[v] = true;
+  });
+  return static_cast<std::uint64_t>(std::count(used.begin(), used.end(), true));
+}
+
 bool wanted(const BuildOptions&) {
   return true;
 }
@@ -55,6 +64,10 @@ void run(Job& job) {
   if (job.write.format == io::TinFormat::stl) {
     const std::string warning = io::stl_precision_warning(tin, job.write.offset);
     if (!warning.empty()) job.warn(warning + "; shift them with --offset (e.g. --offset auto)");
+  }
+  if (job.options.output.empty()) {  // no -o: only the products
+    report.vertices = kept_vertices(tin);
+    return;
   }
   io::TinWriteOptions options = job.write;
   options.progress = job.stage_progress();
@@ -72,7 +85,7 @@ void run(Job& job) {
 }
 
 void plan(const BuildOptions& o, FilePlan& files) {
-  files.outputs.push_back({o.output, "the TIN (-o)"});
+  if (!o.output.empty()) files.outputs.push_back({o.output, "the TIN (-o)"});
 }
 
 // ---- options: the TIN's, and --overwrite for every output -------------------------------------
@@ -100,7 +113,6 @@ const OptionSpec kOptions[] = {
      .value_name = "FILE",
      .help = kOutputHelp,
      .group = option_groups::output,
-     .required = true,
      .set = set_text<&BuildOptions::output>},
     {.flags = "-f,--format",
      .help = "Output format, overriding the extension",

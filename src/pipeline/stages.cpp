@@ -15,6 +15,7 @@
 namespace tincdt::pipeline {
 
 extern const Stage read_stage;         // points, lines and surface features; their CRS
+extern const Stage terrain_crs_stage;  // --terrain: a CRS, or stop before any work
 extern const Stage delaunay_stage;     // every point and line vertex: the Delaunay TIN
 extern const Stage constraints_stage;  // contours and hard lines become TIN edges
 extern const Stage surface_stage;      // soft lines, clip / erase / replace rings draped, inserted
@@ -28,6 +29,7 @@ extern const Stage validate_stage;     // --validate
 extern const Stage quality_stage;      // the quality block of --stats
 extern const Stage write_stage;        // the TIN (-o) and its .prj
 extern const Stage dem_stage;          // --dem: the final TIN rasterized
+extern const Stage terrain_stage;      // --terrain: the quantized-mesh pyramid
 extern const Stage contour_lines_stage;     // --contour-lines: traced on the final TIN
 extern const Stage preview_stage;           // --preview: a hillshade PNG of the final TIN
 extern const Stage constraint_lines_stage;  // --constraints-out
@@ -38,6 +40,7 @@ namespace {
 
 const Stage* const kStages[] = {
     &read_stage,
+    &terrain_crs_stage,
     &delaunay_stage,
     &constraints_stage,
     &surface_stage,
@@ -51,6 +54,7 @@ const Stage* const kStages[] = {
     &quality_stage,
     &write_stage,
     &dem_stage,
+    &terrain_stage,
     &contour_lines_stage,
     &preview_stage,
     &constraint_lines_stage,

@@ -210,7 +210,11 @@ class FullJob : public InScratch {
             "--preview",
             "p.png",
             "--preview-size",
-            "64"};
+            "64",
+            "--terrain",
+            "terrain",
+            "--terrain-levels",
+            "0-1"};
   }
 };
 
@@ -228,7 +232,8 @@ TEST_F(FullJob, WantsEveryStage) {
   EXPECT_EQ(names_in(dir_),
             (std::set<std::string>{"pts.xyz", "contours.geojson", "soft.geojson", "clip.geojson",
                                    "hole.geojson", "pad.geojson", "tin.ply", "tin.prj", "s.json",
-                                   "c.geojson", "d.gpkg", "dem.tif", "lines.geojson", "p.png"}));
+                                   "c.geojson", "d.gpkg", "dem.tif", "lines.geojson", "p.png",
+                                   "terrain"}));
 }
 
 // A Ctrl-C (or kill) at the start of any stage, or just before the outputs move into place: the

@@ -28,10 +28,27 @@ TEST(Stages, OneTableInTheDocumentedOrder) {
     EXPECT_NE(s->wanted, nullptr) << s->name;
     EXPECT_NE(s->run, nullptr) << s->name;
   }
-  EXPECT_EQ(names, (std::vector<std::string>{
-                       "read", "delaunay", "constraints", "surface", "simplify", "flats", "replace",
-                       "trim", "clip", "erase", "validate", "quality", "write", "dem",
-                       "contour_lines", "preview", "constraint_lines", "diagnostics", "stats"}));
+  EXPECT_EQ(names, (std::vector<std::string>{"read",
+                                             "web_terrain_crs",
+                                             "delaunay",
+                                             "constraints",
+                                             "surface",
+                                             "simplify",
+                                             "flats",
+                                             "replace",
+                                             "trim",
+                                             "clip",
+                                             "erase",
+                                             "validate",
+                                             "quality",
+                                             "write",
+                                             "dem",
+                                             "web_terrain",
+                                             "contour_lines",
+                                             "preview",
+                                             "constraint_lines",
+                                             "diagnostics",
+                                             "stats"}));
 }
 
 BuildOptions options_with(const std::string& dir) {

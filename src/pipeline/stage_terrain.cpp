@@ -1,0 +1,230 @@
+// web_terrain: --terrain DIR, the final TIN as a Cesium quantized-mesh-1.0 pyramid: DIR/layer.json
+// and DIR/{z}/{x}/{y}.terrain in the geographic TMS tiling (EPSG:4326, two root tiles), each tile
+// within its level's geometric error of the full TIN (terrain_tile.hpp), neighbours sharing their
+// border vertices. Every tile is an output of the job: written to a temporary beside it and moved
+// into place with the other outputs, or not at all.
+//
+// web_terrain_crs runs right after read: a pyramid needs the data's CRS, so none stops the job
+// before any work.
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "core/error.hpp"
+#include "io/terrain/geographic_tiling.hpp"
+#include "io/terrain/layer_json.hpp"
+#include "io/terrain/quantized_mesh.hpp"
+#include "io/terrain/wgs84.hpp"
+#include "pipeline/stage.hpp"
+#include "pipeline/terrain_source.hpp"
+#include "pipeline/terrain_tile.hpp"
+#include "products/short_number.hpp"
+
+namespace tincdt::pipeline {
+namespace {
+
+namespace qm = io::terrain;
+using products::short_number;
+using terrain::TerrainSource;
+using terrain::TileError;
+
+// The deepest level a default pyramid goes to.
+constexpr int kDeepestDefaultLevel = 24;
+
+bool wanted(const BuildOptions& o) {
+  return !o.terrain.path.empty();
+}
+
+// The level whose tiles, as 65 x 65 heightmaps (Cesium's model of a level's error), have
+// samples no farther apart than SPACING metres.
+int level_for_spacing(double spacing) {
+  if (!(spacing > 0)) return 0;
+  const double equator = 2 * std::numbers::pi * qm::wgs84::kSemiMajorAxis;
+  const double level = std::ceil(std::log2(equator / (2 * 64 * spacing)));
+  return static_cast<int>(std::clamp(level, 0.0, static_cast<double>(kDeepestDefaultLevel)));
+}
+
+std::string tile_path(const std::string& dir, const qm::TileKey& key) {
+  return dir + "/" + std::to_string(key.level) + "/" + std::to_string(key.x) + "/" +
+         std::to_string(key.y) + ".terrain";
+}
+
+// The tiles of the next level below KEY that the pyramid has, for the metadata extension.
+std::vector<std::vector<qm::TileRange>> children(const qm::TileKey& key, int max_level,
+                                                 const qm::GeoRectangle& bounds) {
+  if (key.level >= max_level) return {};
+  const qm::TileRange all = qm::tiles_covering(bounds, key.level + 1);
+  qm::TileRange r{std::max(all.start_x, 2 * key.x), std::max(all.start_y, 2 * key.y),
+                  std::min(all.end_x, 2 * key.x + 1), std::min(all.end_y, 2 * key.y + 1)};
+  if (r.start_x > r.end_x || r.start_y > r.end_y) return {{}};
+  return {{r}};
+}
+
+void write_file(Job& job, const std::string& path, const std::string& bytes) {
+  job.outputs.make_folders(std::filesystem::path(path).parent_path().string());
+  io::OutputFile& out = job.add_output(path, "terrain");
+  out.write(bytes);
+  job.finish_output(out);
+}
+
+struct LevelStats {
+  std::size_t tiles = 0;
+  std::size_t line_segments = 0;
+  std::size_t lines_dropped = 0;
+  std::uint64_t vertices = 0;
+  TileError error;
+};
+
+LevelStats write_level(Job& job, const TerrainSource& source, int level, int max_level, double done,
+                       double share) {
+  const qm::TileRange range = qm::tiles_covering(source.bounds(), level);
+  const double error = qm::geometric_error_at_level(level);
+  const std::uint64_t count =
+      std::uint64_t{range.end_x - range.start_x + 1} * (range.end_y - range.start_y + 1);
+  LevelStats stats;
+  for (std::uint32_t x = range.start_x; x <= range.end_x; ++x)
+    for (std::uint32_t y = range.start_y; y <= range.end_y; ++y) {
+      const qm::TileKey key{level, x, y};
+      const terrain::BuiltTile tile = terrain::build_tile(source, key, error);
+      qm::QuantizedMeshOptions options;
+      options.available = children(key, max_level, source.bounds());
+      write_file(job, tile_path(job.options.terrain.path, key),
+                 qm::encode_quantized_mesh(tile.mesh, options));
+      ++stats.tiles;
+      stats.vertices += tile.mesh.vertices.size();
+      stats.line_segments += tile.line_segments;
+      stats.lines_dropped += tile.lines_dropped;
+      stats.error.add(tile.error);
+      job.progress(done + share * static_cast<double>(stats.tiles) / static_cast<double>(count));
+    }
+  return stats;
+}
+
+void log_units(Job& job, const TerrainSource& source) {
+  const qm::HeightUnits& u = source.units();
+  if (u.to_metres != 1)
+    job.info("terrain: heights in " + u.unit + ", converted to metres (x " +
+             short_number(u.to_metres) + ")");
+  if (!u.ellipsoidal)
+    job.info("terrain: heights kept as given (" +
+             (u.vertical.empty() ? std::string("no vertical CRS") : u.vertical) +
+             "), not above the WGS 84 ellipsoid");
+}
+
+void run(Job& job) {
+  const BuildOptions::Terrain& o = job.options.terrain;
+  const TerrainSource source(job.tin(), job.crs_wkt, job.describe_inputs(), o.fill_height);
+  log_units(job, source);
+  const double spacing = source.point_spacing_metres();
+  const int max_level =
+      o.max_level ? *o.max_level : std::max(o.min_level, level_for_spacing(spacing));
+  job.info("terrain: levels " + std::to_string(o.min_level) + "-" + std::to_string(max_level) +
+           (o.max_level ? "" : " (point spacing " + short_number(spacing) + " m)"));
+  qm::TerrainLayer layer;
+  layer.bounds = source.bounds();
+  layer.min_zoom = o.min_level;
+  layer.extensions = {"octvertexnormals", "metadata"};
+  layer.available.resize(static_cast<std::size_t>(max_level) + 1);
+  const double share = 1.0 / (max_level - o.min_level + 1);
+  for (int level = o.min_level; level <= max_level; ++level) {
+    layer.available[level] = {qm::tiles_covering(source.bounds(), level)};
+    const LevelStats s =
+        write_level(job, source, level, max_level, (level - o.min_level) * share, share);
+    const double rmse =
+        s.error.count ? std::sqrt(s.error.sum_squares / static_cast<double>(s.error.count)) : 0;
+    job.info("terrain level " + std::to_string(level) + ": " + std::to_string(s.tiles) +
+             " tiles, " + std::to_string(s.vertices) + " vertices, max error " +
+             short_number(s.error.max) + " m (allowed " +
+             short_number(qm::geometric_error_at_level(level)) + "), RMSE " + short_number(rmse) +
+             " m over " + std::to_string(s.error.count) + " vertices" +
+             (s.line_segments ? ", " + std::to_string(s.line_segments) + " line pieces as edges"
+                              : std::string()));
+    if (s.lines_dropped)
+      job.debug("terrain level " + std::to_string(level) + ": " + std::to_string(s.lines_dropped) +
+                " tiles without their lines: simplified onto the tile's grid, they overlap "
+                "(coarse tiles over small data)");
+    if (s.error.max > qm::geometric_error_at_level(level))
+      job.warn("terrain level " + std::to_string(level) + ": vertices up to " +
+               short_number(s.error.max) + " m from the TIN, above the level's error: points " +
+               "closer than a tile's quantization step (1/32767 of its width) differ more in " +
+               "height (walls, trees; ground points alone make a smoother terrain)");
+  }
+  write_file(job, o.path + "/layer.json", qm::layer_json(layer));
+}
+
+// The folder is made when the tiles are written: until then, a new one is checked as a file
+// would be (its parent folder exists and is writable), and in one that exists layer.json must
+// not (without --overwrite).
+void plan(const BuildOptions& o, FilePlan& files) {
+  std::error_code ec;
+  if (std::filesystem::exists(o.terrain.path, ec))
+    files.outputs.push_back(
+        {o.terrain.path + "/layer.json", "the terrain's layer.json (--terrain)"});
+  else
+    files.outputs.push_back({o.terrain.path, "the terrain's folder (--terrain)"});
+}
+
+// ---- terrain_crs -------------------------------------------------------------------------------
+
+void check_crs(Job& job) {
+  if (job.crs_wkt.empty())
+    throw InputError(job.describe_inputs(), "",
+                     "web terrain (--terrain) needs the data's CRS to place it on the globe, and "
+                     "the input has none: assign one with --a-srs");
+}
+
+// ---- options -----------------------------------------------------------------------------------
+
+// "MIN-MAX", whole levels 0 <= MIN <= MAX <= kMaxTileLevel.
+bool parse_levels(std::string_view text, int& min, int& max) {
+  const std::size_t dash = text.find('-');
+  if (dash == std::string_view::npos) return false;
+  const auto whole = [](std::string_view t, int& v) {
+    const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
+    return ec == std::errc() && end == t.data() + t.size() && !t.empty();
+  };
+  return whole(text.substr(0, dash), min) && whole(text.substr(dash + 1), max) && min >= 0 &&
+         min <= max && max <= qm::kMaxTileLevel;
+}
+
+std::string check_levels(std::string_view text) {
+  int min = 0, max = 0;
+  if (parse_levels(text, min, max)) return {};
+  return in_quotes(text) +
+         " is not MIN-MAX, two levels 0 <= MIN <= MAX <= " + std::to_string(qm::kMaxTileLevel);
+}
+
+void set_levels(BuildOptions& o, std::string_view text) {
+  int min = 0, max = 0;
+  parse_levels(text, min, max);
+  o.terrain.min_level = min;
+  o.terrain.max_level = max;
+}
+
+using Terrain = BuildOptions::Terrain;
+
+constexpr OptionSpec kOptions[] = {
+    text_option("--terrain", "DIR", option_groups::products,
+                set_text<&BuildOptions::terrain, &Terrain::path>,
+                "Web terrain: a Cesium quantized-mesh-1.0 pyramid, DIR/layer.json and\n"
+                "DIR/{z}/{x}/{y}.terrain, each level within Cesium's geometric error\n"
+                "(needs a CRS)"),
+    checked_option("--terrain-levels", "MIN-MAX", option_groups::products, check_levels, set_levels,
+                   "The pyramid's levels (default: 0 to the level of the data's point\n"
+                   "spacing)"),
+    with_default(checked_option("--terrain-fill-height", "H", option_groups::products, check_number,
+                                set_number<&BuildOptions::terrain, &Terrain::fill_height>,
+                                "Height (metres) of the tiles' surface beyond the data"),
+                 "0", show_number<&BuildOptions::terrain, &Terrain::fill_height>),
+};
+
+}  // namespace
+
+extern const Stage terrain_crs_stage{"web_terrain_crs", "", wanted, check_crs};
+extern const Stage terrain_stage{"web_terrain", "web_terrain", wanted, run, plan, "", kOptions};
+
+}  // namespace tincdt::pipeline

@@ -1,0 +1,104 @@
+// The error of a web-terrain tile as a client sees it: the vertices quantized as the file holds
+// them, the surface interpolated linearly in the quantized u, v, and compared with every vertex of
+// the full TIN in the tile's rectangle at its place on the tile's grid.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <vector>
+
+#include "io/terrain/quantized_mesh_detail.hpp"
+#include "pipeline/terrain_tile.hpp"
+
+namespace tincdt::pipeline::terrain {
+namespace {
+
+using io::terrain::kQuantizedMax;
+
+struct Corner {
+  double u, v, h;
+};
+
+double orient(const Corner& a, const Corner& b, double u, double v) {
+  return (b.u - a.u) * (v - a.v) - (b.v - a.v) * (u - a.u);
+}
+
+// The triangles of a tile in a grid of cells over its quantized square.
+struct TriangleGrid {
+  std::uint32_t side;
+  std::vector<std::vector<std::uint32_t>> cells;
+
+  std::uint32_t cell_of(double q) const {
+    const double c = std::floor(q / (kQuantizedMax + 1.0) * side);
+    return static_cast<std::uint32_t>(std::clamp(c, 0.0, side - 1.0));
+  }
+};
+
+TriangleGrid grid_of(const std::vector<std::array<Corner, 3>>& triangles) {
+  TriangleGrid g;
+  g.side = static_cast<std::uint32_t>(
+      std::clamp(std::sqrt(static_cast<double>(triangles.size())), 1.0, 256.0));
+  g.cells.resize(std::size_t{g.side} * g.side);
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    const auto& c = triangles[t];
+    const auto x0 = g.cell_of(std::min({c[0].u, c[1].u, c[2].u}));
+    const auto x1 = g.cell_of(std::max({c[0].u, c[1].u, c[2].u}));
+    const auto y0 = g.cell_of(std::min({c[0].v, c[1].v, c[2].v}));
+    const auto y1 = g.cell_of(std::max({c[0].v, c[1].v, c[2].v}));
+    for (auto y = y0; y <= y1; ++y)
+      for (auto x = x0; x <= x1; ++x)
+        g.cells[std::size_t{y} * g.side + x].push_back(static_cast<std::uint32_t>(t));
+  }
+  return g;
+}
+
+// The surface's height at U, V: the triangle of the cell that holds the point best (the least
+// negative barycentric weight, for a point on an edge rounded off it).
+double surface_at(const std::vector<std::array<Corner, 3>>& triangles, const TriangleGrid& g,
+                  double u, double v) {
+  double best = -INFINITY, height = 0;
+  for (const std::uint32_t t : g.cells[std::size_t{g.cell_of(v)} * g.side + g.cell_of(u)]) {
+    const auto& c = triangles[t];
+    const double area = orient(c[0], c[1], c[2].u, c[2].v);
+    if (!(area > 0)) continue;
+    const double wa = orient(c[1], c[2], u, v) / area, wb = orient(c[2], c[0], u, v) / area,
+                 wc = orient(c[0], c[1], u, v) / area;
+    const double worst = std::min({wa, wb, wc});
+    if (worst <= best) continue;
+    best = worst;
+    height = wa * c[0].h + wb * c[1].h + wc * c[2].h;
+  }
+  return height;
+}
+
+}  // namespace
+
+TileError measure_tile(const TerrainSource& source, const io::terrain::TileMesh& mesh) {
+  const io::terrain::detail::QuantizedVertices q = io::terrain::detail::quantize_vertices(mesh);
+  const double low = q.minimum_height, high = q.maximum_height;
+  std::vector<std::array<Corner, 3>> triangles;
+  triangles.reserve(mesh.triangles.size());
+  for (const auto& t : mesh.triangles) {
+    std::array<Corner, 3> c{};
+    for (int i = 0; i < 3; ++i)
+      c[i] = {static_cast<double>(q.u[t[i]]), static_cast<double>(q.v[t[i]]),
+              low + (high - low) * (q.height[t[i]] / static_cast<double>(kQuantizedMax))};
+    triangles.push_back(c);
+  }
+  const TriangleGrid grid = grid_of(triangles);
+  const io::terrain::GeoRectangle& r = mesh.rectangle;
+  TileError error;
+  for (const std::uint32_t id : source.vertices_in(r)) {
+    const Point3& p = source.vertices()[id];
+    // At the vertex's place on the tile's grid, the finest a tile can place it: beside a steep
+    // triangle (the fill's ramp down from the data's outline) half a step sideways is a height.
+    const double u = std::round((p.x - r.west) / (r.east - r.west) * kQuantizedMax);
+    const double v = std::round((p.y - r.south) / (r.north - r.south) * kQuantizedMax);
+    const double e = std::fabs(p.z - surface_at(triangles, grid, u, v));
+    error.max = std::max(error.max, e);
+    error.sum_squares += e * e;
+    ++error.count;
+  }
+  return error;
+}
+
+}  // namespace tincdt::pipeline::terrain

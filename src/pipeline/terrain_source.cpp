@@ -1,0 +1,298 @@
+#include "pipeline/terrain_source.hpp"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <numbers>
+
+namespace tincdt::pipeline::terrain {
+namespace {
+
+// Metres per degree of latitude, near enough for a spacing estimate.
+constexpr double kMetresPerDegree = 111320.0;
+
+double orient(const Point3& a, const Point3& b, double x, double y) {
+  return (b.x - a.x) * (y - a.y) - (b.y - a.y) * (x - a.x);
+}
+
+// CSR rows from per-cell counts: begin[c] = start of cell c.
+void prefix_sums(std::vector<std::uint32_t>& begin) {
+  std::uint32_t sum = 0;
+  for (std::uint32_t& b : begin) {
+    const std::uint32_t n = b;
+    b = sum;
+    sum += n;
+  }
+}
+
+}  // namespace
+
+TerrainSource::TerrainSource(const mesh::Triangulation& tin, const std::string& crs_wkt,
+                             const std::string& what, double fill_height)
+    : fill_height_(fill_height) {
+  std::vector<Point3> all(tin.vertex_count());
+  for (std::size_t v = 0; v < all.size(); ++v) {
+    const Point2 p = tin.point(static_cast<VertexId>(v));
+    all[v] = {p.x, p.y, tin.z(static_cast<VertexId>(v))};
+  }
+  units_ = io::terrain::to_lon_lat_metres(crs_wkt, all, what);
+  // Only the vertices of kept triangles are the TIN's, numbered in their order.
+  std::vector<std::uint32_t> number(all.size(), UINT32_MAX);
+  tin.for_each_triangle([&](TriangleId, const std::array<VertexId, 3>& c) {
+    std::array<std::uint32_t, 3> t{};
+    for (int i = 0; i < 3; ++i) {
+      if (number[c[i]] == UINT32_MAX) {
+        number[c[i]] = static_cast<std::uint32_t>(vertices_.size());
+        vertices_.push_back(all[c[i]]);
+      }
+      t[i] = number[c[i]];
+    }
+    // Projections keep orientation but a CRS with a flipped axis does not.
+    if (orient(vertices_[t[0]], vertices_[t[1]], vertices_[t[2]].x, vertices_[t[2]].y) < 0)
+      std::swap(t[1], t[2]);
+    triangles_.push_back(t);
+  });
+  collect_constraints(tin, number);
+  collect_holes(tin, all);
+  if (!vertices_.empty()) {
+    bounds_ = {vertices_[0].x, vertices_[0].y, vertices_[0].x, vertices_[0].y};
+    for (const Point3& p : vertices_) {
+      bounds_.west = std::min(bounds_.west, p.x);
+      bounds_.east = std::max(bounds_.east, p.x);
+      bounds_.south = std::min(bounds_.south, p.y);
+      bounds_.north = std::max(bounds_.north, p.y);
+    }
+  }
+  build_index();
+}
+
+void TerrainSource::collect_constraints(const mesh::Triangulation& tin,
+                                        const std::vector<std::uint32_t>& number) {
+  on_constraint_.assign(vertices_.size(), 0);
+  tin.for_each_constrained_edge([&](EdgeId e) {
+    if (!tin.is_kept(mesh::triangle_of(e)) && !tin.is_kept(mesh::triangle_of(tin.twin(e)))) return;
+    std::uint32_t a = number[tin.origin(e)], b = number[tin.dest(e)];
+    if (a == UINT32_MAX || b == UINT32_MAX) return;
+    if (a > b) std::swap(a, b);
+    constrained_.push_back({a, b});
+    on_constraint_[a] = on_constraint_[b] = 1;
+  });
+  std::sort(constrained_.begin(), constrained_.end());
+  constrained_.erase(std::unique(constrained_.begin(), constrained_.end()), constrained_.end());
+}
+
+void TerrainSource::collect_holes(const mesh::Triangulation& tin, const std::vector<Point3>& all) {
+  for (std::size_t t = 0; t < tin.triangle_slots(); ++t) {
+    const auto id = static_cast<TriangleId>(t);
+    if (tin.is_ghost(id) || !tin.is_removed(id)) continue;
+    const auto c = tin.triangle(id);
+    std::array<Point2, 3> h{};
+    for (int i = 0; i < 3; ++i) h[i] = {all[c[i]].x, all[c[i]].y};
+    if ((h[1].x - h[0].x) * (h[2].y - h[0].y) - (h[1].y - h[0].y) * (h[2].x - h[0].x) < 0)
+      std::swap(h[1], h[2]);
+    holes_.push_back(h);
+  }
+}
+
+bool TerrainSource::in_hole(double lon, double lat) const {
+  bool found = false;
+  for_cells({lon, lat, lon, lat}, hole_cells_, [&](std::size_t cell) {
+    for (std::uint32_t i = hole_cells_.begin[cell]; !found && i < hole_cells_.begin[cell + 1];
+         ++i) {
+      const auto& h = holes_[hole_cells_.items[i]];
+      bool inside = true;
+      for (int k = 0; k < 3 && inside; ++k) {
+        const Point2 &a = h[k], &b = h[(k + 1) % 3];
+        inside = (b.x - a.x) * (lat - a.y) - (b.y - a.y) * (lon - a.x) > 0;
+      }
+      found = inside;
+    }
+  });
+  return found;
+}
+
+bool TerrainSource::is_constrained(std::uint32_t a, std::uint32_t b) const {
+  if (a > b) std::swap(a, b);
+  return std::binary_search(constrained_.begin(), constrained_.end(),
+                            std::array<std::uint32_t, 2>{a, b});
+}
+
+std::vector<std::uint32_t> TerrainSource::constrained_edges_in(const GeoRectangle& r) const {
+  std::vector<std::uint32_t> out;
+  for_cells(r, constraint_cells_, [&](std::size_t cell) {
+    for (std::uint32_t i = constraint_cells_.begin[cell]; i < constraint_cells_.begin[cell + 1];
+         ++i)
+      out.push_back(constraint_cells_.items[i]);
+  });
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+void TerrainSource::build_index() {
+  Cells cells;
+  cells.west = bounds_.west;
+  cells.south = bounds_.south;
+  const double w = std::max(bounds_.east - bounds_.west, 1e-12);
+  const double h = std::max(bounds_.north - bounds_.south, 1e-12);
+  // About two triangles a cell, in cells about as wide as high.
+  const double n = std::max(1.0, static_cast<double>(triangles_.size()) / 2);
+  const double side = std::sqrt(w * h / n);
+  cells.across = static_cast<std::uint32_t>(std::clamp(std::ceil(w / side), 1.0, 4096.0));
+  cells.down = static_cast<std::uint32_t>(std::clamp(std::ceil(h / side), 1.0, 4096.0));
+  cells.width = w / cells.across;
+  cells.height = h / cells.down;
+  triangle_cells_ = cells;
+  vertex_cells_ = cells;
+  constraint_cells_ = cells;
+  hole_cells_ = cells;
+  const auto fill = [&](Cells& c, std::size_t count, auto&& rect_of) {
+    c.begin.assign(std::size_t{c.across} * c.down + 1, 0);
+    for (int pass = 0; pass < 2; ++pass) {
+      std::vector<std::uint32_t> next;
+      if (pass == 1) {
+        prefix_sums(c.begin);
+        c.items.resize(c.begin.back());
+        next.assign(c.begin.begin(), c.begin.end() - 1);
+      }
+      for (std::size_t i = 0; i < count; ++i)
+        for_cells(rect_of(i), c, [&](std::size_t cell) {
+          if (pass == 0)
+            ++c.begin[cell];
+          else
+            c.items[next[cell]++] = static_cast<std::uint32_t>(i);
+        });
+    }
+  };
+  fill(triangle_cells_, triangles_.size(), [&](std::size_t t) {
+    const Point3 &a = vertices_[triangles_[t][0]], &b = vertices_[triangles_[t][1]],
+                 &c = vertices_[triangles_[t][2]];
+    return GeoRectangle{std::min({a.x, b.x, c.x}), std::min({a.y, b.y, c.y}),
+                        std::max({a.x, b.x, c.x}), std::max({a.y, b.y, c.y})};
+  });
+  fill(constraint_cells_, constrained_.size(), [&](std::size_t e) {
+    const Point3 &a = vertices_[constrained_[e][0]], &b = vertices_[constrained_[e][1]];
+    return GeoRectangle{std::min(a.x, b.x), std::min(a.y, b.y), std::max(a.x, b.x),
+                        std::max(a.y, b.y)};
+  });
+  fill(hole_cells_, holes_.size(), [&](std::size_t t) {
+    const auto& tri = holes_[t];
+    return GeoRectangle{
+        std::min({tri[0].x, tri[1].x, tri[2].x}), std::min({tri[0].y, tri[1].y, tri[2].y}),
+        std::max({tri[0].x, tri[1].x, tri[2].x}), std::max({tri[0].y, tri[1].y, tri[2].y})};
+  });
+  fill(vertex_cells_, vertices_.size(), [&](std::size_t v) {
+    return GeoRectangle{vertices_[v].x, vertices_[v].y, vertices_[v].x, vertices_[v].y};
+  });
+}
+
+std::uint32_t TerrainSource::column(double lon) const {
+  const double c = std::floor((lon - triangle_cells_.west) / triangle_cells_.width);
+  return static_cast<std::uint32_t>(std::clamp(c, 0.0, triangle_cells_.across - 1.0));
+}
+
+std::uint32_t TerrainSource::row(double lat) const {
+  const double r = std::floor((lat - triangle_cells_.south) / triangle_cells_.height);
+  return static_cast<std::uint32_t>(std::clamp(r, 0.0, triangle_cells_.down - 1.0));
+}
+
+// Calls F(cell) for every cell of CELLS that R overlaps (none when R misses the bounds).
+template <class F>
+void TerrainSource::for_cells(const GeoRectangle& r, const Cells& cells, F&& f) const {
+  if (r.east < bounds_.west || r.west > bounds_.east || r.north < bounds_.south ||
+      r.south > bounds_.north)
+    return;
+  const std::uint32_t x0 = column(r.west), x1 = column(r.east);
+  const std::uint32_t y0 = row(r.south), y1 = row(r.north);
+  for (std::uint32_t y = y0; y <= y1; ++y)
+    for (std::uint32_t x = x0; x <= x1; ++x) f(std::size_t{y} * cells.across + x);
+}
+
+double TerrainSource::height_at(double lon, double lat) const {
+  double found = fill_height_;
+  bool done = false;
+  for_cells({lon, lat, lon, lat}, triangle_cells_, [&](std::size_t cell) {
+    for (std::uint32_t i = triangle_cells_.begin[cell];
+         !done && i < triangle_cells_.begin[cell + 1]; ++i) {
+      const auto& t = triangles_[triangle_cells_.items[i]];
+      const Point3 &a = vertices_[t[0]], &b = vertices_[t[1]], &c = vertices_[t[2]];
+      const double area = orient(a, b, c.x, c.y);
+      if (!(area > 0)) continue;
+      const double wa = orient(b, c, lon, lat), wb = orient(c, a, lon, lat),
+                   wc = orient(a, b, lon, lat);
+      if (wa < 0 || wb < 0 || wc < 0) continue;
+      found = (wa * a.z + wb * b.z + wc * c.z) / (wa + wb + wc);
+      done = true;
+    }
+  });
+  return found;
+}
+
+std::vector<std::uint32_t> TerrainSource::vertices_in(const GeoRectangle& r) const {
+  std::vector<std::uint32_t> out;
+  for_cells(r, vertex_cells_, [&](std::size_t cell) {
+    for (std::uint32_t i = vertex_cells_.begin[cell]; i < vertex_cells_.begin[cell + 1]; ++i) {
+      const Point3& p = vertices_[vertex_cells_.items[i]];
+      if (p.x >= r.west && p.x <= r.east && p.y >= r.south && p.y <= r.north)
+        out.push_back(vertex_cells_.items[i]);
+    }
+  });
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+std::vector<SectionPoint> TerrainSource::section(bool along_meridian, double at, double from,
+                                                 double to) const {
+  assert(from < to);
+  // In the line's frame: u across the line (0 on it), s along it.
+  const auto u_of = [&](const Point3& p) { return (along_meridian ? p.x : p.y) - at; };
+  const auto s_of = [&](const Point3& p) { return along_meridian ? p.y : p.x; };
+  std::vector<SectionPoint> out;
+  const GeoRectangle r =
+      along_meridian ? GeoRectangle{at, from, at, to} : GeoRectangle{from, at, to, at};
+  for_cells(r, triangle_cells_, [&](std::size_t cell) {
+    for (std::uint32_t i = triangle_cells_.begin[cell]; i < triangle_cells_.begin[cell + 1]; ++i) {
+      const auto& t = triangles_[triangle_cells_.items[i]];
+      for (int k = 0; k < 3; ++k) {
+        // Each edge from its lower-numbered end, so that both its triangles compute the same.
+        std::uint32_t ia = t[k], ib = t[(k + 1) % 3];
+        if (ia > ib) std::swap(ia, ib);
+        const Point3 &a = vertices_[ia], &b = vertices_[ib];
+        const double ua = u_of(a), ub = u_of(b);
+        if (ua == 0) out.push_back({s_of(a), a.z, on_constraint_[ia] != 0});
+        if (ub == 0) out.push_back({s_of(b), b.z, on_constraint_[ib] != 0});
+        if ((ua < 0 && ub > 0) || (ua > 0 && ub < 0)) {
+          const double f = ua / (ua - ub);
+          out.push_back(
+              {s_of(a) + f * (s_of(b) - s_of(a)), a.z + f * (b.z - a.z), is_constrained(ia, ib)});
+        }
+      }
+    }
+  });
+  std::erase_if(out, [&](const SectionPoint& p) { return !(p.at > from && p.at < to); });
+  std::sort(out.begin(), out.end(), [](const SectionPoint& a, const SectionPoint& b) {
+    if (a.at != b.at) return a.at < b.at;
+    if (a.on_constraint != b.on_constraint) return a.on_constraint;
+    return a.height < b.height;
+  });
+  out.erase(std::unique(out.begin(), out.end(),
+                        [](const SectionPoint& a, const SectionPoint& b) { return a.at == b.at; }),
+            out.end());
+  const double h_from = along_meridian ? height_at(at, from) : height_at(from, at);
+  const double h_to = along_meridian ? height_at(at, to) : height_at(to, at);
+  out.insert(out.begin(), {from, h_from, false});
+  out.push_back({to, h_to, false});
+  return out;
+}
+
+double TerrainSource::point_spacing_metres() const {
+  double area = 0;  // square degrees scaled to metres below
+  for (const auto& t : triangles_)
+    area += 0.5 * orient(vertices_[t[0]], vertices_[t[1]], vertices_[t[2]].x, vertices_[t[2]].y);
+  const double lat = 0.5 * (bounds_.south + bounds_.north) * std::numbers::pi / 180;
+  const double square_metres = area * kMetresPerDegree * kMetresPerDegree * std::cos(lat);
+  if (vertices_.empty() || !(square_metres > 0)) return 0;
+  return std::sqrt(square_metres / static_cast<double>(vertices_.size()));
+}
+
+}  // namespace tincdt::pipeline::terrain

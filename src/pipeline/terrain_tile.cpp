@@ -1,0 +1,223 @@
+#include "pipeline/terrain_tile.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cassert>
+#include <cmath>
+#include <tuple>
+#include <vector>
+
+#include "core/error.hpp"
+#include "io/terrain/quantized_mesh_detail.hpp"
+#include "pipeline/terrain_tile_points.hpp"
+#include "simplify/profile.hpp"
+#include "simplify/simplify.hpp"
+
+namespace tincdt::pipeline::terrain {
+namespace {
+
+using detail::grid_place;
+using detail::TilePoints;
+using io::terrain::GeoRectangle;
+using io::terrain::kQuantizedMax;
+using io::terrain::TileMesh;
+
+constexpr double kMax = kQuantizedMax;
+// The sides' tolerance, a fraction of the level's error: the same for both tiles of a border,
+// whatever their height ranges, with room left for the quantization of the heights.
+constexpr double kBorderShare = 0.75;
+// Tries of the greedy insertion at a tighter tolerance when the measured error is above the
+// level's (the quantization of the vertices moved the surface).
+constexpr int kTries = 3;
+
+// A side of a tile: where its points go on the quantized grid.
+enum class Side { south, east, north, west };
+
+// SIDE's vertices, (place along the side 0..kMax, height), from its first corner to its last
+// (west to east, south to north).
+std::vector<std::pair<double, double>> side_vertices(const TerrainSource& source,
+                                                     const GeoRectangle& r, Side side,
+                                                     double tolerance) {
+  const bool meridian = side == Side::east || side == Side::west;
+  const double at = side == Side::south   ? r.south
+                    : side == Side::north ? r.north
+                    : side == Side::west  ? r.west
+                                          : r.east;
+  const double from = meridian ? r.south : r.west, to = meridian ? r.north : r.east;
+  const std::vector<SectionPoint> section = source.section(meridian, at, from, to);
+  std::vector<double> place, height;
+  std::vector<std::uint8_t> forced;  // where a constrained line crosses: a vertex of both tiles
+  for (std::size_t i = 0; i < section.size(); ++i) {
+    const bool end = i == 0 || i + 1 == section.size();
+    const double q = end ? (i == 0 ? 0.0 : kMax) : grid_place(section[i].at, from, to);
+    if (!end && (q <= 0 || q >= kMax)) continue;
+    if (!place.empty() && q == place.back()) {
+      // One point a grid place: a line's crossing before any other, else the first.
+      if (end || !section[i].on_constraint || forced.back()) continue;
+      place.pop_back();
+      height.pop_back();
+      forced.pop_back();
+    }
+    place.push_back(q);
+    height.push_back(section[i].height);
+    forced.push_back(section[i].on_constraint ? 1 : 0);
+  }
+  std::vector<std::pair<double, double>> out;
+  for (const std::size_t i : simplify::simplify_profile(place, height, tolerance, forced))
+    out.emplace_back(place[i], height[i]);
+  return out;
+}
+
+void add_border(const TerrainSource& source, const GeoRectangle& r, double tolerance,
+                TilePoints& p) {
+  // Counter-clockwise: south west to east, east south to north, north east to west, west north
+  // to south; each side's last corner is the next side's first.
+  const Side sides[] = {Side::south, Side::east, Side::north, Side::west};
+  for (const Side side : sides) {
+    auto v = side_vertices(source, r, side, tolerance);
+    if (side == Side::north || side == Side::west) std::reverse(v.begin(), v.end());
+    for (std::size_t i = 0; i + 1 < v.size(); ++i) {  // the last is the next side's first
+      const double q = v[i].first;
+      const Point2 xy = side == Side::south   ? Point2{q, 0}
+                        : side == Side::east  ? Point2{kMax, q}
+                        : side == Side::north ? Point2{q, kMax}
+                                              : Point2{0, q};
+      const std::uint32_t id = p.kept_point(xy, v[i].second);
+      if (id > 0) p.segments.push_back({id - 1, id, 0});
+    }
+  }
+  p.segments.push_back({static_cast<std::uint32_t>(p.xy.size() - 1), 0, 0});
+}
+
+// The full TIN's vertices strictly inside the rectangle's grid, one per grid place.
+void add_candidates(const TerrainSource& source, const GeoRectangle& r, TilePoints& p) {
+  std::vector<std::tuple<double, double, std::uint32_t>> cells;
+  for (const std::uint32_t id : source.vertices_in(r)) {
+    const Point3& v = source.vertices()[id];
+    const double u = grid_place(v.x, r.west, r.east), w = grid_place(v.y, r.south, r.north);
+    if (u >= 1 && u <= kMax - 1 && w >= 1 && w <= kMax - 1) cells.emplace_back(u, w, id);
+  }
+  std::sort(cells.begin(), cells.end());
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    const auto& [u, w, id] = cells[i];
+    if (i > 0 && std::get<0>(cells[i - 1]) == u && std::get<1>(cells[i - 1]) == w) continue;
+    if (p.find({u, w}) != nullptr) continue;  // a line's vertex is there
+    p.xy.push_back({u, w});
+    p.z.push_back(source.vertices()[id].z);
+  }
+}
+
+double degrees_at(double q, double low, double high) {
+  return q >= kMax ? high : q <= 0 ? low : low + q / kMax * (high - low);
+}
+
+TileMesh tile_mesh(const GeoRectangle& r, const mesh::Triangulation& tin) {
+  TileMesh m;
+  m.rectangle = r;
+  m.vertices.reserve(tin.vertex_count());
+  for (std::size_t i = 0; i < tin.vertex_count(); ++i) {
+    const Point2 p = tin.point(static_cast<VertexId>(i));
+    m.vertices.push_back({degrees_at(p.x, r.west, r.east), degrees_at(p.y, r.south, r.north),
+                          tin.z(static_cast<VertexId>(i))});
+  }
+  tin.for_each_triangle([&](TriangleId, const std::array<VertexId, 3>& c) {
+    m.triangles.push_back({c[0], c[1], c[2]});
+  });
+  return m;
+}
+
+}  // namespace
+
+double detail::grid_place(double at, double from, double to) {
+  return std::round((at - from) / (to - from) * kMax);
+}
+
+void TileError::add(const TileError& other) {
+  max = std::max(max, other.max);
+  sum_squares += other.sum_squares;
+  count += other.count;
+}
+
+namespace {
+
+// Throws GeometryError when a triangle of MESH has no area once quantized: lines that cross on
+// the grid meet at a vertex between its places, which quantization can put on a line.
+void check_quantized_triangles(const TileMesh& mesh) {
+  const io::terrain::detail::QuantizedVertices q = io::terrain::detail::quantize_vertices(mesh);
+  for (const auto& t : mesh.triangles) {
+    const std::int64_t cross =
+        (std::int64_t{q.u[t[1]]} - q.u[t[0]]) * (std::int64_t{q.v[t[2]]} - q.v[t[0]]) -
+        (std::int64_t{q.v[t[1]]} - q.v[t[0]]) * (std::int64_t{q.u[t[2]]} - q.u[t[0]]);
+    if (cross <= 0) throw GeometryError("a tile triangle has no area on the quantized grid");
+  }
+}
+
+// Removes the triangles of MESH whose centroid is in a hole of SOURCE. The holes' rings are
+// constrained lines of the full TIN, so the tile's TIN has edges along them.
+void drop_holes(const TerrainSource& source, TileMesh& mesh) {
+  std::erase_if(mesh.triangles, [&](const std::array<std::uint32_t, 3>& t) {
+    const Point3 &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
+    return source.in_hole((a.x + b.x + c.x) / 3, (a.y + b.y + c.y) / 3);
+  });
+}
+
+TilePoints tile_points(const TerrainSource& source, const GeoRectangle& r, double error,
+                       bool with_lines, std::size_t& line_segments) {
+  TilePoints p;
+  add_border(source, r, kBorderShare * error, p);
+  line_segments = with_lines ? detail::add_lines(source, r, kBorderShare * error, p) : 0;
+  add_candidates(source, r, p);
+  return p;
+}
+
+// The greedy runs on P: at the tolerance that leaves room for the quantization of the heights,
+// then tighter while the measured error is above ERROR.
+BuiltTile greedy_tile(const TerrainSource& source, const GeoRectangle& r, const TilePoints& p,
+                      double error) {
+  const auto [low, high] = std::minmax_element(p.z.begin(), p.z.end());
+  // A height step of the tile's quantization, at most.
+  const double step = (*high - *low) / kMax;
+  double tolerance = std::max(0.0, error - step);
+  BuiltTile best;
+  for (int attempt = 0; attempt < kTries; ++attempt) {
+    simplify::SimplifyOptions options;
+    options.max_error = tolerance;
+    options.threads = 1;
+    const simplify::SimplifyResult result =
+        simplify::simplify(p.xy, p.z, p.kept, p.segments, options);
+    assert(result.tin.vertex_count() >= p.kept.size());
+    BuiltTile tile{tile_mesh(r, result.tin), {}, 0};
+    check_quantized_triangles(tile.mesh);
+    drop_holes(source, tile.mesh);
+    tile.error = measure_tile(source, tile.mesh);
+    // A tighter run is kept only when it meets the error. One that does not met an error no
+    // vertex can remove: the quantized grid moves a point of a near-vertical face (a wall, a
+    // tree) by up to half a step. The sparsest tile is kept then.
+    if (attempt == 0 || tile.error.max <= error) best = std::move(tile);
+    if (best.error.max <= error || tolerance == 0) break;
+    tolerance = std::max(0.0, tolerance - (best.error.max - error) - 0.1 * error);
+  }
+  return best;
+}
+
+}  // namespace
+
+BuiltTile build_tile(const TerrainSource& source, const io::terrain::TileKey& key, double error) {
+  const GeoRectangle r = io::terrain::tile_rectangle(key);
+  std::size_t lines = 0;
+  const TilePoints p = tile_points(source, r, error, true, lines);
+  try {
+    BuiltTile tile = greedy_tile(source, r, p, error);
+    tile.line_segments = lines;
+    return tile;
+  } catch (const GeometryError&) {
+    // Lines simplified onto the grid can overlap where the full TIN's do not; the tile is then
+    // made without them (its error still holds).
+    if (lines == 0) throw;
+  }
+  BuiltTile tile = greedy_tile(source, r, tile_points(source, r, error, false, lines), error);
+  tile.lines_dropped = true;
+  return tile;
+}
+
+}  // namespace tincdt::pipeline::terrain

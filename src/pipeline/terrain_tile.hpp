@@ -1,0 +1,45 @@
+// One tile of the web-terrain pyramid: the TIN of a tile rectangle within the level's geometric
+// error of every vertex of the full TIN inside it, quantization included.
+//
+// The rectangle is the tile's exactly: its four corners are vertices (the TIN's height there, or
+// the fill height beyond the data) and each side is the TIN's section along it simplified by
+// vertical Douglas–Peucker at a tolerance that depends on the level only, held as constrained
+// edges. The two tiles of a border compute the same section from the same numbers, so they get
+// the same vertices there: no crack, no skirt needed. Inside, the full TIN's vertices (on the
+// tile's quantized grid) are candidates for the project's greedy insertion. The full TIN's
+// constrained lines (contours, hard lines) inside the tile, simplified by 3D Douglas–Peucker at
+// the sides' tolerance, are constrained edges of the tile's TIN too.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "io/terrain/geographic_tiling.hpp"
+#include "io/terrain/quantized_mesh.hpp"
+#include "pipeline/terrain_source.hpp"
+
+namespace tincdt::pipeline::terrain {
+
+// The vertical error of a tile against the full TIN's vertices inside it (sides included), as a
+// client decodes the tile.
+struct TileError {
+  double max = 0;
+  double sum_squares = 0;
+  std::uint64_t count = 0;
+  void add(const TileError& other);
+};
+
+struct BuiltTile {
+  io::terrain::TileMesh mesh;
+  TileError error;
+  std::size_t line_segments = 0;  // pieces of constrained lines held as edges
+  bool lines_dropped = false;     // the lines could not be held (they overlap on the grid)
+};
+
+// The tile KEY of the pyramid over SOURCE, within ERROR (metres).
+BuiltTile build_tile(const TerrainSource& source, const io::terrain::TileKey& key, double error);
+
+// The error of MESH, decoded as a client does, against SOURCE's vertices in its rectangle.
+TileError measure_tile(const TerrainSource& source, const io::terrain::TileMesh& mesh);
+
+}  // namespace tincdt::pipeline::terrain
