@@ -20,10 +20,6 @@ std::vector<std::size_t> simplify_profile(std::span<const double> at,
                                           std::span<const double> height, double tolerance,
                                           std::span<const std::uint8_t> keep = {});
 
-}  // namespace tincdt::simplify
-
-namespace tincdt::simplify {
-
 // Douglas–Peucker on a 3D polyline (x, y, z in one unit): a point is kept when it is farther than
 // TOLERANCE from the chord of its span horizontally, or vertically from the chord's height where
 // it projects. The indices kept, ascending, first and last always; KEEP[i] != 0 forces point i.

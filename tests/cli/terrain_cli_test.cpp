@@ -177,6 +177,11 @@ void expect_lines_are_edges(const std::string& dir, int z) {
   EXPECT_LE(farthest, level_error(z));
 }
 
+// tincdt on the sample in DIR, writing the pyramid t with OPTIONS.
+ShellRun terrain_of_sample(const std::string& dir, const std::string& options) {
+  return run_tincdt(dir, "'" + kSample + "' --terrain t " + options);
+}
+
 TEST(TerrainCli, SamplePyramidWithinErrorsWithoutCracks) {
   const std::string dir = scratch_dir("terrain_cli");
   const ShellRun r = run_tincdt(
@@ -191,7 +196,7 @@ TEST(TerrainCli, SamplePyramidWithinErrorsWithoutCracks) {
 
 TEST(TerrainCli, LevelsChosenAndNoTinFileNeeded) {
   const std::string dir = scratch_dir("terrain_cli");
-  const ShellRun r = run_tincdt(dir, "'" + kSample + "' --terrain t --terrain-levels 12-14");
+  const ShellRun r = terrain_of_sample(dir, "--terrain-levels 12-14");
   ASSERT_EQ(r.exit_code, 0) << r.messages;
   EXPECT_EQ(names_in(dir), std::set<std::string>{"t"});
   EXPECT_EQ(names_in(dir + "/t"), (std::set<std::string>{"12", "13", "14", "layer.json"}));
@@ -215,9 +220,7 @@ TEST(TerrainCli, SameBytesFromTwoRuns) {
 
 TEST(TerrainCli, FillHeightBeyondTheData) {
   const std::string dir = scratch_dir("terrain_cli");
-  const ShellRun r = run_tincdt(dir, "'" + kSample +
-                                         "' --terrain t --terrain-levels 0-0 "
-                                         "--terrain-fill-height 12.5");
+  const ShellRun r = terrain_of_sample(dir, "--terrain-levels 0-0 --terrain-fill-height 12.5");
   ASSERT_EQ(r.exit_code, 0) << r.messages;
   // The data is far inside its root tile: the tile is the fill, flat at 12.5 m.
   for (const auto& [key, tile] : read_pyramid(dir + "/t")) {
@@ -292,7 +295,7 @@ TEST(TerrainCli, ExistingLayerKeptWithoutOverwrite) {
   const std::string dir = scratch_dir("terrain_cli");
   fs::create_directories(dir + "/t");
   spit(dir + "/t/layer.json", "old");
-  const ShellRun r = run_tincdt(dir, "'" + kSample + "' --terrain t --terrain-levels 0-3");
+  const ShellRun r = terrain_of_sample(dir, "--terrain-levels 0-3");
   EXPECT_EQ(r.exit_code, 1) << r.messages;
   EXPECT_NE(r.messages.find("already exists"), std::string::npos) << r.messages;
   EXPECT_EQ(names_in(dir + "/t"), std::set<std::string>{"layer.json"});
@@ -353,9 +356,8 @@ TEST(TerrainCli, ErasedAreaIsAHoleAtEveryLevel) {
 TEST(TerrainCli, FailedJobLeavesNoTileNorFolder) {
   const std::string dir = scratch_dir("terrain_cli");
   // The contour lines, after the pyramid, are refused: too many for the interval.
-  const ShellRun r = run_tincdt(dir, "'" + kSample +
-                                         "' --terrain t --terrain-levels 10-12 "
-                                         "--contour-lines l.geojson --interval 0.0001");
+  const ShellRun r =
+      terrain_of_sample(dir, "--terrain-levels 10-12 --contour-lines l.geojson --interval 0.0001");
   EXPECT_EQ(r.exit_code, 1) << r.messages;
   EXPECT_EQ(names_in(dir), std::set<std::string>{});
 }

@@ -18,6 +18,7 @@
 #include "support/files.hpp"
 #include "support/shared_data.hpp"
 #include "support/tincdt_run.hpp"
+#include "tile_runs.hpp"
 #include "tiles/merge.hpp"
 #include "tiles/plan.hpp"
 #include "tiles/plan_rim.hpp"
@@ -28,23 +29,8 @@ namespace {
 namespace fs = std::filesystem;
 using namespace tincdt;
 
-using Corner = std::array<double, 3>;
-using Triangle = std::array<Corner, 3>;
-
-std::set<Triangle> triangles(const std::string& ply) {
-  const io::PlyMesh m = io::read_ply(ply);
-  std::set<Triangle> set;
-  for (const auto& f : m.faces) {
-    Triangle t;
-    for (int i = 0; i < 3; ++i) {
-      const Point3& p = m.vertices[f[i]];
-      t[i] = {p.x, p.y, p.z};
-    }
-    std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
-    set.insert(t);
-  }
-  return set;
-}
+using tile_test::Triangle;
+using tile_test::triangles;
 
 std::string shared(const std::string& rel) {
   return (fs::path(test::shared_data()) / rel).string();
@@ -117,16 +103,19 @@ void expect_same_tin(const std::string& whole, const std::string& merged) {
   EXPECT_TRUE(a == b) << "the merged tiles are not the whole job's TIN";
 }
 
-fs::path scratch() {
-  return test::scratch_dir("copc_tiles");
+// RUN tiled into TILES tiles, checked to merge into the whole job's TIN, which reads the whole
+// file.
+TiledResult tiled_as_whole(const Run& run, std::size_t tiles) {
+  const TiledResult r = tiled(run, test::scratch_dir("copc_tiles"));
+  EXPECT_EQ(r.tile_bytes_read.size(), tiles);
+  expect_same_tin(r.whole, r.merged);
+  EXPECT_EQ(r.whole_bytes_read, r.file_bytes);
+  return r;
 }
 
 TEST(CopcTiles, SimpleInTwentyFourTilesIsTheWholeTin) {
   TINCDT_REQUIRE_SHARED_DATA("laz");
-  const TiledResult r = tiled({shared("laz/simple.copc.laz"), 1000, 300, ""}, scratch());
-  ASSERT_EQ(r.tile_bytes_read.size(), 24u);
-  expect_same_tin(r.whole, r.merged);
-  EXPECT_EQ(r.whole_bytes_read, r.file_bytes);
+  const TiledResult r = tiled_as_whole({shared("laz/simple.copc.laz"), 1000, 300, ""}, 24);
   // Every tile reads part of the file: about a fifth to a half of this small one, whose header,
   // VLRs and hierarchy alone are a ninth of it.
   for (const std::uint64_t bytes : r.tile_bytes_read) {
@@ -137,10 +126,7 @@ TEST(CopcTiles, SimpleInTwentyFourTilesIsTheWholeTin) {
 
 TEST(CopcTiles, LoneStarInTwentyFiveTilesIsTheWholeTin) {
   TINCDT_REQUIRE_SHARED_DATA("copc");
-  const TiledResult r = tiled({shared("copc/lone-star.copc.laz"), 8, 2, "EPSG:32614"}, scratch());
-  ASSERT_EQ(r.tile_bytes_read.size(), 25u);
-  expect_same_tin(r.whole, r.merged);
-  EXPECT_EQ(r.whole_bytes_read, r.file_bytes);
+  const TiledResult r = tiled_as_whole({shared("copc/lone-star.copc.laz"), 8, 2, "EPSG:32614"}, 25);
   // Three levels only: every tile reads the root node (16 % of the file). The corner tiles that
   // need no larger buffer read under a third of the file.
   const std::uint64_t least = *std::min_element(r.tile_bytes_read.begin(), r.tile_bytes_read.end());
@@ -179,7 +165,7 @@ TEST(CopcTiles, ThePlanSkipsTheNodesDeepInsideTheHull) {
 
 TEST(CopcTiles, StatsTellTheBytesEachTileRead) {
   TINCDT_REQUIRE_SHARED_DATA("laz");
-  const fs::path dir = scratch();
+  const fs::path dir = test::scratch_dir("copc_tiles");
   const std::string input = shared("laz/simple.copc.laz");
   const test::ShellRun plan = test::run_tincdt(
       dir.string(), "plan '" + input + "' --tile-size 1000 --buffer 300 -o plan.json");
