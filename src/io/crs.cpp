@@ -286,8 +286,15 @@ CrsResult crs_from_geotiff(const GeoTiffKeys& keys) {
   return result;
 }
 
-std::string crs_of_layer(const OGRSpatialReference* srs) {
+std::string crs_of_layer(OGRLayer& layer, bool implied_wgs84) {
+  const OGRSpatialReference* srs = layer.GetSpatialRef();
   if (srs == nullptr) return {};
+  OGREnvelope extent;
+  if (implied_wgs84 && srs->IsGeographic() && layer.GetExtent(&extent, TRUE) == OGRERR_NONE &&
+      (std::fabs(extent.MinX) > 180 || std::fabs(extent.MaxX) > 180 ||
+       std::fabs(extent.MinY) > 90 || std::fabs(extent.MaxY) > 90)) {
+    return {};
+  }
   const char* name = srs->GetName();
   if (name != nullptr && srs->GetAuthorityName(nullptr) == nullptr &&
       (std::strcmp(name, "Undefined geographic SRS") == 0 ||
@@ -359,6 +366,19 @@ std::string crs_label(const std::string& wkt) {
   if (!label.empty()) return label;
   const char* name = srs.GetName();
   return name != nullptr ? std::string(name) : std::string();
+}
+
+std::string crs_unusable_reason(const std::string& wkt) {
+  const detail::GdalQuiet quiet;
+  OGRSpatialReference srs = detail::gis_order_srs();
+  if (!detail::import_wkt(srs, wkt))
+    return "it cannot be read (" + detail::last_gdal_message("not a valid WKT CRS") + ")";
+  if (srs.IsGeocentric())
+    return "it is geocentric (x, y and z from the earth's centre), not a map projection or "
+           "latitude and longitude";
+  if (srs.IsProjected() || srs.IsGeographic() || srs.IsLocal()) return {};
+  if (srs.IsVertical()) return "it is a vertical CRS only, with no horizontal part";
+  return "it is not a horizontal CRS (neither projected nor geographic)";
 }
 
 std::string crs_from_user(const std::string& text) {

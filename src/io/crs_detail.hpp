@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+class OGRLayer;             // GDAL's (ogrsf_frmts.h)
 class OGRSpatialReference;  // GDAL's (ogr_spatialref.h)
 
 namespace tincdt::io::detail {
@@ -36,7 +37,9 @@ CrsResult crs_from_geotiff(const GeoTiffKeys& keys);
 // An OGR layer's CRS as WKT2 (WKT1 when OSR cannot); "" for none (SRS null), including a
 // GeoPackage layer written without a CRS, which reports one of the spec's two placeholder entries
 // (srs_id 0 "Undefined geographic SRS", -1 "Undefined Cartesian SRS"). GDAL's messages go to the
-// caller's error handler.
-std::string crs_of_layer(const OGRSpatialReference* srs);
+// caller's error handler. IMPLIED_WGS84: the format gives a file that names no CRS WGS 84 (GeoJSON,
+// by RFC 7946); older files hold projected coordinates all the same, so a geographic CRS on a
+// layer whose extent is not longitudes and latitudes counts as none.
+std::string crs_of_layer(OGRLayer& layer, bool implied_wgs84);
 
 }  // namespace tincdt::io::detail

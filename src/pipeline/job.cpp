@@ -24,6 +24,7 @@ Job::Job(const BuildOptions& job_options, const CheckedOptions& checked, const P
          LogFn log)
     : options(job_options),
       assign_crs_wkt(checked.assign_crs_wkt),
+      override_crs_wkt(checked.override_crs_wkt),
       outputs(job_options.write.overwrite),
       started(std::chrono::steady_clock::now()),
       user_progress_(progress && *progress ? progress : nullptr),

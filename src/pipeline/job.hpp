@@ -51,8 +51,9 @@ struct Job {
   BuildReport report;
 
   // ---- inputs (read) --------------------------------------------------------------------------
-  const std::string assign_crs_wkt;  // --a-srs as WKT, "" when not given
-  // The CRS of every input (they must agree, or --a-srs names it), "" when none is known.
+  const std::string assign_crs_wkt;    // --a-srs as WKT, "" when not given
+  const std::string override_crs_wkt;  // --override-srs as WKT, "" when not given
+  // The CRS of every input (they must agree), "" when none is known.
   std::string crs_wkt;
   CrsNames crs_names;
   // The points of every point file in order, then the contour and hard-line vertices

@@ -356,7 +356,7 @@ TEST_F(Inputs, ShapefilePrjIsNotReplaced) {
   write_lines(path("X.shp"), "X", 32633);
   ASSERT_TRUE(fs::exists(path("X.prj")));
   const auto before = snapshot(dir_);
-  const Outcome r = run_in(dir_, {"pts.xyz", "--contours", "X.shp", "-o", "X.ply", "--a-srs",
+  const Outcome r = run_in(dir_, {"pts.xyz", "--contours", "X.shp", "-o", "X.ply", "--override-srs",
                                   "EPSG:32634", "--overwrite"});
   EXPECT_EQ(r.exit_code, 2) << r;
   EXPECT_NE(r.err.find("X.prj"), std::string::npos) << r;

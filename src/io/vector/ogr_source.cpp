@@ -146,7 +146,7 @@ std::string OgrLayer::spec() const {
 }
 
 std::string OgrLayer::crs_wkt() const {
-  return crs_of_layer(layer_->GetSpatialRef());
+  return crs_of_layer(*layer_, EQUAL(ds_->GetDriverName(), "GeoJSON"));
 }
 
 ZSource OgrLayer::choose_z(const std::string& z_field, bool z_from_m, int* field) const {

@@ -1,0 +1,109 @@
+// The inputs' CRSs from the command line: an unusable CRS refused before any work, --override-srs
+// for a file whose CRS is wrong, --a-srs only for the files without one.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+#include "support/files.hpp"
+#include "support/shared_data.hpp"
+#include "support/stats_json.hpp"
+#include "support/tincdt_run.hpp"
+
+namespace tincdt::test {
+// Found by argument-dependent lookup, for gtest's messages.
+std::ostream& operator<<(std::ostream& os, const ShellRun& r) {
+  return os << "exit " << r.exit_code << "\n" << r.messages;
+}
+}  // namespace tincdt::test
+
+namespace {
+
+namespace fs = std::filesystem;
+using tincdt::test::names_in;
+using tincdt::test::run_tincdt;
+using tincdt::test::ShellRun;
+using tincdt::test::slurp;
+using tincdt::test::StatsJson;
+
+bool has(const ShellRun& r, const std::string& text) {
+  return r.messages.find(text) != std::string::npos;
+}
+
+// PATH quoted for the shell.
+std::string quoted(const fs::path& path) {
+  std::string q = "'";
+  q += path.string();
+  q += "'";
+  return q;
+}
+
+std::string shared(const std::string& name) {
+  return quoted(fs::path(tincdt::test::shared_data()) / name);
+}
+
+// The "crs" member of the --stats document at PATH.
+std::string stats_crs(const std::string& path, const std::string& member = "crs") {
+  return StatsJson(slurp(path)).text(member).value_or("(none)");
+}
+
+// lone-star.copc.laz is tagged geocentric (EPSG:4978) though its coordinates are projected.
+TEST(CrsCli, AGeocentricCrsIsRefusedBeforeAnyWork) {
+  TINCDT_REQUIRE_SHARED_DATA("copc");
+  const std::string dir = tincdt::test::scratch_dir("crs_cli");
+  const ShellRun r = run_tincdt(dir, shared("copc/lone-star.copc.laz") + " -o x.ply -v");
+  EXPECT_EQ(r.exit_code, 1) << r;
+  EXPECT_TRUE(has(r, "lone-star.copc.laz: its CRS EPSG:4978 cannot be used: it is geocentric"))
+      << r;
+  EXPECT_TRUE(has(r, "--override-srs")) << r;
+  // Before any work: not a point read (the reader's log line), and nothing written.
+  EXPECT_FALSE(has(r, "518,862 points")) << r;
+  EXPECT_FALSE(has(r, "518862 points")) << r;
+  EXPECT_EQ(names_in(dir), std::set<std::string>{});
+}
+
+TEST(CrsCli, OverrideSrsReplacesAWrongCrs) {
+  TINCDT_REQUIRE_SHARED_DATA("copc");
+  const std::string dir = tincdt::test::scratch_dir("crs_cli");
+  const ShellRun r = run_tincdt(dir, shared("copc/lone-star.copc.laz") +
+                                         " --override-srs EPSG:32612 -o x.ply --stats s.json");
+  ASSERT_EQ(r.exit_code, 0) << r;
+  EXPECT_TRUE(fs::exists(fs::path(dir) / "x.ply"));
+  EXPECT_NE(slurp(fs::path(dir) / "x.prj").find("UTM_Zone_12N"), std::string::npos)
+      << slurp(fs::path(dir) / "x.prj");
+  EXPECT_EQ(stats_crs(dir + "/s.json"), "EPSG:32612");
+}
+
+// --a-srs is PDAL's default_srs: a file's own CRS is kept.
+TEST(CrsCli, ASrsGivesACrsOnlyToFilesWithoutOne) {
+  TINCDT_REQUIRE_SHARED_DATA("las");
+  const std::string dir = tincdt::test::scratch_dir("crs_cli");
+  const ShellRun own =
+      run_tincdt(dir, shared("las/Topography.las") + " --a-srs EPSG:32612 -o a.ply --stats a.json");
+  ASSERT_EQ(own.exit_code, 0) << own;
+  EXPECT_EQ(stats_crs(dir + "/a.json"), "EPSG:2949");
+  const ShellRun none =
+      run_tincdt(dir, shared("las/simple.las") + " --a-srs EPSG:32612 -o b.ply --stats b.json");
+  ASSERT_EQ(none.exit_code, 0) << none;
+  EXPECT_EQ(stats_crs(dir + "/b.json"), "EPSG:32612");
+  const ShellRun over = run_tincdt(
+      dir, shared("las/Topography.las") + " --override-srs EPSG:32612 -o c.ply --stats c.json");
+  ASSERT_EQ(over.exit_code, 0) << over;
+  EXPECT_EQ(stats_crs(dir + "/c.json"), "EPSG:32612");
+}
+
+TEST(CrsCli, UnusableOrConflictingCrsOptionsAreUsageErrors) {
+  const std::string dir = tincdt::test::scratch_dir("crs_cli");
+  const std::string xyz = quoted(fs::path(TINCDT_SOURCE_DIR) / "data" / "sample.las");
+  const ShellRun geocentric = run_tincdt(dir, xyz + " --override-srs EPSG:4978 -o t.ply");
+  EXPECT_EQ(geocentric.exit_code, 2) << geocentric;
+  EXPECT_TRUE(has(geocentric, "--override-srs")) << geocentric;
+  EXPECT_TRUE(has(geocentric, "geocentric")) << geocentric;
+  const ShellRun both =
+      run_tincdt(dir, xyz + " --a-srs EPSG:32633 --override-srs EPSG:32633 -o t.ply");
+  EXPECT_EQ(both.exit_code, 2) << both;
+  EXPECT_TRUE(has(both, "--a-srs and --override-srs exclude each other")) << both;
+  EXPECT_EQ(names_in(dir), std::set<std::string>{});
+}
+
+}  // namespace
