@@ -286,15 +286,28 @@ CrsResult crs_from_geotiff(const GeoTiffKeys& keys) {
   return result;
 }
 
-std::string crs_of_layer(OGRLayer& layer, bool implied_wgs84) {
-  const OGRSpatialReference* srs = layer.GetSpatialRef();
-  if (srs == nullptr) return {};
-  OGREnvelope extent;
-  if (implied_wgs84 && srs->IsGeographic() && layer.GetExtent(&extent, TRUE) == OGRERR_NONE &&
-      (std::fabs(extent.MinX) > 180 || std::fabs(extent.MaxX) > 180 ||
-       std::fabs(extent.MinY) > 90 || std::fabs(extent.MaxY) > 90)) {
-    return {};
+bool geojson_names_crs(const std::string& path) {
+  VSILFILE* f = VSIFOpenL(path.c_str(), "rb");
+  if (f == nullptr) return false;
+  std::string text;
+  char buffer[65536];
+  bool named = false;
+  for (;;) {
+    const std::size_t n = VSIFReadL(buffer, 1, sizeof buffer, f);
+    if (n == 0) break;
+    text.append(buffer, n);
+    const std::size_t features = text.find("\"features\"");
+    const std::size_t crs = text.find("\"crs\"");
+    if (crs != std::string::npos && crs < features) named = true;
+    if (named || features != std::string::npos) break;
+    text.erase(0, text.size() > 16 ? text.size() - 16 : 0);  // a key may span two reads
   }
+  VSIFCloseL(f);
+  return named;
+}
+
+std::string crs_of_layer(const OGRSpatialReference* srs, bool implied) {
+  if (srs == nullptr || implied) return {};
   const char* name = srs->GetName();
   if (name != nullptr && srs->GetAuthorityName(nullptr) == nullptr &&
       (std::strcmp(name, "Undefined geographic SRS") == 0 ||

@@ -6,7 +6,6 @@
 #include <string>
 #include <vector>
 
-class OGRLayer;             // GDAL's (ogrsf_frmts.h)
 class OGRSpatialReference;  // GDAL's (ogr_spatialref.h)
 
 namespace tincdt::io::detail {
@@ -37,9 +36,12 @@ CrsResult crs_from_geotiff(const GeoTiffKeys& keys);
 // An OGR layer's CRS as WKT2 (WKT1 when OSR cannot); "" for none (SRS null), including a
 // GeoPackage layer written without a CRS, which reports one of the spec's two placeholder entries
 // (srs_id 0 "Undefined geographic SRS", -1 "Undefined Cartesian SRS"). GDAL's messages go to the
-// caller's error handler. IMPLIED_WGS84: the format gives a file that names no CRS WGS 84 (GeoJSON,
-// by RFC 7946); older files hold projected coordinates all the same, so a geographic CRS on a
-// layer whose extent is not longitudes and latitudes counts as none.
-std::string crs_of_layer(OGRLayer& layer, bool implied_wgs84);
+// caller's error handler. IMPLIED: the file names no CRS and the driver gave it the format's
+// default (WGS 84 for GeoJSON, by RFC 7946), which counts as none: many such files hold projected
+// coordinates all the same, and a CRS is never guessed.
+std::string crs_of_layer(const OGRSpatialReference* srs, bool implied);
+
+// Whether the GeoJSON text at PATH names its CRS: a "crs" member before its "features".
+bool geojson_names_crs(const std::string& path);
 
 }  // namespace tincdt::io::detail

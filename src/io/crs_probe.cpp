@@ -2,6 +2,7 @@
 
 #include <fstream>
 #include <string>
+#include <utility>
 
 #include "io/points/point_reader.hpp"
 #include "io/vector/ogr_source.hpp"
@@ -17,9 +18,11 @@ std::optional<std::string> point_file_crs(const std::string& path) {
   return read_las_crs(path);
 }
 
-std::string vector_source_crs(const std::string& spec, const std::string& layer) {
+VectorCrs vector_source_crs(const std::string& spec, const std::string& layer) {
   const detail::OgrLayer source(spec, layer, 0);
-  return source.crs_wkt();
+  std::string implied = source.implied_crs_wkt();
+  if (!implied.empty()) return {std::move(implied), true};
+  return {source.crs_wkt(), false};
 }
 
 }  // namespace tincdt::io

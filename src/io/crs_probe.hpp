@@ -12,9 +12,16 @@ namespace tincdt::io {
 // malformed header or VLR.
 std::optional<std::string> point_file_crs(const std::string& path);
 
-// The CRS of the vector source SPEC ("FILE" or "FILE:LAYER"; LAYER wins when set) as WKT, ""
-// when it has none. Throws InputError as the line and polygon readers would for a source they
-// cannot open or a layer they cannot choose.
-std::string vector_source_crs(const std::string& spec, const std::string& layer);
+// The CRS of a vector source as WKT: the one it names (as the readers give it), or the format's
+// default when it names none (GeoJSON: WGS 84, by RFC 7946), which many such files contradict.
+struct VectorCrs {
+  std::string wkt;
+  bool implied = false;
+};
+
+// The CRS of the vector source SPEC ("FILE" or "FILE:LAYER"; LAYER wins when set). Throws
+// InputError as the line and polygon readers would for a source they cannot open or a layer they
+// cannot choose.
+VectorCrs vector_source_crs(const std::string& spec, const std::string& layer);
 
 }  // namespace tincdt::io

@@ -184,7 +184,7 @@ void read_surface_kind(Job& job, detail::InputCrs& crs, detail::SurfaceInput& in
   }
 }
 
-// After every source: warnings for the inputs without a CRS, the reprojection's needs, and
+// After every source: no input without a CRS among inputs with one, the reprojection's needs, and
 // whether the TIN gets a .prj. An existing .prj with the same CRS is kept as it is; one with
 // another CRS needs --overwrite. Checked now, so that a long job does not fail at its end.
 void settle_crs(Job& job, detail::InputCrs& crs) {
@@ -228,17 +228,19 @@ std::vector<std::string> vector_sources(const BuildOptions& o) {
 // The inputs' CRSs as their headers and layers give them, checked before any point is read:
 // an unusable or disagreeing CRS stops the job now, not after the work. The inputs whose CRS only
 // reading tells (XYZ, PLY) are checked as they are read.
-void check_crs_before_reading(Job& job) {
-  detail::InputCrs crs(job);
+void check_crs_before_reading(Job& job, detail::InputCrs& crs) {
   for (const std::string& path : job.options.inputs)
     if (const std::optional<std::string> own = io::point_file_crs(path)) crs.add(path, *own);
-  for (const std::string& path : vector_sources(job.options))
-    crs.add(path, io::vector_source_crs(path, job.options.lines.layer));
+  for (const std::string& path : vector_sources(job.options)) {
+    const io::VectorCrs own = io::vector_source_crs(path, job.options.lines.layer);
+    crs.add(path, own.wkt, own.implied);
+  }
+  crs.check_none_without();
 }
 
 void run(Job& job) {
-  check_crs_before_reading(job);
   detail::InputCrs crs(job);
+  check_crs_before_reading(job, crs);
   read_point_files(job, crs);
   read_line_sources(job, crs);
   const std::pair<detail::SurfaceInput*, const std::vector<std::string>*> kinds[] = {

@@ -106,4 +106,56 @@ TEST(CrsCli, UnusableOrConflictingCrsOptionsAreUsageErrors) {
   EXPECT_EQ(names_in(dir), std::set<std::string>{});
 }
 
+// simple.las has no CRS; Topography.las is in EPSG:2949, 4,400 km away from it.
+TEST(CrsCli, AFileWithoutCrsAmongFilesWithOneIsAnErrorBeforeAnyWork) {
+  TINCDT_REQUIRE_SHARED_DATA("las");
+  const std::string dir = tincdt::test::scratch_dir("crs_cli");
+  const ShellRun r = run_tincdt(
+      dir, shared("las/Topography.las") + " " + shared("las/simple.las") + " -o t.ply -v");
+  EXPECT_EQ(r.exit_code, 1) << r;
+  EXPECT_TRUE(has(r, "simple.las: no CRS in the file, while ")) << r;
+  EXPECT_TRUE(has(r, "Topography.las is in EPSG:2949")) << r;
+  EXPECT_TRUE(has(r, "with --a-srs")) << r;
+  EXPECT_FALSE(has(r, "73,403 points")) << r;  // before any point is read
+  EXPECT_FALSE(has(r, "73403 points")) << r;
+  EXPECT_EQ(names_in(dir), std::set<std::string>{});
+}
+
+// XYZ text tells that it has no CRS only when read: the error comes after reading it, before the
+// TIN; --a-srs says which CRS it is in.
+TEST(CrsCli, XyzWithoutCrsBesideALasFileNeedsASrs) {
+  TINCDT_REQUIRE_SHARED_DATA("xyz");
+  const std::string dir = tincdt::test::scratch_dir("crs_cli");
+  const std::string inputs =
+      shared("las/Topography.las") + " " + shared("xyz/Topography_ground.xyz");
+  const ShellRun refused = run_tincdt(dir, inputs + " -o t.ply");
+  EXPECT_EQ(refused.exit_code, 1) << refused;
+  EXPECT_TRUE(has(refused, "Topography_ground.xyz: no CRS in the file")) << refused;
+  EXPECT_EQ(names_in(dir), std::set<std::string>{});
+  const ShellRun given = run_tincdt(dir, inputs + " --a-srs EPSG:2949 -o t.ply --stats s.json");
+  ASSERT_EQ(given.exit_code, 0) << given;
+  EXPECT_FALSE(has(given, "warning")) << given;
+  EXPECT_EQ(stats_crs(dir + "/s.json"), "EPSG:2949");
+}
+
+// A GeoJSON file that names no CRS is in WGS 84 only by its format's default: beside a LAS file
+// in EPSG:2949 it is refused, not taken in either CRS.
+TEST(CrsCli, AGeoJsonNamingNoCrsBesideALasFileNeedsASrs) {
+  TINCDT_REQUIRE_SHARED_DATA("las");
+  const std::string dir = tincdt::test::scratch_dir("crs_cli");
+  tincdt::test::spit(fs::path(dir) / "line.geojson",
+                     R"({"type": "FeatureCollection", "features": [{"type": "Feature",)"
+                     R"( "properties": {}, "geometry": {"type": "LineString", "coordinates":)"
+                     R"( [[273400, 5274400, 800], [273600, 5274600, 800]]}}]})");
+  const ShellRun r =
+      run_tincdt(dir, shared("las/Topography.las") + " --hard-lines line.geojson -o t.ply");
+  EXPECT_EQ(r.exit_code, 1) << r;
+  EXPECT_TRUE(has(r, "line.geojson: the file names no CRS")) << r;
+  EXPECT_TRUE(has(r, "with --a-srs")) << r;
+  EXPECT_EQ(names_in(dir), std::set<std::string>{"line.geojson"});
+  const ShellRun given = run_tincdt(
+      dir, shared("las/Topography.las") + " --hard-lines line.geojson --a-srs EPSG:2949 -o t.ply");
+  EXPECT_EQ(given.exit_code, 0) << given;
+}
+
 }  // namespace

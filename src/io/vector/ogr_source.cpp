@@ -146,7 +146,15 @@ std::string OgrLayer::spec() const {
 }
 
 std::string OgrLayer::crs_wkt() const {
-  return crs_of_layer(*layer_, EQUAL(ds_->GetDriverName(), "GeoJSON"));
+  return crs_of_layer(layer_->GetSpatialRef(), crs_implied());
+}
+
+bool OgrLayer::crs_implied() const {
+  return EQUAL(ds_->GetDriverName(), "GeoJSON") && !geojson_names_crs(spec_.file);
+}
+
+std::string OgrLayer::implied_crs_wkt() const {
+  return crs_implied() ? crs_of_layer(layer_->GetSpatialRef(), false) : std::string();
 }
 
 ZSource OgrLayer::choose_z(const std::string& z_field, bool z_from_m, int* field) const {
