@@ -130,8 +130,9 @@ struct Job {
   io::OutputFile& add_output(const std::string& path, std::string kind) {
     return outputs.add(path, std::move(kind));
   }
-  // Closes OUT (complete on disk) and lists it in report.outputs.
+  // Closes OUT (complete on disk) and lists it in report.outputs, with its CRS.
   void finish_output(io::OutputFile& out);
+  const std::string& crs_of_output(const std::string& kind) const;
   // The two around WRITER(io::OutputFile&), which writes the file; returns it, for its size.
   template <class Writer>
   const io::OutputFile& write_output(const std::string& path, std::string kind, Writer&& writer) {

@@ -2,8 +2,12 @@
 // for a file whose CRS is wrong, --a-srs only for the files without one.
 #include <gtest/gtest.h>
 
+#include <cpl_json.h>
+
 #include <filesystem>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "support/files.hpp"
 #include "support/shared_data.hpp"
@@ -156,6 +160,52 @@ TEST(CrsCli, AGeoJsonNamingNoCrsBesideALasFileNeedsASrs) {
   const ShellRun given = run_tincdt(
       dir, shared("las/Topography.las") + " --hard-lines line.geojson --a-srs EPSG:2949 -o t.ply");
   EXPECT_EQ(given.exit_code, 0) << given;
+}
+
+// The CRS of each output of --stats, by kind: {kind, crs} in the document's order.
+std::vector<std::pair<std::string, std::string>> output_crs(const std::string& stats_path) {
+  CPLJSONDocument doc;
+  std::vector<std::pair<std::string, std::string>> out;
+  if (!doc.LoadMemory(slurp(stats_path))) return out;
+  for (const CPLJSONObject& o : doc.GetRoot().GetArray("outputs"))
+    out.emplace_back(o.GetString("kind"), o.GetString("crs", "(none)"));
+  return out;
+}
+
+// Outputs without a CRS: one warning for all of them.
+TEST(CrsCli, OutputsWithoutCrsAreWarnedAboutOnce) {
+  TINCDT_REQUIRE_SHARED_DATA("las");
+  const std::string dir = tincdt::test::scratch_dir("crs_cli");
+  const ShellRun r = run_tincdt(dir, shared("las/simple.las") +
+                                         " -o t.ply --dem d.tif --resolution 50 --contour-lines "
+                                         "c.gpkg --interval 20 --stats s.json");
+  ASSERT_EQ(r.exit_code, 0) << r;
+  std::size_t warnings = 0;
+  for (std::size_t at = r.messages.find("no input has a CRS"); at != std::string::npos;
+       at = r.messages.find("no input has a CRS", at + 1))
+    ++warnings;
+  EXPECT_EQ(warnings, 1u) << r;
+  EXPECT_TRUE(has(r, "the outputs have none (give the inputs' CRS with --a-srs)")) << r;
+  for (const auto& [kind, crs] : output_crs(dir + "/s.json")) EXPECT_EQ(crs, "") << kind;
+}
+
+// A GeoJSON TIN reprojected with --t-srs is in the target CRS, in the log and in --stats; the
+// other outputs stay in the inputs' CRS.
+TEST(CrsCli, EachOutputIsReportedInItsOwnCrs) {
+  TINCDT_REQUIRE_SHARED_DATA("las");
+  const std::string dir = tincdt::test::scratch_dir("crs_cli");
+  const ShellRun r = run_tincdt(dir, shared("las/Topography.las") +
+                                         " -o t.geojson --t-srs EPSG:4326 --dem d.tif "
+                                         "--resolution 10 --stats s.json");
+  ASSERT_EQ(r.exit_code, 0) << r;
+  EXPECT_TRUE(has(r, "wrote t.geojson (GeoJSON")) << r;
+  EXPECT_TRUE(has(r, "CRS EPSG:4326)")) << r;
+  EXPECT_FALSE(has(r, "no input has a CRS")) << r;
+  const auto outputs = output_crs(dir + "/s.json");
+  ASSERT_EQ(outputs.size(), 2u);
+  EXPECT_EQ(outputs[0], (std::pair<std::string, std::string>{"tin", "EPSG:4326"}));
+  EXPECT_EQ(outputs[1], (std::pair<std::string, std::string>{"dem", "EPSG:2949"}));
+  EXPECT_EQ(stats_crs(dir + "/s.json"), "EPSG:2949");  // the inputs' and the TIN's
 }
 
 }  // namespace

@@ -444,7 +444,16 @@ TEST(Warnings, SharedFilesWarnAsExpectedAndOtherwiseNot) {
   for (const fs::path& file : files) {
     SCOPED_TRACE(file.string());
     const Outcome r = run_in(dir, {file.string(), "-o", "t.ply", "--overwrite"});
-    const std::vector<std::string> warnings = r.lines_with("warning:");
+    // A file without a CRS makes outputs without one: said once, apart from the reader's own.
+    std::vector<std::string> warnings;
+    int without_crs = 0;
+    for (const std::string& w : r.lines_with("warning:")) {
+      if (w.find("no input has a CRS") != std::string::npos)
+        ++without_crs;
+      else
+        warnings.push_back(w);
+    }
+    EXPECT_LE(without_crs, 1) << r;
     const auto it = expected.find(file.filename().string());
     if (it == expected.end()) {
       EXPECT_TRUE(warnings.empty()) << r;
