@@ -190,8 +190,6 @@ void read_surface_kind(Job& job, detail::InputCrs& crs, detail::SurfaceInput& in
 void settle_crs(Job& job, detail::InputCrs& crs) {
   crs.finish();
   job.crs_wkt = crs.crs();
-  if (job.crs_wkt.empty())
-    job.warn("no input has a CRS, so the outputs have none (give the inputs' CRS with --a-srs)");
   job.report.crs_wkt = job.crs_wkt;
   job.report.crs = job.crs_names.label(job.crs_wkt);
   job.write.crs_wkt = job.crs_wkt;
