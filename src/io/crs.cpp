@@ -306,8 +306,8 @@ bool geojson_names_crs(const std::string& path) {
   return named;
 }
 
-std::string crs_of_layer(const OGRSpatialReference* srs, bool implied) {
-  if (srs == nullptr || implied) return {};
+std::string crs_of_layer(const OGRSpatialReference* srs) {
+  if (srs == nullptr) return {};
   const char* name = srs->GetName();
   if (name != nullptr && srs->GetAuthorityName(nullptr) == nullptr &&
       (std::strcmp(name, "Undefined geographic SRS") == 0 ||

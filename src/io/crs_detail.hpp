@@ -36,10 +36,8 @@ CrsResult crs_from_geotiff(const GeoTiffKeys& keys);
 // An OGR layer's CRS as WKT2 (WKT1 when OSR cannot); "" for none (SRS null), including a
 // GeoPackage layer written without a CRS, which reports one of the spec's two placeholder entries
 // (srs_id 0 "Undefined geographic SRS", -1 "Undefined Cartesian SRS"). GDAL's messages go to the
-// caller's error handler. IMPLIED: the file names no CRS and the driver gave it the format's
-// default (WGS 84 for GeoJSON, by RFC 7946), which counts as none: many such files hold projected
-// coordinates all the same, and a CRS is never guessed.
-std::string crs_of_layer(const OGRSpatialReference* srs, bool implied);
+// caller's error handler.
+std::string crs_of_layer(const OGRSpatialReference* srs);
 
 // Whether the GeoJSON text at PATH names its CRS: a "crs" member before its "features".
 bool geojson_names_crs(const std::string& path);

@@ -146,7 +146,7 @@ std::string OgrLayer::spec() const {
 }
 
 std::string OgrLayer::crs_wkt() const {
-  return crs_of_layer(layer_->GetSpatialRef(), crs_implied());
+  return crs_of_layer(layer_->GetSpatialRef());
 }
 
 bool OgrLayer::crs_implied() const {
@@ -154,7 +154,7 @@ bool OgrLayer::crs_implied() const {
 }
 
 std::string OgrLayer::implied_crs_wkt() const {
-  return crs_implied() ? crs_of_layer(layer_->GetSpatialRef(), false) : std::string();
+  return crs_implied() ? crs_wkt() : std::string();
 }
 
 ZSource OgrLayer::choose_z(const std::string& z_field, bool z_from_m, int* field) const {

@@ -46,8 +46,8 @@ class OgrLayer {
   const std::string& fields() const { return fields_; }  // "a, b", or "none"
   std::string spec() const;                              // file, and ":layer" when one was named
   std::string crs_wkt() const;                           // WKT2 (WKT1 if OSR cannot); "" for none
-  // The format's default CRS when the file names none (GeoJSON: WGS 84), "" otherwise; crs_wkt()
-  // is "" then.
+  // The format's default CRS when the file names none (GeoJSON: WGS 84; crs_wkt() gives it too),
+  // "" otherwise.
   std::string implied_crs_wkt() const;
 
   // The z source the options name: the field, else the M values, else the geometry's Z; *FIELD
