@@ -32,6 +32,12 @@ std::string error_message(const Error& e) {
     case Remedy::return_filter:
       message += " (asked by --first-only / --last-only)";
       break;
+    case Remedy::override_crs:
+      message += "; if the coordinates are in another CRS, give it with --override-srs SRS";
+      break;
+    case Remedy::assign_crs:
+      message += "; give the CRS of the inputs that have none with --a-srs SRS";
+      break;
   }
   return message;
 }

@@ -105,8 +105,16 @@ void log_summary(const pipeline::BuildOptions& options, const pipeline::BuildRep
     format = io::format_info(*f).title;
     if (*f == io::TinFormat::ply) format += options.write.ply_ascii ? " ASCII" : " binary";
   }
-  std::string w = "wrote " + r.output + " (" + format + ", " + bytes(r.output_bytes) + ", " +
-                  (r.crs.empty() ? (r.crs_wkt.empty() ? "no CRS" : "CRS unnamed") : "CRS " + r.crs);
+  // Each output's own CRS: a TIN reprojected with --t-srs is in the target CRS.
+  const auto crs_text = [&r](const std::string& label) {
+    return label.empty() ? std::string(r.crs_wkt.empty() ? "no CRS" : "CRS unnamed")
+                         : "CRS " + label;
+  };
+  std::string tin_crs = r.crs;
+  for (const pipeline::BuildReport::Output& o : r.outputs)
+    if (o.kind == "tin") tin_crs = o.crs;
+  std::string w =
+      "wrote " + r.output + " (" + format + ", " + bytes(r.output_bytes) + ", " + crs_text(tin_crs);
   if (r.offset.x != 0 || r.offset.y != 0 || r.offset.z != 0) {
     char buf[96];
     std::snprintf(buf, sizeof buf, ", offset %.17g,%.17g,%.17g", r.offset.x, r.offset.y,
@@ -122,17 +130,19 @@ void log_summary(const pipeline::BuildOptions& options, const pipeline::BuildRep
       continue;
     }
     if (o.kind == "dem" && o.path == r.dem.path) {
-      spdlog::info("wrote {} ({} {}, {} x {} cells of {}, {}; rasterize {}, write {})", o.path,
+      spdlog::info("wrote {} ({} {}, {} x {} cells of {}, {}, {}; rasterize {}, write {})", o.path,
                    r.dem.driver, r.dem.type, count(r.dem.width), count(r.dem.height),
-                   number_text(r.dem.resolution), bytes(o.bytes), secs(r.dem.rasterize_s),
-                   secs(r.dem.write_s));
+                   number_text(r.dem.resolution), bytes(o.bytes), crs_text(o.crs),
+                   secs(r.dem.rasterize_s), secs(r.dem.write_s));
     } else if (o.kind == "contour_lines" && o.path == r.contour_lines.path) {
-      spdlog::info("wrote {} ({}, {} lines on {} levels, {}; trace {}, write {})", o.path,
+      spdlog::info("wrote {} ({}, {} lines on {} levels, {}, {}; trace {}, write {})", o.path,
                    r.contour_lines.driver, count(r.contour_lines.lines),
-                   count(r.contour_lines.levels), bytes(o.bytes), secs(r.contour_lines.trace_s),
-                   secs(r.contour_lines.write_s));
-    } else if (o.kind != "tin" && o.kind != "prj" && o.kind != "contour_lines") {
+                   count(r.contour_lines.levels), bytes(o.bytes), crs_text(o.crs),
+                   secs(r.contour_lines.trace_s), secs(r.contour_lines.write_s));
+    } else if (o.kind == "preview") {
       spdlog::info("wrote {}", o.path);
+    } else if (o.kind != "tin" && o.kind != "prj" && o.kind != "contour_lines") {
+      spdlog::info("wrote {} ({})", o.path, crs_text(o.crs));
     }
   }
   if (terrain_tiles > 0)

@@ -17,6 +17,8 @@ enum class Remedy {
   class_filter,      // a class filter on points without classes: leave it out for them
   return_filter,     // a return filter on points without return numbers: leave it out for them
   larger_buffer,     // a tile job's buffer is too small: allow it a larger one
+  override_crs,      // an input's own CRS is unusable or wrong: replace it with the right one
+  assign_crs,        // an input has no CRS while others have one: say which CRS it is in
 };
 
 // what() is a single line: "FILE: WHERE: DETAIL", leaving out the parts that are empty.

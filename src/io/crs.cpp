@@ -286,6 +286,26 @@ CrsResult crs_from_geotiff(const GeoTiffKeys& keys) {
   return result;
 }
 
+bool geojson_names_crs(const std::string& path) {
+  VSILFILE* f = VSIFOpenL(path.c_str(), "rb");
+  if (f == nullptr) return false;
+  std::string text;
+  char buffer[65536];
+  bool named = false;
+  for (;;) {
+    const std::size_t n = VSIFReadL(buffer, 1, sizeof buffer, f);
+    if (n == 0) break;
+    text.append(buffer, n);
+    const std::size_t features = text.find("\"features\"");
+    const std::size_t crs = text.find("\"crs\"");
+    if (crs != std::string::npos && crs < features) named = true;
+    if (named || features != std::string::npos) break;
+    text.erase(0, text.size() > 16 ? text.size() - 16 : 0);  // a key may span two reads
+  }
+  VSIFCloseL(f);
+  return named;
+}
+
 std::string crs_of_layer(const OGRSpatialReference* srs) {
   if (srs == nullptr) return {};
   const char* name = srs->GetName();
@@ -359,6 +379,19 @@ std::string crs_label(const std::string& wkt) {
   if (!label.empty()) return label;
   const char* name = srs.GetName();
   return name != nullptr ? std::string(name) : std::string();
+}
+
+std::string crs_unusable_reason(const std::string& wkt) {
+  const detail::GdalQuiet quiet;
+  OGRSpatialReference srs = detail::gis_order_srs();
+  if (!detail::import_wkt(srs, wkt))
+    return "it cannot be read (" + detail::last_gdal_message("not a valid WKT CRS") + ")";
+  if (srs.IsGeocentric())
+    return "it is geocentric (x, y and z from the earth's centre), not a map projection or "
+           "latitude and longitude";
+  if (srs.IsProjected() || srs.IsGeographic() || srs.IsLocal()) return {};
+  if (srs.IsVertical()) return "it is a vertical CRS only, with no horizontal part";
+  return "it is not a horizontal CRS (neither projected nor geographic)";
 }
 
 std::string crs_from_user(const std::string& text) {

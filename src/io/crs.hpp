@@ -13,6 +13,9 @@ std::string crs_label(const std::string& wkt);
 bool is_geographic(const std::string& wkt);
 // User input ("EPSG:4326", a WKT string, a PROJ string, a .prj path) to WKT; throws InputError.
 std::string crs_from_user(const std::string& text);
+// Why a terrain TIN cannot be built in the CRS WKT ("it is geocentric: ..."), "" when it can:
+// a projected, geographic or engineering CRS, or a compound one whose horizontal part is one.
+std::string crs_unusable_reason(const std::string& wkt);
 // WKT1 in the ESRI flavour, as a .prj beside OBJ/PLY wants it.
 std::string crs_to_prj(const std::string& wkt);
 

@@ -39,4 +39,7 @@ CrsResult crs_from_geotiff(const GeoTiffKeys& keys);
 // caller's error handler.
 std::string crs_of_layer(const OGRSpatialReference* srs);
 
+// Whether the GeoJSON text at PATH names its CRS: a "crs" member before its "features".
+bool geojson_names_crs(const std::string& path);
+
 }  // namespace tincdt::io::detail

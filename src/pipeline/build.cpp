@@ -31,6 +31,9 @@ std::uint64_t peak_rss_bytes() {
 BuildReport run_job(Job& job, std::span<const Stage* const> list, const FilePlan& files) {
   check_files(files, job.options.write.overwrite);
   run_stages(job, list);
+  // Said once, when the outputs are there: a failed job has only its error to say.
+  if (job.crs_wkt.empty())
+    job.warn("no input has a CRS, so the outputs have none (give the inputs' CRS with --a-srs)");
   job.enter_stage("commit");
   job.outputs.commit([&job] {
     job.progress(0.0);

@@ -25,6 +25,7 @@ Job::Job(const BuildOptions& job_options, const CheckedOptions& checked, const P
          LogFn log)
     : options(job_options),
       assign_crs_wkt(checked.assign_crs_wkt),
+      override_crs_wkt(checked.override_crs_wkt),
       outputs(job_options.write.overwrite),
       started(std::chrono::steady_clock::now()),
       user_progress_(progress && *progress ? progress : nullptr),
@@ -56,10 +57,21 @@ void Job::wait_for_quality() {
   report.timings_s.quality = quality_measured.seconds;
 }
 
+// The CRS the output of KIND is written in: the target CRS for the outputs reprojected into it,
+// none for a picture, else the TIN's.
+const std::string& Job::crs_of_output(const std::string& kind) const {
+  static const std::string none;
+  if (kind == "preview") return none;
+  const bool reprojected = kind == "tin" || kind == "constraint_lines";
+  return reprojected && !write.target_crs_wkt.empty() ? write.target_crs_wkt : crs_wkt;
+}
+
 void Job::finish_output(io::OutputFile& out) {
   out.close();
   for (const io::OutputSet::Entry& e : outputs.entries())
-    if (e.file.get() == &out) report.outputs.push_back({out.path(), e.kind, out.bytes_written()});
+    if (e.file.get() == &out)
+      report.outputs.push_back(
+          {out.path(), e.kind, out.bytes_written(), crs_names.label(crs_of_output(e.kind))});
 }
 
 void Job::start_stage(const StageStart& stage, std::span<const std::string_view> phases) {

@@ -52,8 +52,9 @@ struct Job {
   BuildReport report;
 
   // ---- inputs (read) --------------------------------------------------------------------------
-  const std::string assign_crs_wkt;  // --a-srs as WKT, "" when not given
-  // The CRS of every input (they must agree, or --a-srs names it), "" when none is known.
+  const std::string assign_crs_wkt;    // --a-srs as WKT, "" when not given
+  const std::string override_crs_wkt;  // --override-srs as WKT, "" when not given
+  // The CRS of every input (they must agree), "" when none is known.
   std::string crs_wkt;
   CrsNames crs_names;
   // The points of every point file in order, then the contour and hard-line vertices
@@ -130,8 +131,9 @@ struct Job {
   io::OutputFile& add_output(const std::string& path, std::string kind) {
     return outputs.add(path, std::move(kind));
   }
-  // Closes OUT (complete on disk) and lists it in report.outputs.
+  // Closes OUT (complete on disk) and lists it in report.outputs, with its CRS.
   void finish_output(io::OutputFile& out);
+  const std::string& crs_of_output(const std::string& kind) const;
   // The two around WRITER(io::OutputFile&), which writes the file; returns it, for its size.
   template <class Writer>
   const io::OutputFile& write_output(const std::string& path, std::string kind, Writer&& writer) {

@@ -29,6 +29,17 @@ std::string srs_option(const std::string& text, const char* option) {
   }
 }
 
+// An input CRS option: readable, and one a terrain TIN can be built in.
+std::string input_srs_option(const std::string& text, const char* option) {
+  std::string wkt = srs_option(text, option);
+  if (wkt.empty()) return wkt;
+  if (const std::string why = io::crs_unusable_reason(wkt); !why.empty())
+    throw UsageError(std::string(option) + ": '" +
+                     (text.size() > 60 ? text.substr(0, 60) + "..." : text) +
+                     "' cannot be used: " + why);
+  return wkt;
+}
+
 void check_inputs(const BuildOptions& o) {
   if (o.inputs.empty() && o.contours.empty() && o.breaklines.empty())
     throw UsageError(
@@ -201,7 +212,12 @@ CheckedOptions check_options(const BuildOptions& options) {
   check_preview(options);
   CheckedOptions checked;
   checked.format = check_outputs(options);
-  checked.assign_crs_wkt = srs_option(options.assign_srs, "--a-srs");
+  if (!options.assign_srs.empty() && !options.override_srs.empty())
+    throw UsageError(
+        "--a-srs and --override-srs exclude each other: --override-srs gives every input its "
+        "CRS, --a-srs only the inputs without one");
+  checked.assign_crs_wkt = input_srs_option(options.assign_srs, "--a-srs");
+  checked.override_crs_wkt = input_srs_option(options.override_srs, "--override-srs");
   checked.target_crs_wkt = srs_option(options.write.target_srs, "--t-srs");
   if (options.write.ply_ascii && checked.format != io::TinFormat::ply)
     checked.warnings.push_back("--ply-ascii is ignored: the output is " +

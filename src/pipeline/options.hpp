@@ -25,9 +25,10 @@ struct BuildOptions {
   // ---- read: points ----------------------------------------------------------------------
   std::vector<std::string> inputs;  // point files (LAS, XYZ, "-" = XYZ from standard input)
   io::PointFilter filter;           // --keep-class, --drop-class, --first-only, --last-only
-  // --a-srs: the inputs' CRS as the user gave it (EPSG:n, WKT, PROJ string, a .prj file),
-  // replacing any in the files.
+  // --a-srs: the CRS of the inputs that have none, as the user gave it (EPSG:n, WKT, PROJ
+  // string, a .prj file). --override-srs: the CRS of every input, replacing the files' own.
   std::string assign_srs;
+  std::string override_srs;
 
   // ---- read: contours and hard lines (any OGR source, "FILE" or "FILE:LAYER") ------------
   // Their vertices join the Delaunay stage, their segments become constrained edges. Lines
@@ -128,6 +129,7 @@ struct BuildOptions {
 struct CheckedOptions {
   io::TinFormat format = io::TinFormat::ply;  // of the TIN: -f, else from the extension
   std::string assign_crs_wkt;                 // --a-srs as WKT, "" when not given
+  std::string override_crs_wkt;               // --override-srs as WKT, "" when not given
   std::string target_crs_wkt;                 // --t-srs as WKT, "" when not given
   std::vector<std::string> warnings;          // settings that have no effect, and why
 };

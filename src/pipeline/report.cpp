@@ -143,7 +143,8 @@ void put_outputs(json::Writer& j, const BuildReport& r) {
   j.key("outputs").begin_array();
   for (const BuildReport::Output& o : r.outputs) {
     j.begin_object();
-    put(j, member("path", o.path), member("kind", o.kind), member("bytes", o.bytes));
+    put(j, member("path", o.path), member("kind", o.kind), member("bytes", o.bytes),
+        member("crs", o.crs));
     j.end_object();
   }
   j.end_array();

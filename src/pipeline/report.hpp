@@ -108,6 +108,9 @@ struct BuildReport {
     std::string path;
     std::string kind;  // "tin", "prj", "constraint_lines", "diagnostics", ...
     std::uint64_t bytes = 0;
+    // The CRS the file is in, as a label ("EPSG:4326"): the TIN's, or the target CRS of a
+    // reprojected one; "" when it has none (no CRS known, or a file without coordinates).
+    std::string crs;
   };
   std::vector<Output> outputs;
   // The path of the output of KIND, "" when none was written.

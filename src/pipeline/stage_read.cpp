@@ -7,6 +7,7 @@
 #include <cctype>
 #include <filesystem>
 #include <new>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -15,59 +16,18 @@
 #include "core/error.hpp"
 #include "core/memory.hpp"
 #include "io/crs.hpp"
+#include "io/crs_probe.hpp"
 #include "io/points/point_reader.hpp"
 #include "io/vector/line_reader.hpp"
 #include "io/vector/polygon_reader.hpp"
 #include "pipeline/file_checks.hpp"
+#include "pipeline/input_crs.hpp"
 #include "pipeline/stage.hpp"
 
 namespace tincdt::pipeline {
 namespace {
 
 namespace fs = std::filesystem;
-
-// Every input's CRS must agree with the first one found, unless --a-srs overrides them all.
-class CrsAgreement {
- public:
-  explicit CrsAgreement(Job& job) : job_(job) {
-    job.crs_wkt = job.assign_crs_wkt;
-    if (!job.crs_wkt.empty()) source_ = "--a-srs";
-  }
-
-  void merge(const std::string& path, const std::string& wkt) {
-    CrsNames& names = job_.crs_names;
-    const std::string& assigned = job_.assign_crs_wkt;
-    if (!assigned.empty()) {
-      if (!wkt.empty() && !io::same_crs(wkt, assigned))
-        job_.warn(path + ": its CRS " + names.name(wkt) + " is overridden by --a-srs " +
-                  names.name(assigned));
-    } else if (wkt.empty()) {
-      without_crs_.push_back(path);
-    } else if (job_.crs_wkt.empty()) {
-      job_.crs_wkt = wkt;
-      source_ = path;
-    } else if (!io::same_crs(job_.crs_wkt, wkt)) {
-      const std::string mine = names.name(wkt), theirs = names.name(job_.crs_wkt);
-      throw InputError(path, "",
-                       "CRS " + mine + " differs from " + theirs + " of " + source_ +
-                           (mine == theirs ? " (same name, different definition)" : "") +
-                           " (reproject one of them, or use --a-srs to override both)");
-    }
-  }
-
-  // The inputs without a CRS of their own take the one found, with a warning each.
-  void finish() {
-    if (job_.crs_wkt.empty() || !job_.assign_crs_wkt.empty()) return;
-    for (const std::string& path : without_crs_)
-      job_.warn(path + ": no CRS in the file; assuming " + job_.crs_names.name(job_.crs_wkt) +
-                " of " + source_);
-  }
-
- private:
-  Job& job_;
-  std::string source_;
-  std::vector<std::string> without_crs_;
-};
 
 std::string lower_extension(const std::string& path) {
   std::string ext = fs::path(path).extension().string();
@@ -98,7 +58,7 @@ void reserve_points(const std::vector<std::string>& inputs, std::vector<Point3>&
   }
 }
 
-void read_point_files(Job& job, CrsAgreement& crs) {
+void read_point_files(Job& job, detail::InputCrs& crs) {
   const std::vector<std::string>& inputs = job.options.inputs;
   reserve_points(inputs, job.points);
   std::vector<std::uint64_t> sizes;
@@ -133,7 +93,7 @@ void read_point_files(Job& job, CrsAgreement& crs) {
       else if (s.points_kept == 0)
         job.warn(path + ": the filters kept none of its points");
     }
-    crs.merge(path, s.crs_wkt);
+    crs.add(path, s.crs_wkt);
     job.report.inputs.push_back(std::move(in));
     bytes_done += sizes[i];
     job.progress(total_bytes ? static_cast<double>(bytes_done) / static_cast<double>(total_bytes)
@@ -144,7 +104,7 @@ void read_point_files(Job& job, CrsAgreement& crs) {
 }
 
 // Contours and hard lines: their feature indices are also their constraint source ids.
-void read_line_sources(Job& job, CrsAgreement& crs) {
+void read_line_sources(Job& job, detail::InputCrs& crs) {
   std::vector<std::pair<std::string, detail::SourceKind>> line_sources;
   for (const std::string& path : job.options.contours)
     line_sources.emplace_back(path, detail::SourceKind::contour);
@@ -159,7 +119,7 @@ void read_line_sources(Job& job, CrsAgreement& crs) {
     job.report.zero_length_segments += s.zero_length_segments;
     job.debug(path + ": layer " + s.layer + ", " + std::to_string(s.features) + " features, " +
               std::to_string(s.segments) + " segments, " + job.crs_names.name(s.crs_wkt));
-    crs.merge(path, s.crs_wkt);
+    crs.add(path, s.crs_wkt);
     const std::uint32_t file = job.sources.add_file(lines.files.back());
     for (std::size_t f = features_before; f < lines.features.size(); ++f)
       job.sources.add(file, lines.features[f].fid, kind, false);
@@ -184,7 +144,7 @@ void read_line_sources(Job& job, CrsAgreement& crs) {
 }
 
 // One kind of surface feature from every source given for it.
-void read_surface_kind(Job& job, CrsAgreement& crs, detail::SurfaceInput& input,
+void read_surface_kind(Job& job, detail::InputCrs& crs, detail::SurfaceInput& input,
                        const std::vector<std::string>& paths) {
   io::ShapeReadOptions shape;
   shape.layer = job.options.lines.layer;
@@ -203,7 +163,7 @@ void read_surface_kind(Job& job, CrsAgreement& crs, detail::SurfaceInput& input,
     job.debug(path + ": " + detail::kind_name(input.kind) + ", layer " + s.layer + ", " +
               std::to_string(s.features) + " features, " + std::to_string(s.parts) +
               (lines ? " lines, " : " rings, ") + job.crs_names.name(s.crs_wkt));
-    crs.merge(path, s.crs_wkt);
+    crs.add(path, s.crs_wkt);
     const std::uint32_t file = job.sources.add_file(input.data.files.back());
     for (std::size_t f = features_before; f < input.data.features.size(); ++f) {
       const io::ShapeFeature& feature = input.data.features[f];
@@ -225,11 +185,12 @@ void read_surface_kind(Job& job, CrsAgreement& crs, detail::SurfaceInput& input,
   }
 }
 
-// After every source: warnings for the inputs without a CRS, the reprojection's needs, and
+// After every source: no input without a CRS among inputs with one, the reprojection's needs, and
 // whether the TIN gets a .prj. An existing .prj with the same CRS is kept as it is; one with
 // another CRS needs --overwrite. Checked now, so that a long job does not fail at its end.
-void settle_crs(Job& job, CrsAgreement& crs) {
+void settle_crs(Job& job, detail::InputCrs& crs) {
   crs.finish();
+  job.crs_wkt = crs.crs();
   job.report.crs_wkt = job.crs_wkt;
   job.report.crs = job.crs_names.label(job.crs_wkt);
   job.write.crs_wkt = job.crs_wkt;
@@ -256,8 +217,31 @@ bool wanted(const BuildOptions&) {
   return true;
 }
 
+// The vector sources of every kind, in reading order.
+std::vector<std::string> vector_sources(const BuildOptions& o) {
+  std::vector<std::string> paths;
+  for (const auto* list :
+       {&o.contours, &o.breaklines, &o.soft_lines, &o.clip, &o.erase, &o.replace})
+    paths.insert(paths.end(), list->begin(), list->end());
+  return paths;
+}
+
+// The inputs' CRSs as their headers and layers give them, checked before any point is read:
+// an unusable or disagreeing CRS stops the job now, not after the work. The inputs whose CRS only
+// reading tells (XYZ, PLY) are checked as they are read.
+void check_crs_before_reading(Job& job, detail::InputCrs& crs) {
+  for (const std::string& path : job.options.inputs)
+    if (const std::optional<std::string> own = io::point_file_crs(path)) crs.add(path, *own);
+  for (const std::string& path : vector_sources(job.options)) {
+    const io::VectorCrs own = io::vector_source_crs(path, job.options.lines.layer);
+    crs.add(path, own.wkt, own.implied);
+  }
+  crs.check_none_without();
+}
+
 void run(Job& job) {
-  CrsAgreement crs(job);
+  detail::InputCrs crs(job);
+  check_crs_before_reading(job, crs);
   read_point_files(job, crs);
   read_line_sources(job, crs);
   const std::pair<detail::SurfaceInput*, const std::vector<std::string>*> kinds[] = {
@@ -274,6 +258,8 @@ void plan(const BuildOptions& o, FilePlan& files) {
   std::error_code ec;
   if (!o.assign_srs.empty() && fs::is_regular_file(o.assign_srs, ec))
     files.inputs.push_back({o.assign_srs, "the CRS file of --a-srs"});
+  if (!o.override_srs.empty() && fs::is_regular_file(o.override_srs, ec))
+    files.inputs.push_back({o.override_srs, "the CRS file of --override-srs"});
   const std::pair<const std::vector<std::string>*, const char*> vectors[] = {
       {&o.contours, "--contours"}, {&o.breaklines, "--hard-lines"}, {&o.soft_lines, "--soft-lines"},
       {&o.clip, "--clip"},         {&o.erase, "--erase"},           {&o.replace, "--replace"}};
@@ -315,8 +301,11 @@ constexpr OptionSpec kOptions[] = {
      .kind = OptionKind::positional,
      .set = add_text<&BuildOptions::inputs>},
     text_option("--a-srs", "SRS", groups::input, set_text<&BuildOptions::assign_srs>,
-                "Assign the inputs' CRS (EPSG:n, WKT, PROJ string or .prj file),\n"
-                "for files without one; overrides the files' own"),
+                "The CRS of the inputs that have none (EPSG:n, WKT, PROJ string\n"
+                "or .prj file); a file's own CRS is kept"),
+    text_option("--override-srs", "SRS", groups::input, set_text<&BuildOptions::override_srs>,
+                "Replace every input's own CRS with SRS (EPSG:n, WKT, PROJ string\n"
+                "or .prj file): for files whose CRS is missing or wrong"),
     class_option<&io::PointFilter::keep_classes>(
         "--keep-class",
         "Keep only these classes (e.g. 2,8): LAS, or XYZ text\n"

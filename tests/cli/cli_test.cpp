@@ -553,7 +553,8 @@ TEST_F(Cli, DuplicatesAreMergedAndCounted) {
 
 TEST_F(Cli, QuietPrintsNothingOnSuccess) {
   spit(s.path("a.xyz"), grid_xyz());
-  const Outcome r = s.run({"-q", s.path("a.xyz"), "-o", s.path("t.ply")});
+  // With a CRS: a run without one is warned about even with -q.
+  const Outcome r = s.run({"-q", s.path("a.xyz"), "--a-srs", "EPSG:32633", "-o", s.path("t.ply")});
   EXPECT_EQ(r.exit_code, 0) << r;
   EXPECT_EQ(r.err, "") << r;
   EXPECT_EQ(r.out, "") << r;

@@ -361,13 +361,14 @@ TEST_F(Inputs, ShapefilePrjIsNotReplaced) {
   write_lines(path("X.shp"), "X", 32633);
   ASSERT_TRUE(fs::exists(path("X.prj")));
   const auto before = snapshot(dir_);
-  const Outcome r = run_in(dir_, {"pts.xyz", "--contours", "X.shp", "-o", "X.ply", "--a-srs",
+  const Outcome r = run_in(dir_, {"pts.xyz", "--contours", "X.shp", "-o", "X.ply", "--override-srs",
                                   "EPSG:32634", "--overwrite"});
   EXPECT_EQ(r.exit_code, 2) << r;
   EXPECT_NE(r.err.find("X.prj"), std::string::npos) << r;
   EXPECT_TRUE(snapshot(dir_) == before) << names(snapshot(dir_));
   // With the shapefile's own CRS there is nothing to change: the job runs, X.prj stays as it is.
-  const Outcome same = run_in(dir_, {"pts.xyz", "--contours", "X.shp", "-o", "X.ply"});
+  const Outcome same =
+      run_in(dir_, {"pts.xyz", "--contours", "X.shp", "-o", "X.ply", "--a-srs", "EPSG:32633"});
   EXPECT_EQ(same.exit_code, 0) << same;
   EXPECT_EQ(slurp(path("X.prj")), before.at("X.prj"));
   EXPECT_TRUE(fs::exists(path("X.ply")));
@@ -448,7 +449,16 @@ TEST(Warnings, SharedFilesWarnAsExpectedAndOtherwiseNot) {
   for (const fs::path& file : files) {
     SCOPED_TRACE(file.string());
     const Outcome r = run_in(dir, {file.string(), "-o", "t.ply", "--overwrite"});
-    const std::vector<std::string> warnings = r.lines_with("warning:");
+    // A file without a CRS makes outputs without one: said once, apart from the reader's own.
+    std::vector<std::string> warnings;
+    int without_crs = 0;
+    for (const std::string& w : r.lines_with("warning:")) {
+      if (w.find("no input has a CRS") != std::string::npos)
+        ++without_crs;
+      else
+        warnings.push_back(w);
+    }
+    EXPECT_LE(without_crs, 1) << r;
     const auto it = expected.find(file.filename().string());
     if (it == expected.end()) {
       EXPECT_TRUE(warnings.empty()) << r;

@@ -399,34 +399,43 @@ TEST_F(Pipeline, DifferentCrsIsAnErrorNamingBoth) {
   EXPECT_TRUE(names_in(dir_).empty());
 }
 
-TEST_F(Pipeline, FileWithoutCrsTakesTheKnownOneWithAWarning) {
+// A file without a CRS among files with one is an error naming it (read after the LAS file: XYZ
+// text tells its CRS only when read); --a-srs says what it is.
+TEST_F(Pipeline, FileWithoutCrsAmongFilesWithOneNeedsAssignedCrs) {
   if (!fs::exists(shared_las("Topography.las"))) GTEST_SKIP() << "shared data not found";
   const std::string xyz =
       (fs::path(::tincdt::test::shared_data()) / "xyz" / "Topography_ground.xyz").string();
   pipeline::BuildOptions o;
   o.inputs = {xyz, shared_las("Topography.las")};
   o.output = path("t.ply");
-  pipeline::BuildReport r;
-  const std::vector<std::string> warnings = warnings_of(o, r);
-  EXPECT_EQ(r.crs, "EPSG:2949");
-  ASSERT_EQ(warnings.size(), 1u);
-  EXPECT_NE(warnings[0].find("Topography_ground.xyz"), std::string::npos) << warnings[0];
-  EXPECT_NE(warnings[0].find("EPSG:2949"), std::string::npos) << warnings[0];
-  EXPECT_EQ(r.points_kept, 8159u + 73403u);  // the xyz file holds the LAS file's ground points
-  EXPECT_TRUE(fs::exists(path("t.prj")));
-}
-
-TEST_F(Pipeline, AssignedCrsOverridesWithAWarning) {
-  if (!fs::exists(shared_las("Topography.las"))) GTEST_SKIP() << "shared data not found";
-  pipeline::BuildOptions o;
-  o.inputs = {shared_las("Topography.las"), shared_las("wontcompress3.las")};
-  o.output = path("t.ply");
+  try {
+    pipeline::build(o);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), xyz);
+    EXPECT_EQ(e.remedy(), Remedy::assign_crs);
+    EXPECT_NE(e.detail().find("EPSG:2949"), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(names_in(dir_).empty());
   o.assign_srs = "EPSG:2949";
   pipeline::BuildReport r;
   const std::vector<std::string> warnings = warnings_of(o, r);
   EXPECT_EQ(r.crs, "EPSG:2949");
-  ASSERT_EQ(warnings.size(), 1u);
-  EXPECT_NE(warnings[0].find("wontcompress3.las"), std::string::npos) << warnings[0];
+  EXPECT_TRUE(warnings.empty()) << warnings.front();
+  EXPECT_EQ(r.points_kept, 8159u + 73403u);  // the xyz file holds the LAS file's ground points
+  EXPECT_TRUE(fs::exists(path("t.prj")));
+}
+
+TEST_F(Pipeline, OverrideCrsReplacesEveryInputsOwn) {
+  if (!fs::exists(shared_las("Topography.las"))) GTEST_SKIP() << "shared data not found";
+  pipeline::BuildOptions o;
+  o.inputs = {shared_las("Topography.las"), shared_las("wontcompress3.las")};
+  o.output = path("t.ply");
+  o.override_srs = "EPSG:2949";
+  pipeline::BuildReport r;
+  const std::vector<std::string> warnings = warnings_of(o, r);
+  EXPECT_EQ(r.crs, "EPSG:2949");
+  EXPECT_TRUE(warnings.empty()) << warnings.front();
 }
 
 }  // namespace

@@ -42,7 +42,7 @@ struct Run {
   std::string input;
   double tile_size = 0;
   double buffer = 0;
-  std::string assign_srs;
+  std::string override_srs;
 };
 
 struct TiledResult {
@@ -56,7 +56,7 @@ pipeline::BuildOptions job_options(const Run& run, const fs::path& output) {
   pipeline::BuildOptions o;
   o.output = output.string();
   o.write.overwrite = true;
-  o.assign_srs = run.assign_srs;
+  o.override_srs = run.override_srs;
   return o;
 }
 

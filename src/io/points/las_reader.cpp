@@ -461,6 +461,18 @@ LazSource open_laz(const std::string& path, const std::uint8_t* data, std::size_
 
 }  // namespace laz
 
+std::string read_las_crs(const std::string& path) {
+  const detail::MappedFile file(path);
+  if (file.size() == 0) throw InputError(path, "", "empty file");
+  const LasHeader h = parse_header(path, file.data(), file.size());
+  PointReadStats stats;
+  VlrRecords vlrs;
+  read_vlrs(path, h, file.data(), vlrs, stats.warnings);
+  read_evlrs(path, h, file.data(), file.size(), vlrs);
+  resolve_crs(path, vlrs, stats);
+  return stats.crs_wkt;
+}
+
 PointReadStats read_las(const std::string& path, const PointFilter& filter,
                         std::vector<Point3>& out, unsigned threads) {
   const detail::MappedFile file(path);

@@ -71,5 +71,8 @@ PointReadStats read_xyz(const std::string& path, const PointFilter& filter,
                         std::vector<Point3>& out, unsigned threads = 0);
 PointReadStats read_las(const std::string& path, const PointFilter& filter,
                         std::vector<Point3>& out, unsigned threads = 0);
+// The CRS of LAS / LAZ file PATH (as read_las gives it) from its header and (E)VLRs alone, no
+// point read; "" when it has none.
+std::string read_las_crs(const std::string& path);
 
 }  // namespace tincdt::io

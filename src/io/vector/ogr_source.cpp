@@ -149,6 +149,14 @@ std::string OgrLayer::crs_wkt() const {
   return crs_of_layer(layer_->GetSpatialRef());
 }
 
+bool OgrLayer::crs_implied() const {
+  return EQUAL(ds_->GetDriverName(), "GeoJSON") && !geojson_names_crs(spec_.file);
+}
+
+std::string OgrLayer::implied_crs_wkt() const {
+  return crs_implied() ? crs_wkt() : std::string();
+}
+
 ZSource OgrLayer::choose_z(const std::string& z_field, bool z_from_m, int* field) const {
   *field = -1;
   if (z_field.empty()) return z_from_m ? ZSource::kMeasure : ZSource::kGeometry;

@@ -46,6 +46,9 @@ class OgrLayer {
   const std::string& fields() const { return fields_; }  // "a, b", or "none"
   std::string spec() const;                              // file, and ":layer" when one was named
   std::string crs_wkt() const;                           // WKT2 (WKT1 if OSR cannot); "" for none
+  // The format's default CRS when the file names none (GeoJSON: WGS 84; crs_wkt() gives it too),
+  // "" otherwise.
+  std::string implied_crs_wkt() const;
 
   // The z source the options name: the field, else the M values, else the geometry's Z; *FIELD
   // is the field's index (-1 when none). Throws InputError for a missing field or one that holds
@@ -101,6 +104,7 @@ class OgrLayer {
                       std::size_t files_read);
   static GdalDataset open(const std::string& file);
   [[noreturn]] void reading_failed(std::int64_t last_fid) const;
+  bool crs_implied() const;
 
   // In this order: the spec is split and the drivers registered before GDAL's messages are
   // captured, and the dataset is closed while they still are.

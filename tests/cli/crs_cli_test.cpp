@@ -1,0 +1,211 @@
+// The inputs' CRSs from the command line: an unusable CRS refused before any work, --override-srs
+// for a file whose CRS is wrong, --a-srs only for the files without one.
+#include <gtest/gtest.h>
+
+#include <cpl_json.h>
+
+#include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "support/files.hpp"
+#include "support/shared_data.hpp"
+#include "support/stats_json.hpp"
+#include "support/tincdt_run.hpp"
+
+namespace tincdt::test {
+// Found by argument-dependent lookup, for gtest's messages.
+std::ostream& operator<<(std::ostream& os, const ShellRun& r) {
+  return os << "exit " << r.exit_code << "\n" << r.messages;
+}
+}  // namespace tincdt::test
+
+namespace {
+
+namespace fs = std::filesystem;
+using tincdt::test::names_in;
+using tincdt::test::run_tincdt;
+using tincdt::test::ShellRun;
+using tincdt::test::slurp;
+using tincdt::test::StatsJson;
+
+bool has(const ShellRun& r, const std::string& text) {
+  return r.messages.find(text) != std::string::npos;
+}
+
+// PATH quoted for the shell.
+std::string quoted(const fs::path& path) {
+  std::string q = "'";
+  q += path.string();
+  q += "'";
+  return q;
+}
+
+std::string shared(const std::string& name) {
+  return quoted(fs::path(tincdt::test::shared_data()) / name);
+}
+
+// The "crs" member of the --stats document at PATH.
+std::string stats_crs(const std::string& path, const std::string& member = "crs") {
+  return StatsJson(slurp(path)).text(member).value_or("(none)");
+}
+
+// lone-star.copc.laz is tagged geocentric (EPSG:4978) though its coordinates are projected.
+TEST(CrsCli, AGeocentricCrsIsRefusedBeforeAnyWork) {
+  TINCDT_REQUIRE_SHARED_DATA("copc");
+  const std::string dir = tincdt::test::scratch_dir("crs_cli");
+  const ShellRun r = run_tincdt(dir, shared("copc/lone-star.copc.laz") + " -o x.ply -v");
+  EXPECT_EQ(r.exit_code, 1) << r;
+  EXPECT_TRUE(has(r, "lone-star.copc.laz: its CRS EPSG:4978 cannot be used: it is geocentric"))
+      << r;
+  EXPECT_TRUE(has(r, "--override-srs")) << r;
+  // Before any work: not a point read (the reader's log line), and nothing written.
+  EXPECT_FALSE(has(r, "518,862 points")) << r;
+  EXPECT_FALSE(has(r, "518862 points")) << r;
+  EXPECT_EQ(names_in(dir), std::set<std::string>{});
+}
+
+TEST(CrsCli, OverrideSrsReplacesAWrongCrs) {
+  TINCDT_REQUIRE_SHARED_DATA("copc");
+  const std::string dir = tincdt::test::scratch_dir("crs_cli");
+  const ShellRun r = run_tincdt(dir, shared("copc/lone-star.copc.laz") +
+                                         " --override-srs EPSG:32612 -o x.ply --stats s.json");
+  ASSERT_EQ(r.exit_code, 0) << r;
+  EXPECT_TRUE(fs::exists(fs::path(dir) / "x.ply"));
+  EXPECT_NE(slurp(fs::path(dir) / "x.prj").find("UTM_Zone_12N"), std::string::npos)
+      << slurp(fs::path(dir) / "x.prj");
+  EXPECT_EQ(stats_crs(dir + "/s.json"), "EPSG:32612");
+}
+
+// --a-srs is PDAL's default_srs: a file's own CRS is kept.
+TEST(CrsCli, ASrsGivesACrsOnlyToFilesWithoutOne) {
+  TINCDT_REQUIRE_SHARED_DATA("las");
+  const std::string dir = tincdt::test::scratch_dir("crs_cli");
+  const ShellRun own =
+      run_tincdt(dir, shared("las/Topography.las") + " --a-srs EPSG:32612 -o a.ply --stats a.json");
+  ASSERT_EQ(own.exit_code, 0) << own;
+  EXPECT_EQ(stats_crs(dir + "/a.json"), "EPSG:2949");
+  const ShellRun none =
+      run_tincdt(dir, shared("las/simple.las") + " --a-srs EPSG:32612 -o b.ply --stats b.json");
+  ASSERT_EQ(none.exit_code, 0) << none;
+  EXPECT_EQ(stats_crs(dir + "/b.json"), "EPSG:32612");
+  const ShellRun over = run_tincdt(
+      dir, shared("las/Topography.las") + " --override-srs EPSG:32612 -o c.ply --stats c.json");
+  ASSERT_EQ(over.exit_code, 0) << over;
+  EXPECT_EQ(stats_crs(dir + "/c.json"), "EPSG:32612");
+}
+
+TEST(CrsCli, UnusableOrConflictingCrsOptionsAreUsageErrors) {
+  const std::string dir = tincdt::test::scratch_dir("crs_cli");
+  const std::string xyz = quoted(fs::path(TINCDT_SOURCE_DIR) / "data" / "sample.las");
+  const ShellRun geocentric = run_tincdt(dir, xyz + " --override-srs EPSG:4978 -o t.ply");
+  EXPECT_EQ(geocentric.exit_code, 2) << geocentric;
+  EXPECT_TRUE(has(geocentric, "--override-srs")) << geocentric;
+  EXPECT_TRUE(has(geocentric, "geocentric")) << geocentric;
+  const ShellRun both =
+      run_tincdt(dir, xyz + " --a-srs EPSG:32633 --override-srs EPSG:32633 -o t.ply");
+  EXPECT_EQ(both.exit_code, 2) << both;
+  EXPECT_TRUE(has(both, "--a-srs and --override-srs exclude each other")) << both;
+  EXPECT_EQ(names_in(dir), std::set<std::string>{});
+}
+
+// simple.las has no CRS; Topography.las is in EPSG:2949, 4,400 km away from it.
+TEST(CrsCli, AFileWithoutCrsAmongFilesWithOneIsAnErrorBeforeAnyWork) {
+  TINCDT_REQUIRE_SHARED_DATA("las");
+  const std::string dir = tincdt::test::scratch_dir("crs_cli");
+  const ShellRun r = run_tincdt(
+      dir, shared("las/Topography.las") + " " + shared("las/simple.las") + " -o t.ply -v");
+  EXPECT_EQ(r.exit_code, 1) << r;
+  EXPECT_TRUE(has(r, "simple.las: no CRS in the file, while ")) << r;
+  EXPECT_TRUE(has(r, "Topography.las is in EPSG:2949")) << r;
+  EXPECT_TRUE(has(r, "with --a-srs")) << r;
+  EXPECT_FALSE(has(r, "73,403 points")) << r;  // before any point is read
+  EXPECT_FALSE(has(r, "73403 points")) << r;
+  EXPECT_EQ(names_in(dir), std::set<std::string>{});
+}
+
+// XYZ text tells that it has no CRS only when read: the error comes after reading it, before the
+// TIN; --a-srs says which CRS it is in.
+TEST(CrsCli, XyzWithoutCrsBesideALasFileNeedsASrs) {
+  TINCDT_REQUIRE_SHARED_DATA("xyz");
+  const std::string dir = tincdt::test::scratch_dir("crs_cli");
+  const std::string inputs =
+      shared("las/Topography.las") + " " + shared("xyz/Topography_ground.xyz");
+  const ShellRun refused = run_tincdt(dir, inputs + " -o t.ply");
+  EXPECT_EQ(refused.exit_code, 1) << refused;
+  EXPECT_TRUE(has(refused, "Topography_ground.xyz: no CRS in the file")) << refused;
+  EXPECT_EQ(names_in(dir), std::set<std::string>{});
+  const ShellRun given = run_tincdt(dir, inputs + " --a-srs EPSG:2949 -o t.ply --stats s.json");
+  ASSERT_EQ(given.exit_code, 0) << given;
+  EXPECT_FALSE(has(given, "warning")) << given;
+  EXPECT_EQ(stats_crs(dir + "/s.json"), "EPSG:2949");
+}
+
+// A GeoJSON file that names no CRS is in WGS 84 only by its format's default: beside a LAS file
+// in EPSG:2949 it is refused, not taken in either CRS.
+TEST(CrsCli, AGeoJsonNamingNoCrsBesideALasFileNeedsASrs) {
+  TINCDT_REQUIRE_SHARED_DATA("las");
+  const std::string dir = tincdt::test::scratch_dir("crs_cli");
+  tincdt::test::spit(fs::path(dir) / "line.geojson",
+                     R"({"type": "FeatureCollection", "features": [{"type": "Feature",)"
+                     R"( "properties": {}, "geometry": {"type": "LineString", "coordinates":)"
+                     R"( [[273400, 5274400, 800], [273600, 5274600, 800]]}}]})");
+  const ShellRun r =
+      run_tincdt(dir, shared("las/Topography.las") + " --hard-lines line.geojson -o t.ply");
+  EXPECT_EQ(r.exit_code, 1) << r;
+  EXPECT_TRUE(has(r, "line.geojson: the file names no CRS")) << r;
+  EXPECT_TRUE(has(r, "with --a-srs")) << r;
+  EXPECT_EQ(names_in(dir), std::set<std::string>{"line.geojson"});
+  const ShellRun given = run_tincdt(
+      dir, shared("las/Topography.las") + " --hard-lines line.geojson --a-srs EPSG:2949 -o t.ply");
+  EXPECT_EQ(given.exit_code, 0) << given;
+}
+
+// The CRS of each output of --stats, by kind: {kind, crs} in the document's order.
+std::vector<std::pair<std::string, std::string>> output_crs(const std::string& stats_path) {
+  CPLJSONDocument doc;
+  std::vector<std::pair<std::string, std::string>> out;
+  if (!doc.LoadMemory(slurp(stats_path))) return out;
+  for (const CPLJSONObject& o : doc.GetRoot().GetArray("outputs"))
+    out.emplace_back(o.GetString("kind"), o.GetString("crs", "(none)"));
+  return out;
+}
+
+// Outputs without a CRS: one warning for all of them.
+TEST(CrsCli, OutputsWithoutCrsAreWarnedAboutOnce) {
+  TINCDT_REQUIRE_SHARED_DATA("las");
+  const std::string dir = tincdt::test::scratch_dir("crs_cli");
+  const ShellRun r = run_tincdt(dir, shared("las/simple.las") +
+                                         " -o t.ply --dem d.tif --resolution 50 --contour-lines "
+                                         "c.gpkg --interval 20 --stats s.json");
+  ASSERT_EQ(r.exit_code, 0) << r;
+  std::size_t warnings = 0;
+  for (std::size_t at = r.messages.find("no input has a CRS"); at != std::string::npos;
+       at = r.messages.find("no input has a CRS", at + 1))
+    ++warnings;
+  EXPECT_EQ(warnings, 1u) << r;
+  EXPECT_TRUE(has(r, "the outputs have none (give the inputs' CRS with --a-srs)")) << r;
+  for (const auto& [kind, crs] : output_crs(dir + "/s.json")) EXPECT_EQ(crs, "") << kind;
+}
+
+// A GeoJSON TIN reprojected with --t-srs is in the target CRS, in the log and in --stats; the
+// other outputs stay in the inputs' CRS.
+TEST(CrsCli, EachOutputIsReportedInItsOwnCrs) {
+  TINCDT_REQUIRE_SHARED_DATA("las");
+  const std::string dir = tincdt::test::scratch_dir("crs_cli");
+  const ShellRun r = run_tincdt(dir, shared("las/Topography.las") +
+                                         " -o t.geojson --t-srs EPSG:4326 --dem d.tif "
+                                         "--resolution 10 --stats s.json");
+  ASSERT_EQ(r.exit_code, 0) << r;
+  EXPECT_TRUE(has(r, "wrote t.geojson (GeoJSON")) << r;
+  EXPECT_TRUE(has(r, "CRS EPSG:4326)")) << r;
+  EXPECT_FALSE(has(r, "no input has a CRS")) << r;
+  const auto outputs = output_crs(dir + "/s.json");
+  ASSERT_EQ(outputs.size(), 2u);
+  EXPECT_EQ(outputs[0], (std::pair<std::string, std::string>{"tin", "EPSG:4326"}));
+  EXPECT_EQ(outputs[1], (std::pair<std::string, std::string>{"dem", "EPSG:2949"}));
+  EXPECT_EQ(stats_crs(dir + "/s.json"), "EPSG:2949");  // the inputs' and the TIN's
+}
+
+}  // namespace
