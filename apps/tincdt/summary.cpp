@@ -37,9 +37,8 @@ std::string secs(double s) {
   return buf;
 }
 
-}  // namespace
-
-void log_summary(const pipeline::BuildOptions& options, const pipeline::BuildReport& r) {
+// What was read: points, line vertices, constraints, draped vertices.
+void log_inputs(const pipeline::BuildReport& r) {
   const auto point_files = static_cast<std::uint64_t>(
       std::count_if(r.inputs.begin(), r.inputs.end(),
                     [](const pipeline::BuildReport::Input& in) { return in.kind == "points"; }));
@@ -63,6 +62,10 @@ void log_summary(const pipeline::BuildOptions& options, const pipeline::BuildRep
   if (r.draped_vertices > 0)
     spdlog::info("draped: {} vertices ({} of soft lines)", count(r.draped_vertices),
                  count(r.soft_line_vertices));
+}
+
+// What the stages after the triangulation did, and the TIN they made.
+void log_stages(const pipeline::BuildReport& r) {
   if (r.simplify.ran) {
     // The z unit: feet when the CRS says so, metres for any other CRS, none when unknown.
     std::string wkt = r.crs_wkt;
@@ -88,6 +91,9 @@ void log_summary(const pipeline::BuildOptions& options, const pipeline::BuildRep
                  count(r.trimmed_triangles), count(r.clipped_triangles), count(r.erased_triangles));
   spdlog::info("TIN: {} vertices, {} triangles{}", count(r.vertices), count(r.triangles),
                r.constraints > 0 ? ", " + count(r.constraints) + " constrained edges" : "");
+}
+
+void log_timings(const pipeline::BuildReport& r) {
   std::string t =
       "time: read " + secs(r.timings_s.read) + ", delaunay " + secs(r.timings_s.delaunay);
   if (r.timings_s.constraints > 0) t += ", constraints " + secs(r.timings_s.constraints);
@@ -100,6 +106,10 @@ void log_summary(const pipeline::BuildOptions& options, const pipeline::BuildRep
   t += ", total " + secs(r.timings_s.total);
   if (r.peak_rss_bytes > 0) t += "; peak memory " + bytes(r.peak_rss_bytes);
   spdlog::info(t);
+}
+
+// Every file written, with its format, size and CRS.
+void log_outputs(const pipeline::BuildOptions& options, const pipeline::BuildReport& r) {
   std::string format = r.output_format;
   if (const auto f = io::format_from_name(r.output_format)) {
     format = io::format_info(*f).title;
@@ -152,6 +162,15 @@ void log_summary(const pipeline::BuildOptions& options, const pipeline::BuildRep
     spdlog::info("wrote the stats to standard output");
   else if (!options.stats_path.empty())
     spdlog::info("wrote {}", options.stats_path);
+}
+
+}  // namespace
+
+void log_summary(const pipeline::BuildOptions& options, const pipeline::BuildReport& r) {
+  log_inputs(r);
+  log_stages(r);
+  log_timings(r);
+  log_outputs(options, r);
 }
 
 }  // namespace tincdt::cli

@@ -19,6 +19,7 @@ enum class Remedy {
   larger_buffer,     // a tile job's buffer is too small: allow it a larger one
   override_crs,      // an input's own CRS is unusable or wrong: replace it with the right one
   assign_crs,        // an input has no CRS while others have one: say which CRS it is in
+  // (apps/tincdt/error_message.cpp has a hint for each, in this order; assign_crs is its last)
 };
 
 // what() is a single line: "FILE: WHERE: DETAIL", leaving out the parts that are empty.

@@ -15,20 +15,9 @@
 #include "support/tincdt_run.hpp"
 
 namespace tincdt::test {
-// Found by argument-dependent lookup, for gtest's messages.
-std::ostream& operator<<(std::ostream& os, const ShellRun& r) {
-  return os << "exit " << r.exit_code << "\n" << r.messages;
-}
-}  // namespace tincdt::test
-
 namespace {
 
 namespace fs = std::filesystem;
-using tincdt::test::names_in;
-using tincdt::test::run_tincdt;
-using tincdt::test::ShellRun;
-using tincdt::test::slurp;
-using tincdt::test::StatsJson;
 
 bool has(const ShellRun& r, const std::string& text) {
   return r.messages.find(text) != std::string::npos;
@@ -43,7 +32,7 @@ std::string quoted(const fs::path& path) {
 }
 
 std::string shared(const std::string& name) {
-  return quoted(fs::path(tincdt::test::shared_data()) / name);
+  return quoted(fs::path(shared_data()) / name);
 }
 
 // The "crs" member of the --stats document at PATH.
@@ -54,7 +43,7 @@ std::string stats_crs(const std::string& path, const std::string& member = "crs"
 // lone-star.copc.laz is tagged geocentric (EPSG:4978) though its coordinates are projected.
 TEST(CrsCli, AGeocentricCrsIsRefusedBeforeAnyWork) {
   TINCDT_REQUIRE_SHARED_DATA("copc");
-  const std::string dir = tincdt::test::scratch_dir("crs_cli");
+  const std::string dir = scratch_dir("crs_cli");
   const ShellRun r = run_tincdt(dir, shared("copc/lone-star.copc.laz") + " -o x.ply -v");
   EXPECT_EQ(r.exit_code, 1) << r;
   EXPECT_TRUE(has(r, "lone-star.copc.laz: its CRS EPSG:4978 cannot be used: it is geocentric"))
@@ -68,7 +57,7 @@ TEST(CrsCli, AGeocentricCrsIsRefusedBeforeAnyWork) {
 
 TEST(CrsCli, OverrideSrsReplacesAWrongCrs) {
   TINCDT_REQUIRE_SHARED_DATA("copc");
-  const std::string dir = tincdt::test::scratch_dir("crs_cli");
+  const std::string dir = scratch_dir("crs_cli");
   const ShellRun r = run_tincdt(dir, shared("copc/lone-star.copc.laz") +
                                          " --override-srs EPSG:32612 -o x.ply --stats s.json");
   ASSERT_EQ(r.exit_code, 0) << r;
@@ -81,7 +70,7 @@ TEST(CrsCli, OverrideSrsReplacesAWrongCrs) {
 // --a-srs is PDAL's default_srs: a file's own CRS is kept.
 TEST(CrsCli, ASrsGivesACrsOnlyToFilesWithoutOne) {
   TINCDT_REQUIRE_SHARED_DATA("las");
-  const std::string dir = tincdt::test::scratch_dir("crs_cli");
+  const std::string dir = scratch_dir("crs_cli");
   const ShellRun own =
       run_tincdt(dir, shared("las/Topography.las") + " --a-srs EPSG:32612 -o a.ply --stats a.json");
   ASSERT_EQ(own.exit_code, 0) << own;
@@ -97,7 +86,7 @@ TEST(CrsCli, ASrsGivesACrsOnlyToFilesWithoutOne) {
 }
 
 TEST(CrsCli, UnusableOrConflictingCrsOptionsAreUsageErrors) {
-  const std::string dir = tincdt::test::scratch_dir("crs_cli");
+  const std::string dir = scratch_dir("crs_cli");
   const std::string xyz = quoted(fs::path(TINCDT_SOURCE_DIR) / "data" / "sample.las");
   const ShellRun geocentric = run_tincdt(dir, xyz + " --override-srs EPSG:4978 -o t.ply");
   EXPECT_EQ(geocentric.exit_code, 2) << geocentric;
@@ -113,7 +102,7 @@ TEST(CrsCli, UnusableOrConflictingCrsOptionsAreUsageErrors) {
 // simple.las has no CRS; Topography.las is in EPSG:2949, 4,400 km away from it.
 TEST(CrsCli, AFileWithoutCrsAmongFilesWithOneIsAnErrorBeforeAnyWork) {
   TINCDT_REQUIRE_SHARED_DATA("las");
-  const std::string dir = tincdt::test::scratch_dir("crs_cli");
+  const std::string dir = scratch_dir("crs_cli");
   const ShellRun r = run_tincdt(
       dir, shared("las/Topography.las") + " " + shared("las/simple.las") + " -o t.ply -v");
   EXPECT_EQ(r.exit_code, 1) << r;
@@ -129,7 +118,7 @@ TEST(CrsCli, AFileWithoutCrsAmongFilesWithOneIsAnErrorBeforeAnyWork) {
 // TIN; --a-srs says which CRS it is in.
 TEST(CrsCli, XyzWithoutCrsBesideALasFileNeedsASrs) {
   TINCDT_REQUIRE_SHARED_DATA("xyz");
-  const std::string dir = tincdt::test::scratch_dir("crs_cli");
+  const std::string dir = scratch_dir("crs_cli");
   const std::string inputs =
       shared("las/Topography.las") + " " + shared("xyz/Topography_ground.xyz");
   const ShellRun refused = run_tincdt(dir, inputs + " -o t.ply");
@@ -146,11 +135,11 @@ TEST(CrsCli, XyzWithoutCrsBesideALasFileNeedsASrs) {
 // in EPSG:2949 it is refused, not taken in either CRS.
 TEST(CrsCli, AGeoJsonNamingNoCrsBesideALasFileNeedsASrs) {
   TINCDT_REQUIRE_SHARED_DATA("las");
-  const std::string dir = tincdt::test::scratch_dir("crs_cli");
-  tincdt::test::spit(fs::path(dir) / "line.geojson",
-                     R"({"type": "FeatureCollection", "features": [{"type": "Feature",)"
-                     R"( "properties": {}, "geometry": {"type": "LineString", "coordinates":)"
-                     R"( [[273400, 5274400, 800], [273600, 5274600, 800]]}}]})");
+  const std::string dir = scratch_dir("crs_cli");
+  spit(fs::path(dir) / "line.geojson",
+       R"({"type": "FeatureCollection", "features": [{"type": "Feature",)"
+       R"( "properties": {}, "geometry": {"type": "LineString", "coordinates":)"
+       R"( [[273400, 5274400, 800], [273600, 5274600, 800]]}}]})");
   const ShellRun r =
       run_tincdt(dir, shared("las/Topography.las") + " --hard-lines line.geojson -o t.ply");
   EXPECT_EQ(r.exit_code, 1) << r;
@@ -175,7 +164,7 @@ std::vector<std::pair<std::string, std::string>> output_crs(const std::string& s
 // Outputs without a CRS: one warning for all of them.
 TEST(CrsCli, OutputsWithoutCrsAreWarnedAboutOnce) {
   TINCDT_REQUIRE_SHARED_DATA("las");
-  const std::string dir = tincdt::test::scratch_dir("crs_cli");
+  const std::string dir = scratch_dir("crs_cli");
   const ShellRun r = run_tincdt(dir, shared("las/simple.las") +
                                          " -o t.ply --dem d.tif --resolution 50 --contour-lines "
                                          "c.gpkg --interval 20 --stats s.json");
@@ -193,7 +182,7 @@ TEST(CrsCli, OutputsWithoutCrsAreWarnedAboutOnce) {
 // other outputs stay in the inputs' CRS.
 TEST(CrsCli, EachOutputIsReportedInItsOwnCrs) {
   TINCDT_REQUIRE_SHARED_DATA("las");
-  const std::string dir = tincdt::test::scratch_dir("crs_cli");
+  const std::string dir = scratch_dir("crs_cli");
   const ShellRun r = run_tincdt(dir, shared("las/Topography.las") +
                                          " -o t.geojson --t-srs EPSG:4326 --dem d.tif "
                                          "--resolution 10 --stats s.json");
@@ -209,3 +198,4 @@ TEST(CrsCli, EachOutputIsReportedInItsOwnCrs) {
 }
 
 }  // namespace
+}  // namespace tincdt::test

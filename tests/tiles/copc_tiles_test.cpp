@@ -37,7 +37,7 @@ std::string shared(const std::string& rel) {
 }
 
 // lone-star.copc.laz is tagged geocentric (EPSG:4978) although its coordinates are projected: a
-// CRS a .prj cannot hold. Its jobs assign a projected CRS instead.
+// CRS a .prj cannot hold. Its jobs give the projected CRS with --override-srs.
 struct Run {
   std::string input;
   double tile_size = 0;
