@@ -1,6 +1,6 @@
 // The checks on a job's files that run before any work, so that a long job never fails at its
-// end over a file it could have refused at its start, and never writes over an input. The tiled
-// commands (plan, merge) run check_files() on their own files too.
+// end over a file it could have refused at its start, and never writes over an input. Commands
+// other than the build run check_files() on their own files too.
 #pragma once
 
 #include <string>

@@ -93,7 +93,7 @@ struct BuildReport {
     double seconds = 0;
   };
   std::vector<StageTime> stages;
-  // Figures of a caller's own (a tile job: how far it read), as "figures": {NAME: VALUE}.
+  // Figures of a caller's own (e.g. how far it read), as "figures": {NAME: VALUE}.
   std::vector<std::pair<std::string, double>> figures;
   std::uint64_t peak_rss_bytes = 0;
   std::string crs;  // label, e.g. "EPSG:2949", or "" when unknown

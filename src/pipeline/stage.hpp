@@ -4,6 +4,7 @@
 // Adding a stage is a new file, a row in the table and its fields in BuildOptions.
 #pragma once
 
+#include <cstdint>
 #include <span>
 #include <string>
 #include <string_view>
@@ -25,6 +26,23 @@ struct FilePlan {
   std::vector<File> outputs;  // each written through Job::outputs
 };
 
+// What a progress display shows of a stage: what it does, for a person, and what it counts (its
+// rate); PHASES: the library calls that report under the stage, in order.
+struct StageProgress {
+  std::string_view title;  // "" for the stage's name
+  std::string_view unit = {};
+  std::uint64_t (*items)(const Job& job) = nullptr;
+  std::span<const std::string_view> phases = {};
+};
+
+// The counts a stage's progress can show as its rate, taken as the stage starts.
+namespace stage_items {
+std::uint64_t point_file_bytes(const Job& job);  // the sizes of the point files
+std::uint64_t points(const Job& job);
+std::uint64_t segments(const Job& job);  // constraint segments
+std::uint64_t triangles(const Job& job);
+}  // namespace stage_items
+
 struct Stage {
   // Progress name, the key of the per-stage report entries, and the name the test hooks use.
   std::string_view name;
@@ -39,6 +57,8 @@ struct Stage {
   std::string_view title = {};
   // The options the stage reads, declared beside its work.
   std::span<const OptionSpec> options = {};
+  // How a progress display names the stage and what it counts.
+  StageProgress progress = {};
 };
 
 // The stages of a build, in order (stages.cpp).

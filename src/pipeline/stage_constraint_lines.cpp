@@ -53,6 +53,6 @@ constexpr OptionSpec kOptions[] = {
 }  // namespace
 
 extern const Stage constraint_lines_stage{
-    "constraint_lines", "write", wanted, run, plan, "", kOptions};
+    "constraint_lines", "write", wanted, run, plan, "", kOptions, {"writing constraint lines"}};
 
 }  // namespace tincdt::pipeline

@@ -112,7 +112,10 @@ constexpr OptionSpec kOptions[] = {
 
 }  // namespace
 
-extern const Stage constraints_stage{"constraints", "constraints", wanted, run, nullptr, "",
-                                     kOptions};
+extern const Stage constraints_stage{
+    "constraints", "constraints",
+    wanted,        run,
+    nullptr,       "",
+    kOptions,      {"inserting breaklines", "segments", stage_items::segments}};
 
 }  // namespace tincdt::pipeline

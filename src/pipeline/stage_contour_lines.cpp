@@ -142,7 +142,16 @@ constexpr OptionSpec kOptions[] = {
 
 }  // namespace
 
-extern const Stage contour_lines_stage{"contour_lines", "contours", wanted, run, plan, "",
-                                       kOptions};
+// The library calls that report progress under this stage, in order.
+constexpr std::string_view kProgressPhases[] = {"contours", "write contours"};
+
+extern const Stage contour_lines_stage{"contour_lines",
+                                       "contours",
+                                       wanted,
+                                       run,
+                                       plan,
+                                       "",
+                                       kOptions,
+                                       {"tracing contour lines", "", nullptr, kProgressPhases}};
 
 }  // namespace tincdt::pipeline

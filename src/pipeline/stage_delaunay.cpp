@@ -65,6 +65,8 @@ constexpr OptionSpec kOptions[] = {
 
 }  // namespace
 
-extern const Stage delaunay_stage{"delaunay", "delaunay", wanted, run, nullptr, "", kOptions};
+extern const Stage delaunay_stage{
+    "delaunay", "delaunay", wanted,   run,
+    nullptr,    "",         kOptions, {"triangulating", "points", stage_items::points}};
 
 }  // namespace tincdt::pipeline

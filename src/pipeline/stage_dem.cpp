@@ -231,6 +231,11 @@ constexpr OptionSpec kOptions[] = {
 
 }  // namespace
 
-extern const Stage dem_stage{"dem", "dem", wanted, run, plan, "", kOptions};
+// The library calls that report progress under this stage, in order.
+constexpr std::string_view kProgressPhases[] = {"dem", "write dem"};
+
+extern const Stage dem_stage{
+    "dem", "dem", wanted,   run,
+    plan,  "",    kOptions, {"making the DEM", "", nullptr, kProgressPhases}};
 
 }  // namespace tincdt::pipeline

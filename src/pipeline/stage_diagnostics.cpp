@@ -64,6 +64,7 @@ constexpr OptionSpec kOptions[] = {text_option(
 
 }  // namespace
 
-extern const Stage diagnostics_stage{"diagnostics", "write", wanted, run, plan, "", kOptions};
+extern const Stage diagnostics_stage{"diagnostics", "write", wanted,   run,
+                                     plan,          "",      kOptions, {"writing diagnostics"}};
 
 }  // namespace tincdt::pipeline

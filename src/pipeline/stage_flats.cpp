@@ -48,6 +48,10 @@ constexpr OptionSpec kOptions[] = {
 
 }  // namespace
 
-extern const Stage flats_stage{"flats", "terrain", wanted, run, nullptr, "--fix-flats", kOptions};
+extern const Stage flats_stage{
+    "flats",  "terrain",
+    wanted,   run,
+    nullptr,  "--fix-flats",
+    kOptions, {"fixing flat triangles", "triangles", stage_items::triangles}};
 
 }  // namespace tincdt::pipeline

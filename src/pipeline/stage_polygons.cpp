@@ -81,11 +81,13 @@ extern const Stage replace_stage{"replace",
                                  nullptr,
                                  "--replace: vertices on or inside get the polygon's z (later "
                                  "polygons win)",
-                                 kReplaceOptions};
+                                 kReplaceOptions,
+                                 {"flattening replace polygons"}};
 extern const Stage clip_stage{
-    "clip",      "terrain", wanted<kClip>,
-    run<kClip>,  nullptr,   "--clip: triangles outside every clip polygon are removed",
-    kClipOptions};
+    "clip",        "terrain",
+    wanted<kClip>, run<kClip>,
+    nullptr,       "--clip: triangles outside every clip polygon are removed",
+    kClipOptions,  {"clipping", "triangles", stage_items::triangles}};
 extern const Stage erase_stage{"erase",
                                "terrain",
                                wanted<kErase>,
@@ -94,6 +96,7 @@ extern const Stage erase_stage{"erase",
                                "--erase: triangles inside an erase polygon are removed (erase "
                                "wins over\nclip; replaced vertices inside an erase polygon go "
                                "with their triangles)",
-                               kEraseOptions};
+                               kEraseOptions,
+                               {"erasing", "triangles", stage_items::triangles}};
 
 }  // namespace tincdt::pipeline

@@ -28,8 +28,8 @@ void run(Job& job) {
   // Heights in metres over longitude and latitude: shade as gdaldem -s 111120 does.
   if (io::is_geographic(job.crs_wkt)) p.z_factor = 1 / kMetresPerDegree;
   products::PreviewImage image;
-  // A tile job draws its neighbours' final triangles inside its frame too, as its DEM fills
-  // cells from them: the tiles' pictures then join without gaps.
+  // The job's extra triangles (final ones of its neighbours, set by a caller) are drawn inside
+  // the frame too, as the DEM fills cells from them: adjacent pictures then join without gaps.
   job.with_extra_triangles([&] {
     try {
       image = products::render_preview(job.tin(), p);
@@ -73,6 +73,7 @@ constexpr OptionSpec kOptions[] = {
 
 }  // namespace
 
-extern const Stage preview_stage{"preview", "preview", wanted, run, plan, "", kOptions};
+extern const Stage preview_stage{"preview", "preview", wanted,   run,
+                                 plan,      "",        kOptions, {"drawing the preview"}};
 
 }  // namespace tincdt::pipeline

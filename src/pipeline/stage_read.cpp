@@ -345,6 +345,7 @@ extern const Stage read_stage{"read",
                               plan,
                               "points, contours and hard lines: triangulated, the lines made TIN "
                               "edges",
-                              kOptions};
+                              kOptions,
+                              {"reading the inputs", "bytes", stage_items::point_file_bytes}};
 
 }  // namespace tincdt::pipeline

@@ -91,6 +91,7 @@ extern const Stage simplify_stage{"simplify",
                                   "--max-error, --max-vertices: only the points needed to stay "
                                   "within\nthe tolerance are kept (every line vertex and segment "
                                   "stays)",
-                                  kOptions};
+                                  kOptions,
+                                  {"simplifying"}};
 
 }  // namespace tincdt::pipeline

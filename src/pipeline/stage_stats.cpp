@@ -32,6 +32,7 @@ constexpr OptionSpec kOptions[] = {
 
 }  // namespace
 
-extern const Stage stats_stage{"stats", "", wanted, run, plan, "", kOptions};
+extern const Stage stats_stage{"stats", "", wanted,   run,
+                               plan,    "", kOptions, {"writing statistics"}};
 
 }  // namespace tincdt::pipeline

@@ -58,6 +58,8 @@ extern const Stage surface_stage{"surface",
                                  nullptr,
                                  "soft lines, clip / erase / replace rings: 2D vertices draped on "
                                  "that TIN,\nthen made TIN edges (a draped line crossing a hard "
-                                 "one takes its z there)"};
+                                 "one takes its z there)",
+                                 {},
+                                 {"draping soft lines and polygons"}};
 
 }  // namespace tincdt::pipeline

@@ -1,8 +1,8 @@
 // web_terrain: --terrain DIR, the final TIN as a Cesium quantized-mesh-1.0 pyramid: DIR/layer.json
 // and DIR/{z}/{x}/{y}.terrain in the geographic TMS tiling (EPSG:4326, two root tiles), each tile
-// within its level's geometric error of the full TIN (terrain_tile.hpp), neighbours sharing their
-// border vertices. Every tile is an output of the job: written to a temporary beside it and moved
-// into place with the other outputs, or not at all.
+// within its level's geometric error of the full TIN (web_terrain/tile.hpp), neighbours sharing
+// their border vertices. Every tile is an output of the job: written to a temporary beside it and
+// moved into place with the other outputs, or not at all.
 //
 // web_terrain_crs runs right after read: a pyramid needs the data's CRS, so none stops the job
 // before any work.
@@ -20,17 +20,17 @@
 #include "io/terrain/quantized_mesh.hpp"
 #include "io/terrain/wgs84.hpp"
 #include "pipeline/stage.hpp"
-#include "pipeline/terrain_source.hpp"
-#include "pipeline/terrain_tile.hpp"
 #include "products/short_number.hpp"
+#include "web_terrain/source.hpp"
+#include "web_terrain/tile.hpp"
 
 namespace tincdt::pipeline {
 namespace {
 
 namespace qm = io::terrain;
 using products::short_number;
-using terrain::TerrainSource;
-using terrain::TileError;
+using web_terrain::TerrainSource;
+using web_terrain::TileError;
 
 // The deepest level a default pyramid goes to.
 constexpr int kDeepestDefaultLevel = 24;
@@ -89,7 +89,7 @@ LevelStats write_level(Job& job, const TerrainSource& source, int level, int max
   for (std::uint32_t x = range.start_x; x <= range.end_x; ++x)
     for (std::uint32_t y = range.start_y; y <= range.end_y; ++y) {
       const qm::TileKey key{level, x, y};
-      const terrain::BuiltTile tile = terrain::build_tile(source, key, error);
+      const web_terrain::BuiltTile tile = web_terrain::build_tile(source, key, error);
       qm::QuantizedMeshOptions options;
       options.available = children(key, max_level, source.bounds());
       write_file(job, tile_path(job.options.terrain.path, key),

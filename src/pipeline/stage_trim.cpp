@@ -29,8 +29,10 @@ constexpr OptionSpec kOptions[] = {
 
 }  // namespace
 
-extern const Stage trim_stage{"trim",  "terrain", wanted,
-                              run,     nullptr,   "--max-edge: trims inward from the convex hull",
-                              kOptions};
+extern const Stage trim_stage{
+    "trim",   "terrain",
+    wanted,   run,
+    nullptr,  "--max-edge: trims inward from the convex hull",
+    kOptions, {"trimming long edges", "triangles", stage_items::triangles}};
 
 }  // namespace tincdt::pipeline

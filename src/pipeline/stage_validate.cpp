@@ -46,7 +46,8 @@ constexpr OptionSpec kOptions[] = {flag_option("--validate", option_groups::chec
 
 }  // namespace
 
-extern const Stage validate_stage{"validate", "validate",   wanted,  run,
-                                  nullptr,    "--validate", kOptions};
+extern const Stage validate_stage{
+    "validate", "validate",   wanted,   run,
+    nullptr,    "--validate", kOptions, {"validating", "triangles", stage_items::triangles}};
 
 }  // namespace tincdt::pipeline

@@ -167,6 +167,7 @@ extern const Stage write_stage{"write",
                                plan,
                                "the outputs (the TIN, then --dem and --contour-lines from it):\n"
                                "all of them are written, or none",
-                               kOptions};
+                               kOptions,
+                               {"writing the TIN", "triangles", stage_items::triangles}};
 
 }  // namespace tincdt::pipeline

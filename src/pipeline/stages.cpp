@@ -62,15 +62,9 @@ const Stage* const kStages[] = {
     &stats_stage,
 };
 
-// What a progress display shows of a stage: what it does, for a person, and what it counts
-// (its rate). PHASES: the library calls that report under the stage, in order.
-struct StageLabel {
-  std::string_view name;
-  std::string_view title;
-  std::string_view unit = {};
-  std::uint64_t (*items)(const Job& job) = nullptr;
-  std::span<const std::string_view> phases = {};
-};
+}  // namespace
+
+namespace stage_items {
 
 std::uint64_t point_file_bytes(const Job& job) {
   std::uint64_t total = 0;
@@ -91,39 +85,7 @@ std::uint64_t triangles(const Job& job) {
   return job.mesh.tin.triangle_count();
 }
 
-constexpr std::string_view kDemPhases[] = {"dem", "write dem"};
-constexpr std::string_view kContourPhases[] = {"contours", "write contours"};
-
-const StageLabel kLabels[] = {
-    {"read", "reading the inputs", "bytes", point_file_bytes},
-    {"delaunay", "triangulating", "points", points},
-    {"constraints", "inserting breaklines", "segments", segments},
-    {"surface", "draping soft lines and polygons"},
-    {"simplify", "simplifying"},
-    {"flats", "fixing flat triangles", "triangles", triangles},
-    {"replace", "flattening replace polygons"},
-    {"trim", "trimming long edges", "triangles", triangles},
-    {"clip", "clipping", "triangles", triangles},
-    {"erase", "erasing", "triangles", triangles},
-    {"tile", "cutting the tile", "triangles", triangles},
-    {"validate", "validating", "triangles", triangles},
-    {"quality", "measuring quality"},
-    {"write", "writing the TIN", "triangles", triangles},
-    {"dem", "making the DEM", "", nullptr, kDemPhases},
-    {"contour_lines", "tracing contour lines", "", nullptr, kContourPhases},
-    {"preview", "drawing the preview"},
-    {"constraint_lines", "writing constraint lines"},
-    {"diagnostics", "writing diagnostics"},
-    {"stats", "writing statistics"},
-};
-
-StageLabel label_of(std::string_view name) {
-  for (const StageLabel& label : kLabels)
-    if (label.name == name) return label;
-  return {name, name};
-}
-
-}  // namespace
+}  // namespace stage_items
 
 std::span<const Stage* const> stages() {
   return kStages;
@@ -135,14 +97,14 @@ void run_stages(Job& job, std::span<const Stage* const> list) {
     if (stage->wanted(job.options)) wanted.push_back(stage);
   for (std::size_t i = 0; i < wanted.size(); ++i) {
     const Stage* stage = wanted[i];
-    const StageLabel label = label_of(stage->name);
+    const StageProgress& shown = stage->progress;
     job.start_stage({.name = stage->name,
-                     .title = label.title,
+                     .title = shown.title.empty() ? stage->name : shown.title,
                      .number = static_cast<int>(i + 1),
                      .count = static_cast<int>(wanted.size()),
-                     .unit = label.unit,
-                     .items = label.items ? label.items(job) : 0},
-                    label.phases);
+                     .unit = shown.unit,
+                     .items = shown.items ? shown.items(job) : 0},
+                    shown.phases);
     job.progress(0.0);
     const auto t0 = std::chrono::steady_clock::now();
     stage->run(job);

@@ -304,6 +304,8 @@ void run_tile(pipeline::Job& job) {
 
 }  // namespace
 
-extern const pipeline::Stage tile_stage{"tile", "tile", wanted, run_tile};
+extern const pipeline::Stage tile_stage{
+    "tile",  "tile", wanted, run_tile,
+    nullptr, "",     {},     {"cutting the tile", "triangles", pipeline::stage_items::triangles}};
 
 }  // namespace tincdt::tiles
