@@ -2,8 +2,8 @@
 # Checks the module layering of src/ (docs/design.md, "One-way data flow").
 #
 # Every #include "X/..." in src/M/ must name a module X upstream of M or M itself, in the order
-#   core < predicates < mesh < delaunay < constraints < terrain < simplify < products < io < pipeline
-#   < tiles
+#   core < predicates < mesh < delaunay < constraints < terrain < simplify < products < io
+#   < web_terrain < pipeline < tiles
 # except that io may include only core, mesh and products (and io). apps/ and tests/ may
 # include anything.
 # Also from docs/design.md: GDAL headers only in src/io, no CLI11 anywhere in src/ (only apps/
@@ -12,7 +12,8 @@
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
-order=(core predicates mesh delaunay constraints terrain simplify products io pipeline tiles)
+order=(core predicates mesh delaunay constraints terrain simplify products io web_terrain pipeline
+  tiles)
 declare -A allowed
 for ((i = 0; i < ${#order[@]}; ++i)); do
   allowed[${order[i]}]="${order[*]:0:i+1}"  # upstream of or equal to

@@ -10,10 +10,10 @@
 #include <variant>
 #include <vector>
 
-#include "pipeline/terrain_tile_points.hpp"
 #include "simplify/profile.hpp"
+#include "web_terrain/tile_points.hpp"
 
-namespace tincdt::pipeline::terrain::detail {
+namespace tincdt::web_terrain::detail {
 namespace {
 
 using io::terrain::GeoRectangle;
@@ -183,4 +183,4 @@ std::size_t add_lines(const TerrainSource& source, const GeoRectangle& r, double
   return added;
 }
 
-}  // namespace tincdt::pipeline::terrain::detail
+}  // namespace tincdt::web_terrain::detail

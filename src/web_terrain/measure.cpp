@@ -7,9 +7,9 @@
 #include <vector>
 
 #include "io/terrain/quantized_mesh_detail.hpp"
-#include "pipeline/terrain_tile.hpp"
+#include "web_terrain/tile.hpp"
 
-namespace tincdt::pipeline::terrain {
+namespace tincdt::web_terrain {
 namespace {
 
 using io::terrain::kQuantizedMax;
@@ -101,4 +101,4 @@ TileError measure_tile(const TerrainSource& source, const io::terrain::TileMesh&
   return error;
 }
 
-}  // namespace tincdt::pipeline::terrain
+}  // namespace tincdt::web_terrain

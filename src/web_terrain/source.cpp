@@ -1,11 +1,11 @@
-#include "pipeline/terrain_source.hpp"
+#include "web_terrain/source.hpp"
 
 #include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <numbers>
 
-namespace tincdt::pipeline::terrain {
+namespace tincdt::web_terrain {
 namespace {
 
 // Metres per degree of latitude, near enough for a spacing estimate.
@@ -295,4 +295,4 @@ double TerrainSource::point_spacing_metres() const {
   return std::sqrt(square_metres / static_cast<double>(vertices_.size()));
 }
 
-}  // namespace tincdt::pipeline::terrain
+}  // namespace tincdt::web_terrain

@@ -14,7 +14,7 @@
 #include "io/terrain/lon_lat.hpp"
 #include "mesh/triangulation.hpp"
 
-namespace tincdt::pipeline::terrain {
+namespace tincdt::web_terrain {
 
 using io::terrain::GeoRectangle;
 
@@ -95,4 +95,4 @@ class TerrainSource {
   Cells hole_cells_;
 };
 
-}  // namespace tincdt::pipeline::terrain
+}  // namespace tincdt::web_terrain

@@ -1,4 +1,4 @@
-#include "pipeline/terrain_tile.hpp"
+#include "web_terrain/tile.hpp"
 
 #include <algorithm>
 #include <array>
@@ -9,11 +9,11 @@
 
 #include "core/error.hpp"
 #include "io/terrain/quantized_mesh_detail.hpp"
-#include "pipeline/terrain_tile_points.hpp"
 #include "simplify/profile.hpp"
 #include "simplify/simplify.hpp"
+#include "web_terrain/tile_points.hpp"
 
-namespace tincdt::pipeline::terrain {
+namespace tincdt::web_terrain {
 namespace {
 
 using detail::grid_place;
@@ -220,4 +220,4 @@ BuiltTile build_tile(const TerrainSource& source, const io::terrain::TileKey& ke
   return tile;
 }
 
-}  // namespace tincdt::pipeline::terrain
+}  // namespace tincdt::web_terrain

@@ -16,9 +16,9 @@
 
 #include "io/terrain/geographic_tiling.hpp"
 #include "io/terrain/quantized_mesh.hpp"
-#include "pipeline/terrain_source.hpp"
+#include "web_terrain/source.hpp"
 
-namespace tincdt::pipeline::terrain {
+namespace tincdt::web_terrain {
 
 // The vertical error of a tile against the full TIN's vertices inside it (sides included), as a
 // client decodes the tile.
@@ -42,4 +42,4 @@ BuiltTile build_tile(const TerrainSource& source, const io::terrain::TileKey& ke
 // The error of MESH, decoded as a client does, against SOURCE's vertices in its rectangle.
 TileError measure_tile(const TerrainSource& source, const io::terrain::TileMesh& mesh);
 
-}  // namespace tincdt::pipeline::terrain
+}  // namespace tincdt::web_terrain

@@ -1,5 +1,5 @@
 // The points of one web-terrain tile's greedy run, shared by the files that gather them
-// (terrain_tile.cpp: the border and the candidates; terrain_lines.cpp: the constrained lines).
+// (tile.cpp: the border and the candidates; lines.cpp: the constrained lines).
 // Coordinates are the tile's quantized grid, 0..kQuantizedMax across and up.
 #pragma once
 
@@ -12,9 +12,9 @@
 #include "core/types.hpp"
 #include "io/terrain/geographic_tiling.hpp"
 #include "io/terrain/quantized_mesh.hpp"
-#include "pipeline/terrain_source.hpp"
+#include "web_terrain/source.hpp"
 
-namespace tincdt::pipeline::terrain::detail {
+namespace tincdt::web_terrain::detail {
 
 inline constexpr double kGridMax = io::terrain::kQuantizedMax;
 
@@ -54,4 +54,4 @@ struct TilePoints {
 std::size_t add_lines(const TerrainSource& source, const io::terrain::GeoRectangle& r,
                       double tolerance, TilePoints& p);
 
-}  // namespace tincdt::pipeline::terrain::detail
+}  // namespace tincdt::web_terrain::detail
