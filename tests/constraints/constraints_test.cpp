@@ -290,8 +290,9 @@ TEST(Constraints, ALineOverItsOwnSplitCopySharesItsEdges) {
     std::vector<Segment> again = b.segments;
     for (Segment& g : again) g.source += 100;
     const ConstraintResult r = insert_constraints(b.tin, again);
-    // Before, 30 to 78 new crossings a seed; now none, or a few where the first copy bent (its
-    // crossings made from whole segments nearly parallel, the copy's from the bent pieces).
+    // None, or a few where the first copy bent (its crossings are made from whole segments nearly
+    // parallel, the copy's from the bent pieces); a copy that did not share the first's edges
+    // makes 30 to 78 a seed here.
     EXPECT_LE(r.crossings.size(), 8u) << r.crossings.size() << " new crossings";
     EXPECT_EQ(b.tin.validate(), "");
     EXPECT_EQ(check_segments(b.tin, again, r.pieces), "");

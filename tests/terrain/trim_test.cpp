@@ -1,4 +1,4 @@
-// Long-edge trimming: concave outlines are no longer bridged, the TIN stays valid, and nothing
+// Long-edge trimming: concave outlines are not bridged, the TIN stays valid, and nothing
 // with short edges (or inside the data) is removed.
 #include "terrain/trim.hpp"
 
