@@ -1,5 +1,7 @@
 #include "pipeline/input_crs.hpp"
 
+#include <cstdio>
+
 #include "core/error.hpp"
 #include "io/crs.hpp"
 
@@ -31,13 +33,23 @@ void InputCrs::add(const std::string& path, const std::string& own, bool implied
     crs_ = taken;
     source_ = path;
   } else if (!io::same_crs(crs_, taken)) {
-    const std::string mine = names.name(taken), theirs = names.name(crs_);
-    throw InputError(path, "",
-                     "CRS " + mine + " differs from " + theirs + " of " + source_ +
-                         (mine == theirs ? " (same name, different definition)" : "") +
-                         " (reproject one of them)",
-                     Remedy::override_crs);
+    if (job_.options.filter.box) {
+      const std::string mine = names.name(taken), theirs = names.name(crs_);
+      throw InputError(path, "",
+                       "CRS " + mine + " differs from " + theirs + " of " + source_ +
+                           (mine == theirs ? " (same name, different definition)" : "") +
+                           " (a tiled job cuts its inputs by boxes in one CRS: reproject one of "
+                           "them)",
+                       Remedy::override_crs);
+    }
+    transform_from_[path] = taken;
   }
+}
+
+const std::string& InputCrs::transform_from(const std::string& path) const {
+  static const std::string none;
+  const auto it = transform_from_.find(path);
+  return it != transform_from_.end() ? it->second : none;
 }
 
 void InputCrs::check_none_without() const {
@@ -70,6 +82,119 @@ void InputCrs::finish() {
   for (const std::string& path : without_crs_)
     job_.warn(path + ": no CRS in the file; assuming " + job_.crs_names.name(crs_) + " of " +
               source_ + ", which names none either (its format's default)");
+}
+
+InputTransform::InputTransform(Job& job, const InputCrs& crs, const std::string& path)
+    : job_(job), path_(path) {
+  const std::string& from = crs.transform_from(path);
+  if (from.empty()) return;
+  transform_ = std::make_unique<io::CrsTransform>(from, crs.crs(), path);
+  from_ = job.crs_names.name(from);
+  to_ = job.crs_names.name(crs.crs());
+  std::string heights;
+  if (transform_->z_factor() != 1)
+    heights = "; heights converted from " + transform_->from_height_unit() + " to " +
+              transform_->to_height_unit();
+  job.info(path + ": transformed from " + from_ + " to " + to_ + " (the CRS of " + crs.source() +
+           (from_ == to_ ? ", same name, different definition" : "") + ")" + heights);
+  if (!transform_->vertical_mismatch().empty())
+    job.warn(path + ": heights are not transformed between the vertical CRSs (" +
+             transform_->vertical_mismatch() + "), only converted in unit");
+}
+
+std::optional<std::size_t> InputTransform::apply(std::span<Point3> points) const {
+  if (!transform_) return std::nullopt;
+  return transform_->apply(points, job_.options.threads);
+}
+
+std::string InputTransform::failure(const Point3& at) const {
+  char where[64];
+  std::snprintf(where, sizeof where, "%.17g %.17g", at.x, at.y);
+  return std::string("at ") + where + ": cannot be transformed from " + from_ + " to " + to_;
+}
+
+void InputTransform::apply_to_points(std::span<Point3> points, std::size_t first_index) const {
+  const std::optional<std::size_t> bad = apply(points);
+  if (!bad) return;
+  throw InputError(path_, "point " + std::to_string(first_index + *bad), failure(points[*bad]));
+}
+
+InputTransform::Marks InputTransform::marks(const io::LineData& lines) {
+  return {lines.vertices.size(), lines.features.size(), lines.skipped.size(), lines.dropped.size()};
+}
+
+InputTransform::Marks InputTransform::marks(const io::ShapeData& shapes) {
+  return {0, shapes.features.size(), shapes.skipped.size(), shapes.dropped.size()};
+}
+
+void InputTransform::fail(const std::string& layer, std::int64_t fid, const Point3& at) const {
+  throw InputError(path_, "layer " + layer + ", feature " + std::to_string(fid), failure(at));
+}
+
+void InputTransform::apply_to_places(std::vector<io::LineSkip>& skipped,
+                                     std::vector<io::LineDrop>& dropped, const Marks& before,
+                                     const std::string& layer) const {
+  std::vector<Point3> places;
+  std::vector<std::int64_t> fids;
+  for (std::size_t i = before.skipped; i < skipped.size(); ++i) {
+    places.push_back(skipped[i].at);
+    fids.push_back(skipped[i].fid);
+  }
+  for (std::size_t i = before.dropped; i < dropped.size(); ++i) {
+    if (!dropped[i].has_at) continue;
+    places.push_back(dropped[i].at);
+    fids.push_back(dropped[i].fid);
+  }
+  if (const std::optional<std::size_t> bad = apply(places)) fail(layer, fids[*bad], places[*bad]);
+  std::size_t next = 0;
+  for (std::size_t i = before.skipped; i < skipped.size(); ++i) skipped[i].at = places[next++];
+  for (std::size_t i = before.dropped; i < dropped.size(); ++i)
+    if (dropped[i].has_at) dropped[i].at = places[next++];
+}
+
+void InputTransform::apply_to_lines(io::LineData& lines, const Marks& before,
+                                    const std::string& layer) const {
+  if (!transform_) return;
+  const std::span<Point3> vertices = std::span(lines.vertices).subspan(before.vertices);
+  if (const std::optional<std::size_t> bad = apply(vertices)) {
+    const std::size_t vertex = before.vertices + *bad;
+    std::int64_t fid = -1;
+    for (const io::LineData::Segment& s : lines.segments)
+      if (s.a == vertex || s.b == vertex) {
+        fid = lines.features[s.feature].fid;
+        break;
+      }
+    fail(layer, fid, vertices[*bad]);
+  }
+  for (std::size_t f = before.features; f < lines.features.size(); ++f)
+    lines.features[f].z *= transform_->z_factor();  // NaN (no level) stays NaN
+  apply_to_places(lines.skipped, lines.dropped, before, layer);
+}
+
+void InputTransform::apply_to_shapes(io::ShapeData& shapes, const Marks& before,
+                                     const std::string& layer) const {
+  if (!transform_) return;
+  // Every point of the new features in one list, so that PROJ is set up once, not per part.
+  std::vector<Point3> points;
+  for (std::size_t f = before.features; f < shapes.features.size(); ++f)
+    for (const io::ShapePart& part : shapes.features[f].parts)
+      points.insert(points.end(), part.points.begin(), part.points.end());
+  if (const std::optional<std::size_t> bad = apply(points)) {
+    std::size_t seen = 0;
+    for (std::size_t f = before.features; f < shapes.features.size(); ++f)
+      for (const io::ShapePart& part : shapes.features[f].parts) {
+        seen += part.points.size();
+        if (*bad < seen) fail(layer, shapes.features[f].fid, points[*bad]);
+      }
+  }
+  std::size_t next = 0;
+  for (std::size_t f = before.features; f < shapes.features.size(); ++f) {
+    io::ShapeFeature& feature = shapes.features[f];
+    feature.z *= transform_->z_factor();
+    for (io::ShapePart& part : feature.parts)
+      for (Point3& p : part.points) p = points[next++];
+  }
+  apply_to_places(shapes.skipped, shapes.dropped, before, layer);
 }
 
 }  // namespace tincdt::pipeline::detail
