@@ -1,13 +1,16 @@
 #include "pipeline/input_crs.hpp"
 
+#include <cassert>
 #include <cstdio>
+#include <utility>
 
 #include "core/error.hpp"
 #include "io/crs.hpp"
 
 namespace tincdt::pipeline::detail {
 
-InputCrs::InputCrs(Job& job) : job_(job) {}
+InputCrs::InputCrs(Job& job, std::vector<std::string> order)
+    : job_(job), order_(std::move(order)) {}
 
 void InputCrs::add(const std::string& path, const std::string& own, bool implied) {
   if (!added_.insert(path).second) return;
@@ -29,27 +32,37 @@ void InputCrs::add(const std::string& path, const std::string& own, bool implied
   }
   if (taken.empty()) {
     without_crs_.push_back(path);
-  } else if (crs_.empty()) {
-    crs_ = taken;
-    source_ = path;
-  } else if (!io::same_crs(crs_, taken)) {
-    if (job_.options.filter.box) {
-      const std::string mine = names.name(taken), theirs = names.name(crs_);
-      throw InputError(path, "",
-                       "CRS " + mine + " differs from " + theirs + " of " + source_ +
-                           (mine == theirs ? " (same name, different definition)" : "") +
-                           " (a tiled job cuts its inputs by boxes in one CRS: reproject one of "
-                           "them)",
-                       Remedy::override_crs);
-    }
-    transform_from_[path] = taken;
+    return;
   }
+  if (job_.options.filter.box && !crs_.empty() && !io::same_crs(crs_, taken)) {
+    const std::string mine = names.name(taken), theirs = names.name(crs_);
+    throw InputError(path, "",
+                     "CRS " + mine + " differs from " + theirs + " of " + source_ +
+                         (mine == theirs ? " (same name, different definition)" : "") +
+                         " (a tiled job cuts its inputs by boxes in one CRS: reproject one of "
+                         "them)",
+                     Remedy::override_crs);
+  }
+  taken_[path] = std::move(taken);
+  settle_first();
+}
+
+void InputCrs::settle_first() {
+  for (const std::string& path : order_) {
+    const auto it = taken_.find(path);
+    if (it == taken_.end()) continue;
+    crs_ = it->second;
+    source_ = path;
+    return;
+  }
+  assert(taken_.empty() && "every input is in the reading order");
 }
 
 const std::string& InputCrs::transform_from(const std::string& path) const {
   static const std::string none;
-  const auto it = transform_from_.find(path);
-  return it != transform_from_.end() ? it->second : none;
+  const auto it = taken_.find(path);
+  if (it == taken_.end() || path == source_ || io::same_crs(crs_, it->second)) return none;
+  return it->second;
 }
 
 void InputCrs::check_none_without() const {

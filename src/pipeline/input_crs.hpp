@@ -21,15 +21,17 @@ namespace tincdt::pipeline::detail {
 class InputCrs {
  public:
   // Takes the override and default CRSs from JOB (--override-srs, --a-srs); messages go to its
-  // log with its CRS names.
-  explicit InputCrs(Job& job);
+  // log with its CRS names. ORDER: every input in reading order (point files, then vector
+  // sources); the job's CRS is that of the first with a CRS in this order, whatever order the
+  // inputs are added in (a LAS file's CRS is known before an XYZ file's before it).
+  InputCrs(Job& job, std::vector<std::string> order);
 
   // Input PATH, whose own CRS is OWN ("" for none); IMPLIED: OWN is only its format's default
   // (a GeoJSON file that names no CRS), which counts as none beside inputs that name theirs. An
   // input added before is skipped (its header was read before its points). Throws InputError
   // (Remedy::override_crs) when OWN is not usable and nothing replaces it, and in a job that reads
   // its points by a box (a tile's) when the CRS it is taken in differs from the inputs' CRS found
-  // so far: the box is in that CRS.
+  // so far: the box is in one CRS.
   void add(const std::string& path, const std::string& own, bool implied = false);
 
   // Throws InputError (Remedy::assign_crs) naming the first input without a CRS when another
@@ -40,7 +42,8 @@ class InputCrs {
   // (if any) is the inputs', and the inputs without a CRS take it, with a warning each.
   void finish();
 
-  // The CRS of the inputs, "" when none has one.
+  // The CRS of the inputs added so far, "" when none has one. Final for an input once every input
+  // before it in reading order is added, as it is when the input is read.
   const std::string& crs() const { return crs_; }
   // The input the CRS comes from.
   const std::string& source() const { return source_; }
@@ -53,11 +56,15 @@ class InputCrs {
     std::string path;
     std::string wkt;
   };
+  // crs_ and source_ from taken_: the first input in order_ with a CRS.
+  void settle_first();
+
   Job& job_;
+  std::vector<std::string> order_;
   std::string crs_;
   std::string source_;  // the input the CRS comes from
   std::set<std::string> added_;
-  std::map<std::string, std::string> transform_from_;  // path -> the CRS it is taken in
+  std::map<std::string, std::string> taken_;  // path -> the CRS it is taken in, when it has one
   std::vector<std::string> without_crs_;
   std::vector<Implied> implied_;
 };

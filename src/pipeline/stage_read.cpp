@@ -249,7 +249,9 @@ void check_crs_before_reading(Job& job, detail::InputCrs& crs) {
 }
 
 void run(Job& job) {
-  detail::InputCrs crs(job);
+  std::vector<std::string> order = job.options.inputs;
+  for (std::string& path : vector_sources(job.options)) order.push_back(std::move(path));
+  detail::InputCrs crs(job, std::move(order));
   check_crs_before_reading(job, crs);
   read_point_files(job, crs);
   read_line_sources(job, crs);
