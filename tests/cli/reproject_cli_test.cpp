@@ -266,6 +266,43 @@ TEST(ReprojectCli, APointThatCannotBeTransformedIsNamed) {
   EXPECT_FALSE(fs::exists(fs::path(dir) / "t.ply"));
 }
 
+// 160,000 points in UTM zone 33 beside points in zone 32: transformed on several threads, each
+// with its own transformation, to the same TIN as on one, at the places PROJ gives.
+TEST(ReprojectCli, PointsTransformedOnSeveralThreadsGiveTheSameTin) {
+  const std::string dir = scratch_dir("reproject_cli");
+  constexpr int kSide = 400;
+  constexpr double kX0 = 263000, kY0 = 4986000;
+  std::string ply = "ply\nformat ascii 1.0\ncomment crs EPSG:32633\nelement vertex " +
+                    std::to_string(kSide * kSide) +
+                    "\nproperty double x\nproperty double y\nproperty double z\nend_header\n";
+  char line[96];
+  for (int j = 0; j < kSide; ++j)
+    for (int i = 0; i < kSide; ++i) {
+      std::snprintf(line, sizeof line, "%.2f %.2f %.2f\n", kX0 + 2.0 * i + 0.25 * (j % 3),
+                    kY0 + 2.0 * j, 100 + 0.1 * i);
+      ply += line;
+    }
+  spit(fs::path(dir) / "zone33.ply", ply);
+  const auto corners = proj_transform(32633, 32632, {{kX0, kY0}, {kX0 + 2.0 * (kSide - 1), kY0}});
+  ASSERT_EQ(corners.size(), 2u);
+  std::string xyz;
+  for (const auto& c : corners) {
+    std::snprintf(line, sizeof line, "%.3f %.3f 90\n", c[0], c[1] - 50);
+    xyz += line;
+  }
+  spit(fs::path(dir) / "zone32.xyz", xyz);
+  const std::string args = "zone32.xyz --a-srs EPSG:32632 zone33.ply --ply-ascii";
+  const ShellRun one = run_tincdt(dir, args + " -o one.ply --threads 1");
+  ASSERT_EQ(one.exit_code, 0) << one;
+  EXPECT_TRUE(has(one, "zone33.ply: transformed from EPSG:32633 to EPSG:32632")) << one;
+  const ShellRun three = run_tincdt(dir, args + " -o three.ply --threads 3");
+  ASSERT_EQ(three.exit_code, 0) << three;
+  EXPECT_EQ(slurp(fs::path(dir) / "one.ply"), slurp(fs::path(dir) / "three.ply"));
+  const MeshFile tin = read_ply_ascii(dir + "/three.ply");
+  EXPECT_EQ(tin.v.size(), std::size_t{kSide * kSide + 2});
+  for (const auto& at : corners) EXPECT_NE(vertex_at(tin, at, 1e-6), nullptr) << at[0];
+}
+
 // --override-srs takes every input as its CRS: the line's degrees stay numbers, untransformed.
 TEST(ReprojectCli, OverrideSrsDoesNotTransform) {
   const std::string dir = scratch_dir("reproject_cli");
