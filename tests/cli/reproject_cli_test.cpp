@@ -250,6 +250,28 @@ TEST(ReprojectCli, HeightsAreConvertedBetweenUnits) {
   }
 }
 
+// EPSG:9518 is WGS 84 + EGM2008 height: its heights are not moved to EGM96, and a warning says so.
+TEST(ReprojectCli, HeightsAreNotMovedBetweenVerticalDatums) {
+  const std::string dir = scratch_dir("reproject_cli");
+  spit(fs::path(dir) / "points.xyz", "500000 4983000 1\n501000 4983000 3\n500500 4984000 4\n");
+  write_vector(
+      fs::path(dir) / "line.gpkg",
+      std::vector<VectorLayer>{
+          {"line", {{.wkt = "LINESTRING Z (9.001 45.002 2, 9.005 45.003 2)", .elev = 2}}, 9518}},
+      "GPKG", "NAME");
+  const ShellRun r = run_tincdt(
+      dir, "points.xyz --a-srs EPSG:32632+5773 --hard-lines line.gpkg -o t.ply --ply-ascii");
+  ASSERT_EQ(r.exit_code, 0) << r;
+  EXPECT_TRUE(has(r,
+                  "line.gpkg: heights are not transformed between the vertical CRSs (EGM2008 "
+                  "height to EGM96 height), only converted in unit"))
+      << r;
+  const MeshFile tin = read_ply_ascii(dir + "/t.ply");
+  std::size_t at_two = 0;
+  for (const auto& v : tin.v) at_two += v[2] == 2 ? 1 : 0;
+  EXPECT_EQ(at_two, 2u);  // the line's vertices keep their heights
+}
+
 // A PLY's vertices in WGS 84 beside points in UTM: latitude 95 cannot be transformed.
 TEST(ReprojectCli, APointThatCannotBeTransformedIsNamed) {
   const std::string dir = scratch_dir("reproject_cli");
