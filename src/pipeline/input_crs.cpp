@@ -1,11 +1,15 @@
 #include "pipeline/input_crs.hpp"
 
+#include <algorithm>
 #include <cassert>
+#include <cmath>
 #include <cstdio>
 #include <utility>
 
 #include "core/error.hpp"
+#include "core/number_text.hpp"
 #include "io/crs.hpp"
+#include "io/raster/dem_writer.hpp"
 
 namespace tincdt::pipeline::detail {
 
@@ -102,6 +106,7 @@ InputTransform::InputTransform(Job& job, const InputCrs& crs, const std::string&
   const std::string& from = crs.transform_from(path);
   if (from.empty()) return;
   transform_ = std::make_unique<io::CrsTransform>(from, crs.crs(), path);
+  to_wkt_ = crs.crs();
   from_ = job.crs_names.name(from);
   to_ = job.crs_names.name(crs.crs());
   std::string heights;
@@ -126,10 +131,41 @@ std::string InputTransform::failure(const Point3& at) const {
   return std::string("at ") + where + ": cannot be transformed from " + from_ + " to " + to_;
 }
 
-void InputTransform::apply_to_points(std::span<Point3> points, std::size_t first_index) const {
-  const std::optional<std::size_t> bad = apply(points);
-  if (!bad) return;
-  throw InputError(path_, "point " + std::to_string(first_index + *bad), failure(points[*bad]));
+void InputTransform::apply_to_points(std::vector<Point3>& points, std::size_t before) const {
+  if (!transform_) return;
+  const std::span<Point3> mine = std::span(points).subspan(before);
+  if (const std::optional<std::size_t> bad = apply(mine))
+    throw InputError(path_, "point " + std::to_string(*bad), failure(mine[*bad]));
+  warn_if_far({std::span<const Point3>(points).first(before)}, mine);
+}
+
+namespace {
+
+BBox extent_of(std::initializer_list<std::span<const Point3>> spans) {
+  BBox box;
+  for (const std::span<const Point3> points : spans)
+    for (const Point3& p : points) box.add(p.x, p.y);
+  return box;
+}
+
+double diagonal(const BBox& b) {
+  return std::hypot(b.max_x - b.min_x, b.max_y - b.min_y);
+}
+
+}  // namespace
+
+void InputTransform::warn_if_far(std::initializer_list<std::span<const Point3>> others,
+                                 std::span<const Point3> mine) const {
+  const BBox a = extent_of(others), b = extent_of({mine});
+  if (!(a.min_x <= a.max_x) || !(b.min_x <= b.max_x)) return;  // one is empty
+  const double gap_x = std::max({0.0, a.min_x - b.max_x, b.min_x - a.max_x});
+  const double gap_y = std::max({0.0, a.min_y - b.max_y, b.min_y - a.max_y});
+  const double gap = std::hypot(gap_x, gap_y);
+  if (!(gap > std::max(diagonal(a), diagonal(b)))) return;
+  const std::string unit = io::crs_unit_name(to_wkt_);
+  job_.warn(path_ + ": transformed from " + from_ + " to " + to_ + ", it lies " + number_text(gap) +
+            (unit.empty() ? "" : " (in " + unit + ")") +
+            " from the inputs before it, farther than their size or its own: is its CRS right?");
 }
 
 InputTransform::Marks InputTransform::marks(const io::LineData& lines) {
@@ -182,6 +218,8 @@ void InputTransform::apply_to_lines(io::LineData& lines, const Marks& before,
   for (std::size_t f = before.features; f < lines.features.size(); ++f)
     lines.features[f].z *= transform_->z_factor();  // NaN (no level) stays NaN
   apply_to_places(lines.skipped, lines.dropped, before, layer);
+  warn_if_far({job_.points, std::span<const Point3>(lines.vertices).first(before.vertices)},
+              vertices);
 }
 
 void InputTransform::apply_to_shapes(io::ShapeData& shapes, const Marks& before,
@@ -208,6 +246,7 @@ void InputTransform::apply_to_shapes(io::ShapeData& shapes, const Marks& before,
       for (Point3& p : part.points) p = points[next++];
   }
   apply_to_places(shapes.skipped, shapes.dropped, before, layer);
+  warn_if_far({job_.points}, points);
 }
 
 }  // namespace tincdt::pipeline::detail

@@ -4,6 +4,7 @@
 // The job's CRS is the first input's; an input in another is transformed into it when read.
 #pragma once
 
+#include <initializer_list>
 #include <map>
 #include <memory>
 #include <set>
@@ -87,9 +88,9 @@ class InputTransform {
   // Transforms POINTS in place (on the job's threads); returns the index of the first that cannot
   // be transformed, whose coordinates are left as read, nullopt when all were.
   std::optional<std::size_t> apply(std::span<Point3> points) const;
-  // apply(), and an InputError naming the file and "point N (x y)" for the first that fails, N
-  // counted from FIRST_INDEX.
-  void apply_to_points(std::span<Point3> points, std::size_t first_index) const;
+  // apply() to POINTS from BEFORE on (the input's; those before are the inputs' before it), and
+  // an InputError naming the file and "point N" for the first that fails, N counted from BEFORE.
+  void apply_to_points(std::vector<Point3>& points, std::size_t before) const;
 
   // The sizes of a LineData's or ShapeData's lists before a source is read into it: what the
   // source appended comes after.
@@ -103,7 +104,10 @@ class InputTransform {
   static Marks marks(const io::ShapeData& shapes);
   // What the source read from layer LAYER appended since BEFORE: vertices, the places of skipped
   // vertices and dropped features, and the features' levels. Throws InputError naming the file,
-  // the layer and the feature of the first vertex that cannot be transformed.
+  // the layer and the feature of the first vertex that cannot be transformed. Each apply_to_*
+  // warns when the input, transformed, lies far from the inputs read before it (the job's
+  // points, and the lines before it): farther than the larger one's size, as an input whose CRS
+  // is wrong does.
   void apply_to_lines(io::LineData& lines, const Marks& before, const std::string& layer) const;
   void apply_to_shapes(io::ShapeData& shapes, const Marks& before, const std::string& layer) const;
 
@@ -113,11 +117,15 @@ class InputTransform {
   // Transforms the places of skipped vertices and dropped features from BEFORE on.
   void apply_to_places(std::vector<io::LineSkip>& skipped, std::vector<io::LineDrop>& dropped,
                        const Marks& before, const std::string& layer) const;
+  // The warning of apply_to_*: MINE against the extent of every span of OTHERS.
+  void warn_if_far(std::initializer_list<std::span<const Point3>> others,
+                   std::span<const Point3> mine) const;
   [[noreturn]] void fail(const std::string& layer, std::int64_t fid, const Point3& at) const;
 
   const Job& job_;
   std::string path_;
   std::string from_, to_;  // the CRSs' names
+  std::string to_wkt_;
   std::unique_ptr<io::CrsTransform> transform_;
 };
 

@@ -9,7 +9,6 @@
 #include <filesystem>
 #include <new>
 #include <optional>
-#include <span>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -97,8 +96,7 @@ void read_point_files(Job& job, detail::InputCrs& crs) {
         job.warn(path + ": the filters kept none of its points");
     }
     crs.add(path, s.crs_wkt);
-    detail::InputTransform(job, crs, path)
-        .apply_to_points(std::span(job.points).subspan(points_before), 0);
+    detail::InputTransform(job, crs, path).apply_to_points(job.points, points_before);
     job.report.inputs.push_back(std::move(in));
     bytes_done += sizes[i];
     job.progress(total_bytes ? static_cast<double>(bytes_done) / static_cast<double>(total_bytes)

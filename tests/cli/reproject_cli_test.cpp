@@ -143,6 +143,7 @@ TEST(ReprojectCli, ContoursInWgs84GiveTheSameTinAsInTheLasCrs) {
   ASSERT_EQ(wgs84.exit_code, 0) << wgs84;
   EXPECT_TRUE(has(wgs84, "contours_4326.shp: transformed from EPSG:4326 to EPSG:2949")) << wgs84;
   EXPECT_FALSE(has(wgs84, "heights converted")) << wgs84;  // metres in both
+  EXPECT_FALSE(has(wgs84, "warning")) << wgs84;
   const ShellRun same =
       run_tincdt(dir, las + " --contours " + quoted(contours) + " -o same.ply --ply-ascii");
   ASSERT_EQ(same.exit_code, 0) << same;
