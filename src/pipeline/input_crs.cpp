@@ -127,7 +127,7 @@ std::optional<std::size_t> InputTransform::apply(std::span<Point3> points) const
 
 std::string InputTransform::failure(const Point3& at) const {
   char where[64];
-  std::snprintf(where, sizeof where, "%.17g %.17g", at.x, at.y);
+  std::snprintf(where, sizeof where, "%.12g %.12g", at.x, at.y);
   return std::string("at ") + where + ": cannot be transformed from " + from_ + " to " + to_;
 }
 
