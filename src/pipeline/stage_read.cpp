@@ -1,5 +1,6 @@
 // read: the point files, then the contours and hard lines, then the surface features, each
-// source's CRS checked against the others'. Line vertices go after the points, so that the
+// source's CRS checked against the others' and, when it is another, its coordinates transformed
+// into the job's (the first input's). Line vertices go after the points, so that the
 // Delaunay stage triangulates both; line and surface features get their constraint source ids
 // (Job::sources) in reading order, contours first.
 #include <algorithm>
@@ -71,6 +72,7 @@ void read_point_files(Job& job, detail::InputCrs& crs) {
   }
   for (std::size_t i = 0; i < inputs.size(); ++i) {
     const std::string& path = inputs[i];
+    const std::size_t points_before = job.points.size();
     const io::PointReadStats s =
         io::read_points(path, job.options.filter, job.points, job.options.threads);
     if (job.read_hooks.point_file_read) job.read_hooks.point_file_read(job, i, s.extent);
@@ -94,6 +96,7 @@ void read_point_files(Job& job, detail::InputCrs& crs) {
         job.warn(path + ": the filters kept none of its points");
     }
     crs.add(path, s.crs_wkt);
+    detail::InputTransform(job, crs, path).apply_to_points(job.points, points_before);
     job.report.inputs.push_back(std::move(in));
     bytes_done += sizes[i];
     job.progress(total_bytes ? static_cast<double>(bytes_done) / static_cast<double>(total_bytes)
@@ -113,6 +116,7 @@ void read_line_sources(Job& job, detail::InputCrs& crs) {
   io::LineData& lines = job.lines;
   for (const auto& [path, kind] : line_sources) {
     const std::size_t features_before = lines.features.size();
+    const detail::InputTransform::Marks before = detail::InputTransform::marks(lines);
     const io::LineReadStats s = io::read_lines(path, job.options.lines, lines);
     for (const std::string& w : s.warnings) job.warn(w);
     job.report.line_features += s.features;
@@ -120,6 +124,7 @@ void read_line_sources(Job& job, detail::InputCrs& crs) {
     job.debug(path + ": layer " + s.layer + ", " + std::to_string(s.features) + " features, " +
               std::to_string(s.segments) + " segments, " + job.crs_names.name(s.crs_wkt));
     crs.add(path, s.crs_wkt);
+    detail::InputTransform(job, crs, path).apply_to_lines(lines, before, s.layer);
     const std::uint32_t file = job.sources.add_file(lines.files.back());
     for (std::size_t f = features_before; f < lines.features.size(); ++f)
       job.sources.add(file, lines.features[f].fid, kind, false);
@@ -157,6 +162,7 @@ void read_surface_kind(Job& job, detail::InputCrs& crs, detail::SurfaceInput& in
   input.first_source = static_cast<std::uint32_t>(job.sources.size());
   for (const std::string& path : paths) {
     const std::size_t features_before = input.data.features.size();
+    const detail::InputTransform::Marks before = detail::InputTransform::marks(input.data);
     const io::ShapeReadStats s = lines ? io::read_shape_lines(path, shape, input.data)
                                        : io::read_polygons(path, shape, input.data);
     for (const std::string& w : s.warnings) job.warn(w);
@@ -164,6 +170,7 @@ void read_surface_kind(Job& job, detail::InputCrs& crs, detail::SurfaceInput& in
               std::to_string(s.features) + " features, " + std::to_string(s.parts) +
               (lines ? " lines, " : " rings, ") + job.crs_names.name(s.crs_wkt));
     crs.add(path, s.crs_wkt);
+    detail::InputTransform(job, crs, path).apply_to_shapes(input.data, before, s.layer);
     const std::uint32_t file = job.sources.add_file(input.data.files.back());
     for (std::size_t f = features_before; f < input.data.features.size(); ++f) {
       const io::ShapeFeature& feature = input.data.features[f];
@@ -240,7 +247,9 @@ void check_crs_before_reading(Job& job, detail::InputCrs& crs) {
 }
 
 void run(Job& job) {
-  detail::InputCrs crs(job);
+  std::vector<std::string> order = job.options.inputs;
+  for (std::string& path : vector_sources(job.options)) order.push_back(std::move(path));
+  detail::InputCrs crs(job, std::move(order));
   check_crs_before_reading(job, crs);
   read_point_files(job, crs);
   read_line_sources(job, crs);
