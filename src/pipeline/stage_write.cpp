@@ -71,6 +71,7 @@ void run(Job& job) {
   }
   io::TinWriteOptions options = job.write;
   options.progress = job.stage_progress();
+  options.threads = job.options.threads;
   io::TinWriteStats ws;
   const io::OutputFile& out = job.write_output(
       job.options.output, "tin", [&](io::OutputFile& f) { ws = io::write_tin(f, tin, options); });

@@ -36,6 +36,45 @@ std::string crs_member(const std::string& path, const std::string& wkt) {
          " } },\n";
 }
 
+// Rough bytes of a feature, for the size of the blocks formatted apart.
+constexpr std::size_t kFeatureBytes = 300;
+
+// For each block of PER_BLOCK triangle slots, the triangles for_each_triangle() visits in the
+// slots before it: the id of the block's first feature.
+std::vector<std::uint64_t> kept_before_blocks(const mesh::Triangulation& tin, std::size_t per_block,
+                                              unsigned threads) {
+  const std::size_t slots = tin.triangle_slots();
+  const std::size_t blocks = (slots + per_block - 1) / per_block;
+  std::vector<std::uint64_t> first(blocks + 1, 0);
+  auto count = [&](std::size_t block, std::size_t) {
+    std::uint64_t n = 0;
+    for_each_triangle_in(tin, block * per_block, std::min(slots, (block + 1) * per_block),
+                         [&n](TriangleId, const std::array<VertexId, 3>&) { ++n; });
+    first[block + 1] = n;
+  };
+  ThreadPool(std::min(thread_count(threads), std::max<std::size_t>(blocks, 1))).run(count, blocks);
+  for (std::size_t b = 0; b < blocks; ++b) first[b + 1] += first[b];
+  return first;
+}
+
+// Feature ID, the triangle with corners C: ",\n" before it but for the first.
+void put_feature(BlockWriter& w, std::uint64_t id, const std::array<VertexId, 3>& c,
+                 const GeoJsonPositions& position) {
+  if (id > 0) w.put(std::string_view(",\n"));
+  w.put(std::string_view("{\"type\":\"Feature\",\"properties\":{\"id\":"));
+  w.put_uint(id);
+  w.put(std::string_view("},\"geometry\":{\"type\":\"Polygon\",\"coordinates\":[["));
+  const Point3 a = position(c[0]);
+  put_position(w, a);
+  w.put(',');
+  put_position(w, position(c[1]));
+  w.put(',');
+  put_position(w, position(c[2]));
+  w.put(',');
+  put_position(w, a);
+  w.put(std::string_view("]]}}"));
+}
+
 }  // namespace
 
 OGRSpatialReference parse_crs(const std::string& path, const std::string& wkt, const char* what) {
@@ -144,7 +183,7 @@ Point3 GeoJsonPositions::operator()(VertexId v) const {
 TinWriteStats write_geojson(OutputFile& out, const mesh::Triangulation& tin,
                             const TinWriteOptions& options) {
   const std::string& path = out.path();
-  const TriangleCounts counts = count_triangles(tin);
+  const TriangleCounts counts = count_triangles(tin, options.threads);
   const std::uint64_t nt = counts.kept;
   // With removed triangles, only the vertices of kept triangles are reprojected (and counted):
   // one outside the kept part may lie where the target CRS has no valid coordinates.
@@ -155,26 +194,19 @@ TinWriteStats write_geojson(OutputFile& out, const mesh::Triangulation& tin,
                                   used.compacted() ? &used.vertices() : nullptr);
 
   BlockWriter w(out);
-  Progress progress(options.progress, "write", nt);
+  const std::size_t slots = tin.triangle_slots();
+  Progress progress(options.progress, "write", slots);
   put_feature_collection_start(w, path, options);
-  std::uint64_t id = 0;
-  tin.for_each_triangle([&](TriangleId, const std::array<VertexId, 3>& c) {
-    progress.tick(id);
-    if (id > 0) w.put(std::string_view(",\n"));
-    w.put(std::string_view("{\"type\":\"Feature\",\"properties\":{\"id\":"));
-    w.put_uint(id);
-    w.put(std::string_view("},\"geometry\":{\"type\":\"Polygon\",\"coordinates\":[["));
-    const Point3 a = position(c[0]);
-    put_position(w, a);
-    w.put(',');
-    put_position(w, position(c[1]));
-    w.put(',');
-    put_position(w, position(c[2]));
-    w.put(',');
-    put_position(w, a);
-    w.put(std::string_view("]]}}"));
-    ++id;
-  });
+  const std::vector<std::uint64_t> first_id =
+      kept_before_blocks(tin, records_per_block(kFeatureBytes), options.threads);
+  write_blocks(w, options.threads, slots, kFeatureBytes, progress, 0,
+               [&](BlockWriter& b, std::size_t begin, std::size_t end) {
+                 std::uint64_t id = first_id[begin / records_per_block(kFeatureBytes)];
+                 for_each_triangle_in(tin, begin, end,
+                                      [&](TriangleId, const std::array<VertexId, 3>& c) {
+                                        put_feature(b, id++, c, position);
+                                      });
+               });
   w.put(std::string_view("\n]\n}\n"));
   w.flush();
   progress.finish();

@@ -5,10 +5,38 @@
 
 namespace tincdt::io::detail {
 
+namespace {
+
+// Rough bytes of a record, for the size of the blocks formatted apart.
+constexpr std::size_t kVertexBytes = 62, kFaceBytes = 24;
+
+// The faces of every triangle slot, in blocks on the writer's threads, under the vertices'
+// written numbers or (not RENUMBER) their ids.
+template <bool kRenumber>
+void write_faces(BlockWriter& w, const mesh::Triangulation& tin, const VertexNumbering& number,
+                 const TinWriteOptions& options, Progress& progress, std::uint64_t done) {
+  const auto id = [&number](VertexId v) { return std::uint64_t{kRenumber ? number(v) : v} + 1; };
+  write_blocks(w, options.threads, tin.triangle_slots(), kFaceBytes, progress, done,
+               [&](BlockWriter& b, std::size_t begin, std::size_t end) {
+                 for_each_triangle_in(tin, begin, end,
+                                      [&](TriangleId, const std::array<VertexId, 3>& c) {
+                                        b.put(std::string_view("f "));
+                                        b.put_uint(id(c[0]));
+                                        b.put(' ');
+                                        b.put_uint(id(c[1]));
+                                        b.put(' ');
+                                        b.put_uint(id(c[2]));
+                                        b.put('\n');
+                                      });
+               });
+}
+
+}  // namespace
+
 TinWriteStats write_obj(OutputFile& out, const mesh::Triangulation& tin,
                         const TinWriteOptions& options) {
   const std::string& path = out.path();
-  const TriangleCounts counts = count_triangles(tin);
+  const TriangleCounts counts = count_triangles(tin, options.threads);
   const std::uint64_t nt = counts.kept;
   const VertexNumbering number(tin, counts.removed > 0);
   const std::size_t nv = number.count();
@@ -20,34 +48,21 @@ TinWriteStats write_obj(OutputFile& out, const mesh::Triangulation& tin,
               " (subtracted from every vertex: add it back for the original coordinates)\n";
 
   BlockWriter w(out);
-  Progress progress(options.progress, "write", nv + nt);
-  std::uint64_t done = 0;
+  Progress progress(options.progress, "write", nv + tin.triangle_slots());
   w.put(header);
-  for (std::size_t i = 0; i < nv; ++i) {
-    progress.tick(done++);
-    const Point3 p = shifted_vertex(path, tin, number.vertex(i), options.offset);
-    w.put(std::string_view("v "));
-    w.put_xyz(p, ' ');
-    w.put('\n');
-  }
-  const auto face = [&](VertexId a, VertexId b, VertexId c) {
-    progress.tick(done++);
-    w.put(std::string_view("f "));
-    w.put_uint(std::uint64_t{a} + 1);
-    w.put(' ');
-    w.put_uint(std::uint64_t{b} + 1);
-    w.put(' ');
-    w.put_uint(std::uint64_t{c} + 1);
-    w.put('\n');
-  };
-  if (number.compacted()) {
-    tin.for_each_triangle([&](TriangleId, const std::array<VertexId, 3>& c) {
-      face(number(c[0]), number(c[1]), number(c[2]));
-    });
-  } else {
-    tin.for_each_triangle(
-        [&](TriangleId, const std::array<VertexId, 3>& c) { face(c[0], c[1], c[2]); });
-  }
+  write_blocks(w, options.threads, nv, kVertexBytes, progress, 0,
+               [&](BlockWriter& b, std::size_t begin, std::size_t end) {
+                 for (std::size_t i = begin; i < end; ++i) {
+                   const Point3 p = shifted_vertex(path, tin, number.vertex(i), options.offset);
+                   b.put(std::string_view("v "));
+                   b.put_xyz(p, ' ');
+                   b.put('\n');
+                 }
+               });
+  if (number.compacted())
+    write_faces<true>(w, tin, number, options, progress, nv);
+  else
+    write_faces<false>(w, tin, number, options, progress, nv);
   w.flush();
   progress.finish();
   return {nv, nt, 0};

@@ -29,13 +29,52 @@ std::string ply_header(bool ascii, std::size_t nv, std::uint64_t nt, std::uint64
   return h;
 }
 
+// Rough bytes of a record, for the size of the blocks formatted apart.
+constexpr std::size_t kBinaryVertexBytes = 24, kAsciiVertexBytes = 60;
+constexpr std::size_t kBinaryFaceBytes = 13, kAsciiFaceBytes = 24;
+
+void put_ascii_face(BlockWriter& w, VertexId a, VertexId b, VertexId c) {
+  w.put(std::string_view("3 "));
+  w.put_uint(a);
+  w.put(' ');
+  w.put_uint(b);
+  w.put(' ');
+  w.put_uint(c);
+  w.put('\n');
+}
+
+void put_binary_face(BlockWriter& w, VertexId a, VertexId b, VertexId c) {
+  w.put_le(std::uint8_t{3});
+  w.put_le(a);
+  w.put_le(b);
+  w.put_le(c);
+}
+
+// The faces of every triangle slot, in blocks on the writer's threads: text or binary, under the
+// vertices' written numbers or (not RENUMBER) their ids.
+template <bool kAscii, bool kRenumber>
+void write_faces(BlockWriter& w, const mesh::Triangulation& tin, const VertexNumbering& number,
+                 const TinWriteOptions& options, Progress& progress, std::uint64_t done) {
+  const auto id = [&number](VertexId v) { return kRenumber ? number(v) : v; };
+  write_blocks(
+      w, options.threads, tin.triangle_slots(), kAscii ? kAsciiFaceBytes : kBinaryFaceBytes,
+      progress, done, [&](BlockWriter& b, std::size_t begin, std::size_t end) {
+        for_each_triangle_in(tin, begin, end, [&](TriangleId, const std::array<VertexId, 3>& c) {
+          if constexpr (kAscii)
+            put_ascii_face(b, id(c[0]), id(c[1]), id(c[2]));
+          else
+            put_binary_face(b, id(c[0]), id(c[1]), id(c[2]));
+        });
+      });
+}
+
 }  // namespace
 
 TinWriteStats write_ply(OutputFile& out, const mesh::Triangulation& tin,
                         const TinWriteOptions& options) {
   const std::string& path = out.path();
   const bool ascii = options.ply_ascii;
-  const TriangleCounts counts = count_triangles(tin);
+  const TriangleCounts counts = count_triangles(tin, options.threads);
   const std::uint64_t nt = counts.kept;
   // With removed triangles: only the vertices of kept faces, renumbered, and only the constrained
   // edges with a kept face on a side.
@@ -45,63 +84,43 @@ TinWriteStats write_ply(OutputFile& out, const mesh::Triangulation& tin,
   const std::uint64_t ne = count_constrained_segments(tin, compact);
 
   BlockWriter w(out);
-  Progress progress(options.progress, "write", nv + nt);
-  std::uint64_t done = 0;
+  Progress progress(options.progress, "write", nv + tin.triangle_slots());
   w.put(ply_header(ascii, nv, nt, ne, options));
 
-  for (std::size_t i = 0; i < nv; ++i) {
-    progress.tick(done++);
-    const Point3 p = shifted_vertex(path, tin, number.vertex(i), options.offset);
-    if (ascii) {
-      w.put_xyz(p, ' ');
-      w.put('\n');
-    } else {
-      w.put_le(p.x);
-      w.put_le(p.y);
-      w.put_le(p.z);
-    }
-  }
+  write_blocks(w, options.threads, nv, ascii ? kAsciiVertexBytes : kBinaryVertexBytes, progress, 0,
+               [&](BlockWriter& b, std::size_t begin, std::size_t end) {
+                 for (std::size_t i = begin; i < end; ++i) {
+                   const Point3 p = shifted_vertex(path, tin, number.vertex(i), options.offset);
+                   if (ascii) {
+                     b.put_xyz(p, ' ');
+                     b.put('\n');
+                   } else {
+                     b.put_le(p.x);
+                     b.put_le(p.y);
+                     b.put_le(p.z);
+                   }
+                 }
+               });
+  if (ascii && number.compacted())
+    write_faces<true, true>(w, tin, number, options, progress, nv);
+  else if (ascii)
+    write_faces<true, false>(w, tin, number, options, progress, nv);
+  else if (number.compacted())
+    write_faces<false, true>(w, tin, number, options, progress, nv);
+  else
+    write_faces<false, false>(w, tin, number, options, progress, nv);
 
   if (ascii) {
-    tin.for_each_triangle([&](TriangleId, const std::array<VertexId, 3>& c) {
-      progress.tick(done++);
-      w.put(std::string_view("3 "));
-      w.put_uint(number(c[0]));
-      w.put(' ');
-      w.put_uint(number(c[1]));
-      w.put(' ');
-      w.put_uint(number(c[2]));
-      w.put('\n');
-    });
     for_each_constrained_segment(tin, compact, [&w, &number](VertexId a, VertexId b) {
       w.put_uint(number(a));
       w.put(' ');
       w.put_uint(number(b));
       w.put('\n');
     });
-  } else if (number.compacted()) {
-    tin.for_each_triangle([&](TriangleId, const std::array<VertexId, 3>& c) {
-      progress.tick(done++);
-      w.put_le(std::uint8_t{3});
-      w.put_le(number(c[0]));
-      w.put_le(number(c[1]));
-      w.put_le(number(c[2]));
-    });
-    for_each_constrained_segment(tin, true, [&w, &number](VertexId a, VertexId b) {
+  } else {
+    for_each_constrained_segment(tin, compact, [&w, &number](VertexId a, VertexId b) {
       w.put_le(number(a));
       w.put_le(number(b));
-    });
-  } else {
-    tin.for_each_triangle([&](TriangleId, const std::array<VertexId, 3>& c) {
-      progress.tick(done++);
-      w.put_le(std::uint8_t{3});
-      w.put_le(c[0]);
-      w.put_le(c[1]);
-      w.put_le(c[2]);
-    });
-    for_each_constrained_segment(tin, false, [&w](VertexId a, VertexId b) {
-      w.put_le(a);
-      w.put_le(b);
     });
   }
   w.flush();

@@ -39,11 +39,41 @@ std::string stl_precision_warning(const mesh::Triangulation& tin, const Point3& 
 }
 
 namespace detail {
+namespace {
+
+constexpr std::size_t kFacetBytes = 50;
+
+// One facet: its unit normal, its corners shifted by OFFSET, a zero attribute word.
+void put_facet(BlockWriter& w, const std::string& path, const mesh::Triangulation& tin,
+               const std::array<VertexId, 3>& c, const Point3& offset) {
+  Point3 p[3];
+  for (int i = 0; i < 3; ++i) p[i] = shifted_vertex(path, tin, c[i], offset);
+  const double ux = p[1].x - p[0].x, uy = p[1].y - p[0].y, uz = p[1].z - p[0].z;
+  const double vx = p[2].x - p[0].x, vy = p[2].y - p[0].y, vz = p[2].z - p[0].z;
+  double nx = uy * vz - uz * vy, ny = uz * vx - ux * vz, nz = ux * vy - uy * vx;
+  const double norm = std::sqrt(nx * nx + ny * ny + nz * nz);
+  if (norm > 0) {
+    nx /= norm;
+    ny /= norm;
+    nz /= norm;
+  }
+  w.put_le(static_cast<float>(nx));
+  w.put_le(static_cast<float>(ny));
+  w.put_le(static_cast<float>(nz));
+  for (const Point3& q : p) {
+    w.put_le(static_cast<float>(q.x));
+    w.put_le(static_cast<float>(q.y));
+    w.put_le(static_cast<float>(q.z));
+  }
+  w.put_le(std::uint16_t{0});
+}
+
+}  // namespace
 
 TinWriteStats write_stl(OutputFile& out, const mesh::Triangulation& tin,
                         const TinWriteOptions& options) {
   const std::string& path = out.path();
-  const TriangleCounts counts = count_triangles(tin);
+  const TriangleCounts counts = count_triangles(tin, options.threads);
   if (counts.kept > std::numeric_limits<std::uint32_t>::max())
     throw OutputError(path, "", "more than 2^32 - 1 triangles do not fit in an STL file");
 
@@ -57,33 +87,16 @@ TinWriteStats write_stl(OutputFile& out, const mesh::Triangulation& tin,
   header.resize(80, ' ');
 
   BlockWriter w(out);
-  Progress progress(options.progress, "write", counts.kept);
-  std::uint64_t done = 0;
+  Progress progress(options.progress, "write", tin.triangle_slots());
   w.put(header);
   w.put_le(static_cast<std::uint32_t>(counts.kept));
-  tin.for_each_triangle([&](TriangleId, const std::array<VertexId, 3>& c) {
-    progress.tick(done++);
-    Point3 p[3];
-    for (int i = 0; i < 3; ++i) p[i] = shifted_vertex(path, tin, c[i], options.offset);
-    const double ux = p[1].x - p[0].x, uy = p[1].y - p[0].y, uz = p[1].z - p[0].z;
-    const double vx = p[2].x - p[0].x, vy = p[2].y - p[0].y, vz = p[2].z - p[0].z;
-    double nx = uy * vz - uz * vy, ny = uz * vx - ux * vz, nz = ux * vy - uy * vx;
-    const double norm = std::sqrt(nx * nx + ny * ny + nz * nz);
-    if (norm > 0) {
-      nx /= norm;
-      ny /= norm;
-      nz /= norm;
-    }
-    w.put_le(static_cast<float>(nx));
-    w.put_le(static_cast<float>(ny));
-    w.put_le(static_cast<float>(nz));
-    for (const Point3& q : p) {
-      w.put_le(static_cast<float>(q.x));
-      w.put_le(static_cast<float>(q.y));
-      w.put_le(static_cast<float>(q.z));
-    }
-    w.put_le(std::uint16_t{0});
-  });
+  write_blocks(w, options.threads, tin.triangle_slots(), kFacetBytes, progress, 0,
+               [&](BlockWriter& b, std::size_t begin, std::size_t end) {
+                 for_each_triangle_in(tin, begin, end,
+                                      [&](TriangleId, const std::array<VertexId, 3>& c) {
+                                        put_facet(b, path, tin, c, options.offset);
+                                      });
+               });
   w.flush();
   progress.finish();
 

@@ -46,6 +46,9 @@ struct TinWriteOptions {
                                // refused by LandXML and GeoPackage (format_takes_offset)
   std::string crs_wkt;         // CRS of the vertices; empty = unknown
   std::string target_crs_wkt;  // GeoJSON only: reproject to this CRS (e.g. EPSG:4326)
+  // Threads that format the records of OBJ, PLY, STL and GeoJSON (0 = one per core); the bytes
+  // written are the same for any count.
+  unsigned threads = 1;
   // Stage "write", over the vertices and triangles written; a request to stop is honoured
   // within the file (Cancelled), which is then removed.
   const ProgressFn* progress = nullptr;

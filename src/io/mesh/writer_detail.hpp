@@ -4,12 +4,16 @@
 // share.
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <atomic>
 #include <bit>
+#include <cassert>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <exception>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -18,6 +22,9 @@
 
 #include "core/error.hpp"
 #include "core/json_text.hpp"
+#include "core/parallel.hpp"
+#include "core/progress.hpp"
+#include "core/thread_pool.hpp"
 #include "core/types.hpp"
 #include "io/mesh/tin_writer.hpp"
 #include "io/output_file.hpp"
@@ -38,16 +45,19 @@ inline char* format_double(char* first, char* last, double v) {
 }
 
 // Collects text or packed binary records and passes them to an OutputFile in large blocks,
-// so the hot loops never call into stdio. Numbers are formatted with std::to_chars: a double
-// becomes its shortest text that reads back to the same bits.
+// so the hot loops never call into stdio; or, made without a file, keeps them all (growing as
+// needed) for a block of records formatted apart from the file (write_blocks()). Numbers are
+// formatted with std::to_chars: a double becomes its shortest text that reads back to the same
+// bits.
 class BlockWriter {
  public:
   static constexpr std::size_t kBlock = std::size_t{4} << 20;
   // Longest single item a put_* call appends (a double is at most 24 characters).
   static constexpr std::size_t kMaxItem = 32;
 
-  explicit BlockWriter(OutputFile& out)
-      : out_(out), buf_(std::make_unique<char[]>(kBlock + kMaxItem)) {}
+  explicit BlockWriter(OutputFile& out) : out_(&out), cap_(kBlock), buf_(allocate(cap_)) {}
+  // In memory, starting with room for CAPACITY bytes.
+  explicit BlockWriter(std::size_t capacity) : cap_(capacity), buf_(allocate(cap_)) {}
   BlockWriter(const BlockWriter&) = delete;
   BlockWriter& operator=(const BlockWriter&) = delete;
 
@@ -56,10 +66,16 @@ class BlockWriter {
     buf_[pos_++] = c;
   }
   void put(std::string_view s) {
-    if (pos_ + s.size() > kBlock) flush();
-    if (s.size() > kBlock) {
-      out_.write(s.data(), s.size());
-      return;
+    if (pos_ + s.size() > cap_) {
+      if (out_ == nullptr) {
+        grow(pos_ + s.size());
+      } else {
+        flush();
+        if (s.size() > cap_) {
+          out_->write(s.data(), s.size());
+          return;
+        }
+      }
     }
     std::memcpy(buf_.get() + pos_, s.data(), s.size());
     pos_ += s.size();
@@ -97,20 +113,125 @@ class BlockWriter {
   }
   // Hands the buffered bytes to the OutputFile (also done by the hot paths when a block fills).
   void flush() {
+    assert(out_ != nullptr);
     if (pos_ == 0) return;
-    out_.write(buf_.get(), pos_);
+    out_->write(buf_.get(), pos_);
     pos_ = 0;
   }
-
- private:
-  void room() {
-    if (pos_ >= kBlock) flush();
+  // After the buffered bytes, BYTES straight to the OutputFile (a block formatted apart).
+  void write_block(std::string_view bytes) {
+    flush();
+    out_->write(bytes.data(), bytes.size());
   }
 
-  OutputFile& out_;
+  // In memory: the bytes put so far, and forgetting them (the room stays).
+  std::string_view bytes() const { return {buf_.get(), pos_}; }
+  void clear() { pos_ = 0; }
+
+ private:
+  // CAPACITY bytes and the room for one more item.
+  static std::unique_ptr<char[]> allocate(std::size_t capacity) {
+    return std::make_unique_for_overwrite<char[]>(capacity + kMaxItem);
+  }
+  void room() {
+    if (pos_ >= cap_) full();
+  }
+  void full() {
+    if (out_ != nullptr)
+      flush();
+    else
+      grow(pos_ + kMaxItem);
+  }
+  // In memory: room for at least SIZE bytes, keeping those put.
+  void grow(std::size_t size) {
+    const std::size_t capacity = std::max(size, 2 * cap_);
+    std::unique_ptr<char[]> bigger = allocate(capacity);
+    std::memcpy(bigger.get(), buf_.get(), pos_);
+    buf_ = std::move(bigger);
+    cap_ = capacity;
+  }
+
+  OutputFile* out_ = nullptr;  // null: in memory
+  std::size_t cap_;            // bytes put before a flush (file) or a growth (memory)
   std::unique_ptr<char[]> buf_;
   std::size_t pos_ = 0;
 };
+
+// Bytes aimed at per block of records formatted apart (write_blocks()): a millisecond or so of
+// work, small enough that twice as many blocks as threads cost little memory.
+inline constexpr std::size_t kRecordBlockBytes = std::size_t{1} << 20;
+
+// Records per block when a record takes about RECORD_BYTES.
+inline std::size_t records_per_block(std::size_t record_bytes) {
+  return std::max<std::size_t>(1, kRecordBlockBytes / record_bytes);
+}
+
+// Records [0, N) formatted in blocks of records_per_block(RECORD_BYTES) on THREADS threads
+// (0 = one per core) and written through W in order, so that the bytes are those of one thread
+// formatting them all. FORMAT(BlockWriter&, begin, end) appends records [begin, end) to an
+// in-memory writer. An error FORMAT throws comes out when its block's turn to be written comes:
+// the error of the earliest record, whatever the thread count. While a batch of blocks (one per
+// thread) is formatted, the batch before it is written, so at most twice THREADS blocks are held
+// at once. PROGRESS ticks DONE plus the records written so far, on the calling thread.
+template <class Format>
+void write_blocks(BlockWriter& w, unsigned threads, std::size_t n, std::size_t record_bytes,
+                  Progress& progress, std::uint64_t done, const Format& format) {
+  const std::size_t per_block = records_per_block(record_bytes);
+  const std::size_t blocks = (n + per_block - 1) / per_block;
+  if (blocks == 0) return;
+  const std::size_t width = std::min(thread_count(threads), blocks);  // blocks per batch
+  const std::size_t batches = (blocks + width - 1) / width;
+  struct Block {
+    BlockWriter text{kRecordBlockBytes};
+    std::exception_ptr error;
+  };
+  // Two halves: batch b is formatted in half b % 2 while the other half is written.
+  const auto held = std::make_unique<Block[]>(2 * width);
+  const auto batch_size = [&](std::size_t b) { return std::min(width, blocks - b * width); };
+  std::size_t written = 0;  // records
+  const auto write_batch = [&](std::size_t b) {
+    Block* half = held.get() + (b % 2) * width;
+    for (std::size_t i = 0; i < batch_size(b); ++i) {
+      if (half[i].error) std::rethrow_exception(half[i].error);
+      w.write_block(half[i].text.bytes());
+      half[i].text.clear();
+      written = std::min(n, written + per_block);
+    }
+  };
+  ThreadPool pool(width);
+  for (std::size_t b = 0; b < batches; ++b) {
+    // Chunk 0 writes batch b - 1 (from b = 1 on); the others format batch b.
+    const std::size_t writing = b > 0 ? 1 : 0;
+    auto chunk = [&](std::size_t c, std::size_t) {
+      if (c < writing) return write_batch(b - 1);
+      const std::size_t block = b * width + (c - writing);
+      Block& out = held[(b % 2) * width + (c - writing)];
+      try {
+        format(out.text, block * per_block, std::min(n, (block + 1) * per_block));
+      } catch (...) {
+        out.error = std::current_exception();
+      }
+    };
+    progress.tick(done + written);
+    pool.run(chunk, writing + batch_size(b));
+  }
+  write_batch(batches - 1);
+  progress.tick(done + written);
+}
+
+// Calls f(TriangleId, std::array<VertexId, 3>) for the triangles of slots [BEGIN, END) that
+// Triangulation::for_each_triangle() visits, in the same order.
+template <class F>
+void for_each_triangle_in(const mesh::Triangulation& tin, std::size_t begin, std::size_t end,
+                          F&& f) {
+  for (std::size_t t = begin; t < end; ++t) {
+    const auto id = static_cast<TriangleId>(t);
+    const std::array<VertexId, 3> c = tin.triangle(id);
+    if (c[0] >= mesh::kInfinite || c[1] >= mesh::kInfinite || c[2] >= mesh::kInfinite) continue;
+    if (tin.is_removed(id)) continue;
+    f(id, c);
+  }
+}
 
 // Vertex v with the offset subtracted; throws OutputError for a NaN or infinite coordinate,
 // which no format can carry meaningfully (and would make the GeoJSON invalid).
@@ -141,22 +262,27 @@ inline bool is_zero(const Point3& p) {
 // Real triangles, counted from the corner array (the count written in headers must match the
 // records exactly, whatever the state of Triangulation::triangle_count()): `kept` are written,
 // `removed` (clipped, erased, trimmed) are not. One pass over the slots, as cheap as counting the
-// kept ones alone.
+// kept ones alone, split between THREADS threads (0 = one per core).
 struct TriangleCounts {
   std::uint64_t kept = 0;
   std::uint64_t removed = 0;
 };
-inline TriangleCounts count_triangles(const mesh::Triangulation& tin) {
-  TriangleCounts n;
-  const auto slots = static_cast<TriangleId>(tin.triangle_slots());
-  for (TriangleId t = 0; t < slots; ++t) {
-    if (tin.is_ghost(t)) continue;
-    if (tin.is_removed(t))
-      ++n.removed;
-    else
-      ++n.kept;
-  }
-  return n;
+inline TriangleCounts count_triangles(const mesh::Triangulation& tin, unsigned threads = 1) {
+  std::atomic<std::uint64_t> kept{0}, removed{0};
+  parallel_chunks(threads, tin.triangle_slots(), [&](std::size_t begin, std::size_t end) {
+    TriangleCounts n;
+    for (std::size_t t = begin; t < end; ++t) {
+      const auto id = static_cast<TriangleId>(t);
+      if (tin.is_ghost(id)) continue;
+      if (tin.is_removed(id))
+        ++n.removed;
+      else
+        ++n.kept;
+    }
+    kept += n.kept;
+    removed += n.removed;
+  });
+  return {kept, removed};
 }
 
 // The vertex numbers a writer uses. With no removed triangle (the common case) every vertex is
