@@ -80,19 +80,23 @@ double cells_across(double size, double resolution) {
   return whole >= 1 && std::fabs(n - whole) <= 1e-9 * whole ? whole : 0;
 }
 
+// The plan's extent's larger side.
+double extent_side(const TilePlan& plan) {
+  const BBox& e = plan.extent;
+  return std::max(e.max_x - e.min_x, e.max_y - e.min_y);
+}
+
 // A tile job's own --buffer, at most the plan's extent's larger side plus the tile size: the
 // buffered box of a tile that meets the data then holds all of it, and a larger one reads
 // nothing more, only grows the rounding margins of the tile's tests (at 1e308 they swallow it).
 double largest_buffer(const TilePlan& plan) {
   if (tiles::empty(plan.extent)) return std::numeric_limits<double>::infinity();
-  const BBox& e = plan.extent;
-  return std::max(e.max_x - e.min_x, e.max_y - e.min_y) + plan.tile_size;
+  return extent_side(plan) + plan.tile_size;
 }
 
 void check_buffer(double buffer, const TilePlan& plan) {
   const double most = largest_buffer(plan);
-  const BBox& e = plan.extent;
-  const double side = std::max(e.max_x - e.min_x, e.max_y - e.min_y);
+  const double side = extent_side(plan);
   if (buffer > most)
     throw UsageError("--buffer: " + number(buffer) + " reaches beyond the plan's data: " +
                      number(most) + " (the extent's larger side, " + number(side) +
