@@ -263,10 +263,12 @@ void check_tile_options(const TileOptions& t, const BuildOptions& o) {
            "a flat area and the vertices that fix it span as far as the contours around it, "
            "beyond what a tile reads" +
                whole_job);
-  if (o.max_error || o.max_vertices > 0)
-    refuse(o.max_error ? "--max-error" : "--max-vertices",
-           "each tile's greedy insertion would keep its own points, and the seams would not "
-           "match (simplify the merged TIN, or each tile without --plan)");
+  // --max-error is a bound at every point, which each tile keeps on its own (tile_simplify.hpp);
+  // a vertex budget is one count over the whole TIN.
+  if (o.max_vertices > 0)
+    refuse("--max-vertices",
+           "a vertex budget counts the whole TIN's vertices, which no tile sees (give --max-error, "
+           "or simplify without --plan)");
   if (!o.soft_lines.empty())
     refuse("--soft-lines",
            "a soft line's vertices take their heights from the TIN of the points and hard lines "
@@ -350,6 +352,8 @@ TileJob::TileJob(const BuildOptions& job_options, const pipeline::CheckedOptions
 std::vector<const pipeline::Stage*> tile_stages() {
   std::vector<const pipeline::Stage*> list;
   for (const pipeline::Stage* stage : pipeline::stages()) {
+    // A tile simplifies in the tile stage, once the triangles near it are proven final.
+    if (stage->name == "simplify") continue;
     list.push_back(stage);
     if (stage->name == "erase") list.push_back(&tile_stage);
   }

@@ -294,10 +294,10 @@ TEST(Tiles, OptionsThatCannotBeTiledAreRefused) {
   EXPECT_NE(error_of<UsageError>([&] { tiles::build_tile(t, o); }).find("--max-edge"),
             std::string::npos);
   o.max_edge = 0;
-  o.max_error = 0.1;
-  EXPECT_NE(error_of<UsageError>([&] { tiles::build_tile(t, o); }).find("--max-error"),
+  o.max_vertices = 100;
+  EXPECT_NE(error_of<UsageError>([&] { tiles::build_tile(t, o); }).find("--max-vertices"),
             std::string::npos);
-  o.max_error.reset();
+  o.max_vertices = 0;
   o.inputs = {"p.xyz"};
   EXPECT_NE(error_of<UsageError>([&] { tiles::build_tile(t, o); }).find("come from the plan"),
             std::string::npos);
