@@ -66,8 +66,9 @@ double edge_height(Point2 p, double zp, Point2 q, double zq, Point2 c) {
 
 // The height of the plane through the three corners at C: from the corners in (x, y) order.
 double plane_height(std::array<Point3, 3> p, Point2 c) {
-  std::sort(p.begin(), p.end(),
-            [](const Point3& a, const Point3& b) { return xy_less({a.x, a.y}, {b.x, b.y}); });
+  std::sort(p.begin(), p.end(), [](const Point3& a, const Point3& b) {
+    return xy_less({a.x, a.y}, {b.x, b.y});
+  });
   const double ux = p[1].x - p[0].x, uy = p[1].y - p[0].y, uz = p[1].z - p[0].z;
   const double vx = p[2].x - p[0].x, vy = p[2].y - p[0].y, vz = p[2].z - p[0].z;
   const double det = ux * vy - uy * vx;
@@ -146,7 +147,7 @@ bool in_closed(const BBox& b, Point2 p) {
 // by segments, counter-clockwise around the tile; the hull edges the tile takes whole (see
 // TurnedEnd).
 struct Border {
-  double error = 0;  // the largest of a section point
+  double error = 0;                                            // the largest of a section point
   std::vector<std::pair<std::uint32_t, std::uint32_t>> chain;  // the tile on the left
   std::vector<std::pair<Point2, Point2>> whole_edges;
 };
@@ -171,8 +172,8 @@ Border add_border(const Triangulation& tin, const BBox& box, const TileSides& si
       const std::size_t a = kept[j - 1], b = kept[j];
       const double slope = (height[b] - height[a]) / (place[b] - place[a]);
       for (std::size_t i = a + 1; i < b; ++i)
-        border.error =
-            std::max(border.error, std::fabs(height[i] - (height[a] + slope * (place[i] - place[a]))));
+        border.error = std::max(border.error,
+                                std::fabs(height[i] - (height[a] + slope * (place[i] - place[a]))));
     }
     std::vector<Point3> path;
     if (section.first) path.push_back(section.first->vertex);
@@ -200,14 +201,17 @@ Border add_border(const Triangulation& tin, const BBox& box, const TileSides& si
 
 // The parts of constrained edge A-B in the tile's closed box, as pairs of the tile's points:
 // cut where the edge crosses the sides (the same doubles as the sections') and at a corner on it.
-std::vector<std::pair<std::uint32_t, std::uint32_t>> cut_to_tile(
-    const BBox& box, const TileSides& sides, const TilePoints& points, const Border& border,
-    Point2 a, double za, Point2 b, double zb) {
+std::vector<std::pair<std::uint32_t, std::uint32_t>> cut_to_tile(const BBox& box,
+                                                                 const TileSides& sides,
+                                                                 const TilePoints& points,
+                                                                 const Border& border, Point2 a,
+                                                                 double za, Point2 b, double zb) {
   for (const auto& [p, q] : border.whole_edges)
     if ((p == a && q == b) || (p == b && q == a)) {
       const std::uint32_t u = points.find(a), v = points.find(b);
       if (u == kNoId || v == kNoId)
-        throw InternalError("tile simplification: a hull edge the tile takes whole ends outside it");
+        throw InternalError(
+            "tile simplification: a hull edge the tile takes whole ends outside it");
       return {{u, v}};
     }
   const double dx = b.x - a.x, dy = b.y - a.y;
@@ -237,8 +241,8 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> cut_to_tile(
       char where[96];
       std::snprintf(where, sizeof where, "(%.17g, %.17g)", u == kNoId ? p.x : q.x,
                     u == kNoId ? p.y : q.y);
-      throw InternalError(std::string("tile simplification: a constrained edge ends at ") +
-                          where + ", which is no point of the tile");
+      throw InternalError(std::string("tile simplification: a constrained edge ends at ") + where +
+                          ", which is no point of the tile");
     }
     parts.push_back({u, v});
   }
@@ -267,8 +271,8 @@ std::optional<TurnedEnd> turned_end(const Triangulation& tin, const Side& side, 
   const TriangleId t = mesh::triangle_of(end.edge);
   const VertexId u = tin.origin(end.edge), w = tin.dest(end.edge);
   VertexId to = kNoId;
-  if (next.rank == 2 && (mesh::triangle_of(next.edge) == t ||
-                         mesh::triangle_of(tin.twin(next.edge)) == t)) {
+  if (next.rank == 2 &&
+      (mesh::triangle_of(next.edge) == t || mesh::triangle_of(tin.twin(next.edge)) == t)) {
     const VertexId a = tin.origin(next.edge), b = tin.dest(next.edge);
     to = a == u || b == u ? u : w;  // the end the two crossed edges share
   } else if (next.rank == 1 && tin.apex(end.edge) == next.vertex) {
@@ -345,8 +349,7 @@ void add_constraints(const TileJob& job, const TileSides& sides, const Border& b
     return cut_to_tile(box, sides, points, border, p, tin.z(a), q, tin.z(b));
   };
   std::set<std::pair<std::uint32_t, std::uint32_t>> seen;
-  for (const constraints::Segment& s : points.segments)
-    seen.insert(std::minmax(s.a, s.b));
+  for (const constraints::Segment& s : points.segments) seen.insert(std::minmax(s.a, s.b));
   std::vector<constraints::Segment> added;
   tin.for_each_constrained_edge([&](EdgeId e) {
     for (const auto& [u, v] : cut(tin.origin(e), tin.dest(e)))
@@ -453,8 +456,8 @@ void simplify_tile(TileJob& job) {
   simplify::SimplifyOptions options;
   options.max_error = tolerance;
   options.threads = job.options.threads;
-  simplify::SimplifyResult r = simplify::simplify(points.xy, points.z, points.kept,
-                                                  points.segments, options, job.stage_progress());
+  simplify::SimplifyResult r = simplify::simplify(points.xy, points.z, points.kept, points.segments,
+                                                  options, job.stage_progress());
   std::vector<VertexId> vertex_of_point(points.xy.size(), kNoId);
   for (VertexId v = 0; v < r.tin.vertex_count(); ++v)
     if (r.point_of_vertex[v] != kNoId) vertex_of_point[r.point_of_vertex[v]] = v;

@@ -49,7 +49,7 @@ struct SectionPoint {
 // the line, and the hull edge whole. (Only where that end lies in the two tiles of the side: a
 // border along an edge into a third tile would cross that tile's border.)
 struct TurnedEnd {
-  Point3 vertex;     // the hull edge's end the border turns to
+  Point3 vertex;          // the hull edge's end the border turns to
   Point2 hull_a, hull_b;  // the hull edge
 };
 
