@@ -103,8 +103,8 @@ std::optional<double> height_at(const Triangulation& tin, Point2 c) {
 
 // ---- the tile's points ------------------------------------------------------------------------
 
-// The points of the tile's greedy run: the border vertices (kept), the TIN's vertices strictly
-// inside the tile, one point an (x, y).
+// The points of the tile's greedy run: the border vertices (kept; found by their x, y), the TIN's
+// vertices strictly inside the tile, one point an (x, y).
 struct TilePoints {
   std::vector<Point2> xy;
   std::vector<double> z;
@@ -112,14 +112,22 @@ struct TilePoints {
   std::vector<constraints::Segment> segments;
   std::map<std::pair<double, double>, std::uint32_t> at;
 
-  std::uint32_t add(Point2 p, double height, bool keep) {
+  // A border vertex, kept.
+  std::uint32_t add_kept(Point2 p, double height) {
     const auto [it, added] = at.try_emplace({p.x, p.y}, static_cast<std::uint32_t>(xy.size()));
     if (added) {
       xy.push_back(p);
       z.push_back(height);
-      if (keep) kept.push_back(it->second);
+      kept.push_back(it->second);
     }
     return it->second;
+  }
+  // A vertex inside the tile, unless the border holds it already (a hull corner it turns to).
+  std::uint32_t add_inner(Point2 p, double height) {
+    if (const std::uint32_t id = find(p); id != kNoId) return id;
+    xy.push_back(p);
+    z.push_back(height);
+    return static_cast<std::uint32_t>(xy.size() - 1);
   }
   std::uint32_t find(Point2 p) const {
     const auto it = at.find({p.x, p.y});
@@ -185,7 +193,7 @@ Border add_border(const Triangulation& tin, const BBox& box, const TileSides& si
     if (sides.backwards[k]) std::reverse(path.begin(), path.end());
     std::uint32_t previous = kNoId;
     for (const Point3& p : path) {
-      const std::uint32_t id = points.add({p.x, p.y}, p.z, true);
+      const std::uint32_t id = points.add_kept({p.x, p.y}, p.z);
       if (previous != kNoId && previous != id) {
         points.segments.push_back({previous, id, 0});
         border.chain.push_back({previous, id});
@@ -201,42 +209,49 @@ Border add_border(const Triangulation& tin, const BBox& box, const TileSides& si
 
 // The parts of constrained edge A-B in the tile's closed box, as pairs of the tile's points:
 // cut where the edge crosses the sides (the same doubles as the sections') and at a corner on it.
-std::vector<std::pair<std::uint32_t, std::uint32_t>> cut_to_tile(const BBox& box,
-                                                                 const TileSides& sides,
-                                                                 const TilePoints& points,
-                                                                 const Border& border, Point2 a,
-                                                                 double za, Point2 b, double zb) {
+// IA, IB: the tile's points at A and B (kNoId: none).
+std::vector<std::pair<std::uint32_t, std::uint32_t>> cut_to_tile(
+    const BBox& box, const TileSides& sides, const TilePoints& points, const Border& border,
+    Point2 a, double za, std::uint32_t ia, Point2 b, double zb, std::uint32_t ib) {
   for (const auto& [p, q] : border.whole_edges)
     if ((p == a && q == b) || (p == b && q == a)) {
-      const std::uint32_t u = points.find(a), v = points.find(b);
+      const std::uint32_t u = ia != kNoId ? ia : points.find(a);
+      const std::uint32_t v = ib != kNoId ? ib : points.find(b);
       if (u == kNoId || v == kNoId)
         throw InternalError(
             "tile simplification: a hull edge the tile takes whole ends outside it");
       return {{u, v}};
     }
   const double dx = b.x - a.x, dy = b.y - a.y;
-  std::vector<std::pair<double, Point2>> on;  // (place along A-B, point)
-  const auto add = [&](Point2 p) { on.push_back({(p.x - a.x) * dx + (p.y - a.y) * dy, p}); };
-  if (in_closed(box, a)) add(a);
-  if (in_closed(box, b)) add(b);
+  struct On {
+    double place;  // along A-B
+    Point2 at;
+    std::uint32_t id;
+  };
+  std::vector<On> on;
+  const auto add = [&](Point2 p, std::uint32_t id) {
+    on.push_back({(p.x - a.x) * dx + (p.y - a.y) * dy, p, id != kNoId ? id : points.find(p)});
+  };
+  if (in_closed(box, a)) add(a, ia);
+  if (in_closed(box, b)) add(b, ib);
   // A crossing the border turned away from (TurnedEnd) is no point of the tile.
   for (const Side& s : sides.side)
     if (const auto c = crossing(s, a, za, b, zb);
         c && s.lo <= c->first && c->first <= s.hi && points.find(point_on(s, c->first)) != kNoId)
-      add(point_on(s, c->first));
+      add(point_on(s, c->first), kNoId);
   for (const Point2 c : {Point2{box.min_x, box.min_y}, Point2{box.max_x, box.min_y},
                          Point2{box.max_x, box.max_y}, Point2{box.min_x, box.max_y}})
     if (orient2d(a, b, c) == 0 && (c.x - a.x) * dx + (c.y - a.y) * dy > 0 &&
         (c.x - b.x) * dx + (c.y - b.y) * dy < 0)
-      add(c);
-  std::sort(on.begin(), on.end(), [](const auto& p, const auto& q) {
-    return p.first < q.first || (p.first == q.first && xy_less(p.second, q.second));
+      add(c, kNoId);
+  std::sort(on.begin(), on.end(), [](const On& p, const On& q) {
+    return p.place < q.place || (p.place == q.place && xy_less(p.at, q.at));
   });
   std::vector<std::pair<std::uint32_t, std::uint32_t>> parts;
   for (std::size_t i = 1; i < on.size(); ++i) {
-    const Point2 p = on[i - 1].second, q = on[i].second;
+    const Point2 p = on[i - 1].at, q = on[i].at;
     if (p == q || !in_closed(box, {(p.x + q.x) / 2, (p.y + q.y) / 2})) continue;
-    const std::uint32_t u = points.find(p), v = points.find(q);
+    const std::uint32_t u = on[i - 1].id, v = on[i].id;
     if (u == kNoId || v == kNoId) {
       char where[96];
       std::snprintf(where, sizeof where, "(%.17g, %.17g)", u == kNoId ? p.x : q.x,
@@ -338,7 +353,8 @@ namespace {
 // The TIN's constrained edges cut to the tile as segments, and the job's pieces as pieces of the
 // tile's points (with their sources).
 void add_constraints(const TileJob& job, const TileSides& sides, const Border& border,
-                     TilePoints& points, std::vector<constraints::Piece>& pieces) {
+                     std::span<const std::uint32_t> point_of_full, TilePoints& points,
+                     std::vector<constraints::Piece>& pieces) {
   const Triangulation& tin = job.mesh.tin;
   const BBox& box = job.tile.box;
   const auto cut = [&](VertexId a, VertexId b) {
@@ -346,7 +362,8 @@ void add_constraints(const TileJob& job, const TileSides& sides, const Border& b
     if (std::max(p.x, q.x) < box.min_x || std::min(p.x, q.x) > box.max_x ||
         std::max(p.y, q.y) < box.min_y || std::min(p.y, q.y) > box.max_y)
       return std::vector<std::pair<std::uint32_t, std::uint32_t>>{};
-    return cut_to_tile(box, sides, points, border, p, tin.z(a), q, tin.z(b));
+    return cut_to_tile(box, sides, points, border, p, tin.z(a), point_of_full[a], q, tin.z(b),
+                       point_of_full[b]);
   };
   std::set<std::pair<std::uint32_t, std::uint32_t>> seen;
   for (const constraints::Segment& s : points.segments) seen.insert(std::minmax(s.a, s.b));
@@ -442,7 +459,7 @@ void simplify_tile(TileJob& job) {
   for (VertexId v = 0; v < full.vertex_count(); ++v) {
     const Point2 p = full.point(v);
     if (b.min_x < p.x && p.x < b.max_x && b.min_y < p.y && p.y < b.max_y)
-      point_of_full[v] = points.add(p, full.z(v), false);
+      point_of_full[v] = points.add_inner(p, full.z(v));
     else if (in_closed(b, p))
       point_of_full[v] = points.find(p);  // on a border: a border vertex, or left out
   }
@@ -451,7 +468,7 @@ void simplify_tile(TileJob& job) {
     return;  // the tile owns no triangle (the TIN only touches it)
   }
   std::vector<constraints::Piece> pieces;
-  add_constraints(job, sides, border, points, pieces);
+  add_constraints(job, sides, border, point_of_full, points, pieces);
 
   simplify::SimplifyOptions options;
   options.max_error = tolerance;
