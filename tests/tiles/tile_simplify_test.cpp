@@ -3,6 +3,7 @@
 // every point of the input within the tolerance of the merged TIN, every constrained edge of the
 // full TIN a chain of constrained edges of the merged one, the outline the full TIN's, and the
 // vertex count near the single job's simplification of the same input.
+#include <gdal_priv.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -230,6 +231,58 @@ TEST(TileSimplify, LatticeTies) {
   const Inputs in{{write_xyz(dir / "grid.xyz", lattice(80, kX0, kY0, 2))}, {}};
   const Measured m = simplify_in_tiles(in, dir / "t", 50, 0.05);
   EXPECT_LE(m.ratio, 1.10);
+}
+
+// Each simplified tile's DEM holds the merged TIN's height at the centre of every cell of its box
+// that the tile's TIN covers.
+TEST(TileSimplify, TileDemsAreTheMergedTinsHeights) {
+  const fs::path dir = scratch();
+  const Inputs in{{write_xyz(dir / "points.xyz", random_points(3000, kX0, kY0, 300, 16))}, {}};
+  pipeline::BuildOptions base;
+  base.max_error = 0.05;
+  const std::string p = plan(in, dir, 100, 40);
+  const std::size_t n = tiles::read_plan(p).tiles.size();
+  tiles::MergeOptions m;
+  for (std::size_t i = 0; i < n; ++i)
+    m.inputs.push_back(build_tile(p, static_cast<std::int64_t>(i), dir, 2, base));
+  m.output = (dir / "merged.ply").string();
+  m.overwrite = true;
+  tiles::merge_tiles(m);
+  const io::PlyMesh merged = io::read_ply(m.output);
+  const Located located(merged);
+  GDALAllRegister();
+  std::size_t compared = 0, uncovered = 0;
+  double worst = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::string tif = (dir / ("tile_" + std::to_string(i) + ".tif")).string();
+    const GDALDatasetUniquePtr ds(GDALDataset::Open(tif.c_str(), GDAL_OF_RASTER));
+    ASSERT_TRUE(ds) << tif;
+    double gt[6];
+    ds->GetGeoTransform(gt);
+    const int w = ds->GetRasterXSize(), h = ds->GetRasterYSize();
+    GDALRasterBand* band = ds->GetRasterBand(1);
+    const double nodata = band->GetNoDataValue();
+    std::vector<double> cells(static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
+    ASSERT_EQ(band->RasterIO(GF_Read, 0, 0, w, h, cells.data(), w, h, GDT_Float64, 0, 0), CE_None);
+    for (int r = 0; r < h; ++r)
+      for (int c = 0; c < w; ++c) {
+        const double v = cells[static_cast<std::size_t>(r) * static_cast<std::size_t>(w) +
+                               static_cast<std::size_t>(c)];
+        const double z = located.height({gt[0] + (c + 0.5) * gt[1], gt[3] + (r + 0.5) * gt[5], 0});
+        if (std::isnan(z)) continue;
+        if (v == nodata) {
+          ++uncovered;
+          continue;
+        }
+        ++compared;
+        worst = std::max(worst, std::fabs(v - z));
+      }
+  }
+  std::printf("%zu cells compared, largest difference %.3g; %zu in the TIN without a value\n",
+              compared, worst, uncovered);
+  EXPECT_GT(compared, 9u * 2000u);
+  EXPECT_LE(worst, 1e-3);                 // the DEM's 32-bit floats
+  EXPECT_LE(uncovered, compared / 1000);  // cells in the slivers at the hull (TurnedEnd)
 }
 
 // The commands as a user runs them: plan, each tile with --max-error, merge.
