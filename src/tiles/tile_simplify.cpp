@@ -158,6 +158,7 @@ struct Border {
   double error = 0;                                            // the largest of a section point
   std::vector<std::pair<std::uint32_t, std::uint32_t>> chain;  // the tile on the left
   std::vector<std::pair<Point2, Point2>> whole_edges;
+  std::optional<Point2> stuck;  // Section::stuck, of any side
 };
 
 Border add_border(const Triangulation& tin, const BBox& box, const TileSides& sides,
@@ -167,6 +168,7 @@ Border add_border(const Triangulation& tin, const BBox& box, const TileSides& si
   for (int k = 0; k < 4; ++k) {
     const Side& side = sides.side[k];
     const Section section = tin_section(tin, side, on_constraint);
+    if (section.stuck) border.stuck = section.stuck;
     std::vector<double> place, height;
     std::vector<std::uint8_t> forced;
     for (const SectionPoint& s : section.points) {
@@ -340,6 +342,13 @@ Section tin_section(const Triangulation& tin, const Side& side,
   if (merged.size() >= 2) {
     section.first = turned_end(tin, side, merged.front(), merged[1]);
     section.last = turned_end(tin, side, merged.back(), merged[merged.size() - 2]);
+    const auto leaves_hull = [&](const Found& f) {
+      return f.rank == 2 && tin.is_ghost(mesh::triangle_of(tin.twin(f.edge)));
+    };
+    if (!section.first && leaves_hull(merged.front()))
+      section.stuck = point_on(side, merged.front().point.along);
+    if (!section.last && leaves_hull(merged.back()))
+      section.stuck = point_on(side, merged.back().point.along);
   }
   for (std::size_t i = 0; i < merged.size(); ++i) {
     if ((i == 0 && section.first) || (i + 1 == merged.size() && section.last)) continue;
@@ -454,6 +463,15 @@ void simplify_tile(TileJob& job) {
   const TileSides sides(tile.box);
   TilePoints points;
   const Border border = add_border(full, tile.box, sides, on_constraint, tolerance, points);
+  if (border.stuck) {
+    char at[80];
+    std::snprintf(at, sizeof at, "(%.3f, %.3f)", border.stuck->x, border.stuck->y);
+    job.warn("tile " + std::to_string(tile.index) + ": the data's hull crosses the border at " +
+             at +
+             " in a triangle that reaches beyond the two tiles of that border: the border ends "
+             "there, a hair off the hull, and the merge may find the outline not quite convex "
+             "(larger tiles avoid it)");
+  }
   std::vector<std::uint32_t> point_of_full(full.vertex_count(), kNoId);
   const BBox& b = tile.box;
   for (VertexId v = 0; v < full.vertex_count(); ++v) {

@@ -58,6 +58,10 @@ struct TurnedEnd {
 struct Section {
   std::vector<SectionPoint> points;
   std::optional<TurnedEnd> first, last;
+  // Where the line leaves the hull at an end that cannot turn (the triangle there reaches a third
+  // tile, or a corner of the tile lies in it): the border ends at the crossing, and the merged
+  // outline may not be exactly convex there.
+  std::optional<Point2> stuck;
 };
 
 // The section of TIN along SIDE. ON_CONSTRAINT: per vertex, 1 when it ends a constrained edge.
