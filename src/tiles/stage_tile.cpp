@@ -30,6 +30,7 @@
 #include "predicates/predicates.hpp"
 #include "tiles/merge_outline.hpp"
 #include "tiles/tile_job.hpp"
+#include "tiles/tile_simplify.hpp"
 
 namespace tincdt::tiles {
 namespace {
@@ -283,6 +284,7 @@ void run(TileJob& job) {
 
   const std::string name = "tile " + std::to_string(tile.index);
   if (tally.failed > 0) throw_buffer_too_small(tile, name, tally);
+  if (job.options.max_error) detail::simplify_tile(job);  // from the final triangles only
   if (!job.outline.empty()) {
     io::OutputFile& out = job.add_output(job.outline, "outline");
     detail::write_outline(out, outline_of(tin), "");

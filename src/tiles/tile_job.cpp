@@ -80,19 +80,23 @@ double cells_across(double size, double resolution) {
   return whole >= 1 && std::fabs(n - whole) <= 1e-9 * whole ? whole : 0;
 }
 
+// The plan's extent's larger side.
+double extent_side(const TilePlan& plan) {
+  const BBox& e = plan.extent;
+  return std::max(e.max_x - e.min_x, e.max_y - e.min_y);
+}
+
 // A tile job's own --buffer, at most the plan's extent's larger side plus the tile size: the
 // buffered box of a tile that meets the data then holds all of it, and a larger one reads
 // nothing more, only grows the rounding margins of the tile's tests (at 1e308 they swallow it).
 double largest_buffer(const TilePlan& plan) {
   if (tiles::empty(plan.extent)) return std::numeric_limits<double>::infinity();
-  const BBox& e = plan.extent;
-  return std::max(e.max_x - e.min_x, e.max_y - e.min_y) + plan.tile_size;
+  return extent_side(plan) + plan.tile_size;
 }
 
 void check_buffer(double buffer, const TilePlan& plan) {
   const double most = largest_buffer(plan);
-  const BBox& e = plan.extent;
-  const double side = std::max(e.max_x - e.min_x, e.max_y - e.min_y);
+  const double side = extent_side(plan);
   if (buffer > most)
     throw UsageError("--buffer: " + number(buffer) + " reaches beyond the plan's data: " +
                      number(most) + " (the extent's larger side, " + number(side) +
@@ -259,10 +263,12 @@ void check_tile_options(const TileOptions& t, const BuildOptions& o) {
            "a flat area and the vertices that fix it span as far as the contours around it, "
            "beyond what a tile reads" +
                whole_job);
-  if (o.max_error || o.max_vertices > 0)
-    refuse(o.max_error ? "--max-error" : "--max-vertices",
-           "each tile's greedy insertion would keep its own points, and the seams would not "
-           "match (simplify the merged TIN, or each tile without --plan)");
+  // --max-error is a bound at every point, which each tile keeps on its own (tile_simplify.hpp);
+  // a vertex budget is one count over the whole TIN.
+  if (o.max_vertices > 0)
+    refuse("--max-vertices",
+           "a vertex budget counts the whole TIN's vertices, which no tile sees (give --max-error, "
+           "or simplify without --plan)");
   if (!o.soft_lines.empty())
     refuse("--soft-lines",
            "a soft line's vertices take their heights from the TIN of the points and hard lines "
@@ -346,6 +352,8 @@ TileJob::TileJob(const BuildOptions& job_options, const pipeline::CheckedOptions
 std::vector<const pipeline::Stage*> tile_stages() {
   std::vector<const pipeline::Stage*> list;
   for (const pipeline::Stage* stage : pipeline::stages()) {
+    // A tile simplifies in the tile stage, once the triangles near it are proven final.
+    if (stage->name == "simplify") continue;
     list.push_back(stage);
     if (stage->name == "erase") list.push_back(&tile_stage);
   }

@@ -86,8 +86,8 @@ struct TileSetup {
 
 // The rules of tiled jobs that need no file: --tile, --buffer and --outline need --plan, --plan
 // needs --tile, and the options that cannot give the same triangles in every tile (--max-edge,
-// --fix-flats, surface features, --restore other than delaunay) are refused, as are inputs and
-// their read options given beside a plan. Throws UsageError.
+// --max-vertices, --fix-flats, surface features, --restore other than delaunay) are refused, as
+// are inputs and their read options given beside a plan. Throws UsageError.
 void check_tile_options(const TileOptions& tiling, const pipeline::BuildOptions& options);
 
 // check_tile_options(), then pipeline::check_options() on OPTIONS, the plan (when given) standing
@@ -123,12 +123,14 @@ struct TileJob : pipeline::Job {
   const std::string outline;  // TileOptions::outline
 };
 
-// tile: keeps the tile's own triangles, each proven final (stage_tile.cpp). It runs only in a
+// tile: keeps the tile's own triangles, each proven final (stage_tile.cpp), or with --max-error
+// the tile's part of the simplified TIN made from them (tile_simplify.hpp). It runs only in a
 // TileJob.
 extern const pipeline::Stage tile_stage;
 
 // The stages of a tile job: the pipeline's, with the tile stage after the polygon stages (the
-// last that remove triangles) and before the checks and outputs.
+// last that remove triangles) and before the checks and outputs. Without the simplify stage: with
+// --max-error the tile stage simplifies the tile (tile_simplify.hpp).
 std::vector<const pipeline::Stage*> tile_stages();
 
 // Builds tile TILING.tile of plan TILING.plan as pipeline::build() builds a job: check_options(),
