@@ -43,7 +43,7 @@ inline std::string number_text(double v) {
     std::snprintf(text, sizeof text, "%g", v);
     return text;
   }
-  if (size >= 1e6) {  // %g would switch to an exponent here
+  if (size >= 999999.5) {  // %g would switch to an exponent here (six digits round up)
     const double unit = std::pow(10.0, std::floor(std::log10(size)) - 5);
     std::snprintf(text, sizeof text, "%.0f", std::round(v / unit) * unit);
   } else {

@@ -119,12 +119,19 @@ void OutputSet::make_folders(const std::string& folder) {
 
 OutputFile& OutputSet::add(const std::string& path, std::string kind) {
   if (committed_) throw OutputError(path, "", "the outputs were committed already");
-  for (const Entry& e : entries_)
-    if (e.file->path() == path)
-      throw OutputError(path, "", "is both the " + e.kind + " and the " + kind + " output");
+  if (const auto it = by_path_.find(path); it != by_path_.end())
+    throw OutputError(path, "",
+                      "is both the " + entries_[it->second].kind + " and the " + kind + " output");
   auto file = std::make_unique<OutputFile>(path, overwrite_);
+  by_path_.emplace(path, entries_.size());
+  by_file_.emplace(file.get(), entries_.size());
   entries_.push_back({std::move(kind), std::move(file)});
   return *entries_.back().file;
+}
+
+const OutputSet::Entry* OutputSet::entry_of(const OutputFile& file) const {
+  const auto it = by_file_.find(&file);
+  return it == by_file_.end() ? nullptr : &entries_[it->second];
 }
 
 void OutputSet::commit(const std::function<bool()>& proceed) {

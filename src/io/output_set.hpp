@@ -8,6 +8,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "io/output_file.hpp"
@@ -38,6 +39,8 @@ class OutputSet {
   OutputFile& add(const std::string& path, std::string kind);
 
   const std::vector<Entry>& entries() const { return entries_; }
+  // The entry of FILE, an output of the set (null for another file).
+  const Entry* entry_of(const OutputFile& file) const;
   bool overwrite() const { return overwrite_; }
 
   // Closes every file (flushed to disk). Then, with SIGINT, SIGTERM and SIGHUP blocked on this
@@ -51,6 +54,9 @@ class OutputSet {
 
  private:
   std::vector<Entry> entries_;
+  // Lookups by path and by file, so that a pyramid's many outputs cost constant time each.
+  std::unordered_map<std::string, std::size_t> by_path_;
+  std::unordered_map<const OutputFile*, std::size_t> by_file_;
   std::vector<std::string> made_folders_;  // in the order made, parents first
   bool overwrite_;
   bool committed_ = false;

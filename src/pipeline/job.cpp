@@ -58,20 +58,23 @@ void Job::wait_for_quality() {
 }
 
 // The CRS the output of KIND is written in: the target CRS for the outputs reprojected into it,
-// none for a picture, else the TIN's.
+// none for a picture, longitude and latitude on WGS 84 for the web terrain, else the TIN's.
 const std::string& Job::crs_of_output(const std::string& kind) const {
   static const std::string none;
   if (kind == "preview") return none;
+  if (kind == "terrain") {
+    static const std::string wgs84 = io::crs_from_user("EPSG:4326");
+    return wgs84;
+  }
   const bool reprojected = kind == "tin" || kind == "constraint_lines";
   return reprojected && !write.target_crs_wkt.empty() ? write.target_crs_wkt : crs_wkt;
 }
 
 void Job::finish_output(io::OutputFile& out) {
   out.close();
-  for (const io::OutputSet::Entry& e : outputs.entries())
-    if (e.file.get() == &out)
-      report.outputs.push_back(
-          {out.path(), e.kind, out.bytes_written(), crs_names.label(crs_of_output(e.kind))});
+  if (const io::OutputSet::Entry* e = outputs.entry_of(out))
+    report.outputs.push_back(
+        {out.path(), e->kind, out.bytes_written(), crs_names.label(crs_of_output(e->kind))});
 }
 
 void Job::start_stage(const StageStart& stage, std::span<const std::string_view> phases) {

@@ -18,8 +18,6 @@ namespace {
 
 using io::terrain::GeoRectangle;
 
-constexpr double kMetresPerDegree = 111320.0;
-
 // A node of a line in the tile: a vertex of the TIN inside the rectangle, or a point on a side
 // (at a grid place).
 struct Node {
@@ -86,9 +84,11 @@ std::vector<std::pair<Node, Node>> pieces_in(const TerrainSource& source, const 
       const Node &n0 = nodes[i].second, &n1 = nodes[i + 1].second;
       if (!strictly_inside((n0.u + n1.u) / 2, (n0.v + n1.v) / 2)) continue;
       const Node a = settle(n0), b = settle(n1);
-      if (a.on_side && b.on_side && (a.u == b.u || a.v == b.v) &&
-          (a.u == 0 || a.u == kGridMax || a.v == 0 || a.v == kGridMax))
-        continue;  // along a side: the border holds it
+      // Along a side (both ends on the same side line), the border holds it; a piece straight
+      // across the tile is the line's.
+      const bool same_side_u = a.u == b.u && (a.u == 0 || a.u == kGridMax);
+      const bool same_side_v = a.v == b.v && (a.v == 0 || a.v == kGridMax);
+      if (a.on_side && b.on_side && (same_side_u || same_side_v)) continue;
       if (a.id != b.id) out.push_back({a, b});
     }
   }
@@ -169,8 +169,7 @@ std::size_t add_lines(const TerrainSource& source, const GeoRectangle& r, double
         if (border == nullptr) continue;  // the border has no vertex there: no crossing
         id = *border;
       } else {
-        if (!strictly_inside(place.x, place.y) || place.x >= kGridMax || place.y >= kGridMax)
-          continue;  // within half a step of a side
+        if (!strictly_inside(place.x, place.y)) continue;  // within half a step of a side
         id = p.kept_point(place, n.z);
       }
       if (previous != UINT32_MAX && id != previous) {

@@ -4,24 +4,28 @@
 #include <cassert>
 #include <cmath>
 #include <numbers>
+#include <span>
+
+#include "core/error.hpp"
 
 namespace tincdt::web_terrain {
 namespace {
-
-// Metres per degree of latitude, near enough for a spacing estimate.
-constexpr double kMetresPerDegree = 111320.0;
 
 double orient(const Point3& a, const Point3& b, double x, double y) {
   return (b.x - a.x) * (y - a.y) - (b.y - a.y) * (x - a.x);
 }
 
-// CSR rows from per-cell counts: begin[c] = start of cell c.
+// CSR rows from per-cell counts: begin[c] = start of cell c. The memberships of one index are
+// counted in 64 bits and refused beyond 32.
 void prefix_sums(std::vector<std::uint32_t>& begin) {
-  std::uint32_t sum = 0;
+  std::uint64_t sum = 0;
   for (std::uint32_t& b : begin) {
     const std::uint32_t n = b;
-    b = sum;
+    b = static_cast<std::uint32_t>(sum);
     sum += n;
+    if (sum > UINT32_MAX)
+      throw GeometryError(
+          "the TIN's triangles overlap more than 2^32 cells of the web-terrain index");
   }
 }
 
@@ -30,30 +34,28 @@ void prefix_sums(std::vector<std::uint32_t>& begin) {
 TerrainSource::TerrainSource(const mesh::Triangulation& tin, const std::string& crs_wkt,
                              const std::string& what, double fill_height)
     : fill_height_(fill_height) {
-  std::vector<Point3> all(tin.vertex_count());
-  for (std::size_t v = 0; v < all.size(); ++v) {
-    const Point2 p = tin.point(static_cast<VertexId>(v));
-    all[v] = {p.x, p.y, tin.z(static_cast<VertexId>(v))};
-  }
-  units_ = io::terrain::to_lon_lat_metres(crs_wkt, all, what);
-  // Only the vertices of kept triangles are the TIN's, numbered in their order.
-  std::vector<std::uint32_t> number(all.size(), UINT32_MAX);
+  // Only the vertices of kept triangles are the TIN's, numbered in their order; only they go
+  // through PROJ, so that a removed outlier cannot fail the pyramid.
+  std::vector<std::uint32_t> number(tin.vertex_count(), UINT32_MAX);
   tin.for_each_triangle([&](TriangleId, const std::array<VertexId, 3>& c) {
     std::array<std::uint32_t, 3> t{};
     for (int i = 0; i < 3; ++i) {
       if (number[c[i]] == UINT32_MAX) {
         number[c[i]] = static_cast<std::uint32_t>(vertices_.size());
-        vertices_.push_back(all[c[i]]);
+        const Point2 p = tin.point(c[i]);
+        vertices_.push_back({p.x, p.y, tin.z(c[i])});
       }
       t[i] = number[c[i]];
     }
-    // Projections keep orientation but a CRS with a flipped axis does not.
-    if (orient(vertices_[t[0]], vertices_[t[1]], vertices_[t[2]].x, vertices_[t[2]].y) < 0)
-      std::swap(t[1], t[2]);
     triangles_.push_back(t);
   });
+  units_ = io::terrain::to_lon_lat_metres(crs_wkt, vertices_, what);
+  // Projections keep orientation but a CRS with a flipped axis does not.
+  for (auto& t : triangles_)
+    if (orient(vertices_[t[0]], vertices_[t[1]], vertices_[t[2]].x, vertices_[t[2]].y) < 0)
+      std::swap(t[1], t[2]);
   collect_constraints(tin, number);
-  collect_holes(tin, all);
+  collect_holes(tin, number, crs_wkt, what);
   if (!vertices_.empty()) {
     bounds_ = {vertices_[0].x, vertices_[0].y, vertices_[0].x, vertices_[0].y};
     for (const Point3& p : vertices_) {
@@ -81,13 +83,50 @@ void TerrainSource::collect_constraints(const mesh::Triangulation& tin,
   constrained_.erase(std::unique(constrained_.begin(), constrained_.end()), constrained_.end());
 }
 
-void TerrainSource::collect_holes(const mesh::Triangulation& tin, const std::vector<Point3>& all) {
+void TerrainSource::collect_holes(const mesh::Triangulation& tin,
+                                  const std::vector<std::uint32_t>& number,
+                                  const std::string& crs_wkt, const std::string& what) {
+  // The corners that are no kept triangle's vertex, transformed once each; a hole with a corner
+  // PROJ cannot place is left out (it is no part of the TIN).
+  std::vector<std::uint32_t> extra(number.size(), UINT32_MAX);
+  std::vector<Point3> corners;
+  std::vector<TriangleId> removed;
   for (std::size_t t = 0; t < tin.triangle_slots(); ++t) {
     const auto id = static_cast<TriangleId>(t);
     if (tin.is_ghost(id) || !tin.is_removed(id)) continue;
+    removed.push_back(id);
+    for (const VertexId v : tin.triangle(id))
+      if (number[v] == UINT32_MAX && extra[v] == UINT32_MAX) {
+        extra[v] = static_cast<std::uint32_t>(corners.size());
+        const Point2 p = tin.point(v);
+        corners.push_back({p.x, p.y, tin.z(v)});
+      }
+  }
+  std::vector<std::uint8_t> placed(corners.size(), 1);
+  try {
+    io::terrain::to_lon_lat_metres(crs_wkt, corners, what);
+  } catch (const InputError&) {
+    for (std::size_t i = 0; i < corners.size(); ++i) {
+      Point3 one = corners[i];
+      try {
+        io::terrain::to_lon_lat_metres(crs_wkt, std::span<Point3>(&one, 1), what);
+        corners[i] = one;
+      } catch (const InputError&) {
+        placed[i] = 0;
+      }
+    }
+  }
+  for (const TriangleId id : removed) {
     const auto c = tin.triangle(id);
     std::array<Point2, 3> h{};
-    for (int i = 0; i < 3; ++i) h[i] = {all[c[i]].x, all[c[i]].y};
+    bool known = true;
+    for (int i = 0; i < 3; ++i) {
+      const bool kept = number[c[i]] != UINT32_MAX;
+      known = known && (kept || placed[extra[c[i]]]);
+      const Point3& p = kept ? vertices_[number[c[i]]] : corners[extra[c[i]]];
+      h[i] = {p.x, p.y};
+    }
+    if (!known) continue;
     if ((h[1].x - h[0].x) * (h[2].y - h[0].y) - (h[1].y - h[0].y) * (h[2].x - h[0].x) < 0)
       std::swap(h[1], h[2]);
     holes_.push_back(h);
@@ -157,10 +196,13 @@ void TerrainSource::build_index() {
       }
       for (std::size_t i = 0; i < count; ++i)
         for_cells(rect_of(i), c, [&](std::size_t cell) {
-          if (pass == 0)
+          if (pass == 0) {
+            if (c.begin[cell] == UINT32_MAX)
+              throw GeometryError("a cell of the web-terrain index meets more than 2^32 triangles");
             ++c.begin[cell];
-          else
+          } else {
             c.items[next[cell]++] = static_cast<std::uint32_t>(i);
+          }
         });
     }
   };
@@ -209,7 +251,9 @@ void TerrainSource::for_cells(const GeoRectangle& r, const Cells& cells, F&& f) 
 }
 
 double TerrainSource::height_at(double lon, double lat) const {
-  double found = fill_height_;
+  // Inside a triangle: its plane. On an edge, rounding can put the point a hair outside both
+  // triangles: then the one it is least outside, if that is within rounding of its area.
+  double found = fill_height_, best = -1;
   bool done = false;
   for_cells({lon, lat, lon, lat}, triangle_cells_, [&](std::size_t cell) {
     for (std::uint32_t i = triangle_cells_.begin[cell];
@@ -220,9 +264,11 @@ double TerrainSource::height_at(double lon, double lat) const {
       if (!(area > 0)) continue;
       const double wa = orient(b, c, lon, lat), wb = orient(c, a, lon, lat),
                    wc = orient(a, b, lon, lat);
-      if (wa < 0 || wb < 0 || wc < 0) continue;
+      const double least = std::min({wa, wb, wc}) / area;
+      if (least < -1e-12 || least <= best) continue;
+      best = least;
       found = (wa * a.z + wb * b.z + wc * c.z) / (wa + wb + wc);
-      done = true;
+      done = least >= 0;
     }
   });
   return found;

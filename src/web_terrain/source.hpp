@@ -18,6 +18,9 @@ namespace tincdt::web_terrain {
 
 using io::terrain::GeoRectangle;
 
+// Metres per degree of latitude, near enough for spacing and tolerance estimates.
+inline constexpr double kMetresPerDegree = 111320.0;
+
 // A point of a section: its place along the line (latitude along a meridian, longitude along a
 // parallel) and its height.
 struct SectionPoint {
@@ -73,7 +76,8 @@ class TerrainSource {
     std::vector<std::uint32_t> items;
   };
   void build_index();
-  void collect_holes(const mesh::Triangulation& tin, const std::vector<Point3>& all);
+  void collect_holes(const mesh::Triangulation& tin, const std::vector<std::uint32_t>& number,
+                     const std::string& crs_wkt, const std::string& what);
   void collect_constraints(const mesh::Triangulation& tin,
                            const std::vector<std::uint32_t>& number);
   std::uint32_t column(double lon) const;

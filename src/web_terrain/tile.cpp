@@ -183,11 +183,17 @@ BuiltTile greedy_tile(const TerrainSource& source, const GeoRectangle& r, const 
     simplify::SimplifyOptions options;
     options.max_error = tolerance;
     options.threads = 1;
-    const simplify::SimplifyResult result =
-        simplify::simplify(p.xy, p.z, p.kept, p.segments, options);
-    assert(result.tin.vertex_count() >= p.kept.size());
-    BuiltTile tile{tile_mesh(r, result.tin), {}, 0};
-    check_quantized_triangles(tile.mesh);
+    BuiltTile tile;
+    try {
+      const simplify::SimplifyResult result =
+          simplify::simplify(p.xy, p.z, p.kept, p.segments, options);
+      assert(result.tin.vertex_count() >= p.kept.size());
+      tile = {tile_mesh(r, result.tin), {}, 0};
+      check_quantized_triangles(tile.mesh);
+    } catch (const GeometryError&) {
+      if (attempt == 0) throw;
+      break;  // a tighter run that fails keeps the best tile so far
+    }
     drop_holes(source, tile.mesh);
     tile.error = measure_tile(source, tile.mesh);
     // A tighter run is kept only when it meets the error. One that does not met an error no

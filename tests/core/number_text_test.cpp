@@ -29,6 +29,10 @@ TEST(NumberText, ValuesAreShortAndGrouped) {
   EXPECT_EQ(number_text(12345.678), "12,345.7");
   EXPECT_EQ(number_text(10.545473047620463), "10.5455");
   EXPECT_EQ(number_text(1600000), "1,600,000");
+  // Six digits that round up to a seventh keep the plain form.
+  EXPECT_EQ(number_text(999999.7), "1,000,000");
+  EXPECT_EQ(number_text(-999999.5), "-1,000,000");
+  EXPECT_EQ(number_text(999999.4), "999,999");
   EXPECT_EQ(number_text(19876543.0), "19,876,500");
   EXPECT_EQ(number_text(-4000000.5), "-4,000,000");
   EXPECT_EQ(number_text(1e-7), "1e-07");
