@@ -11,8 +11,10 @@
 //          [--size WIDTHxHEIGHT] [--gzip] [--chromium PATH] LON,LAT ...
 // Prints one JSON object: "heights" (metres, one a point, null where Cesium found none),
 // "levels" (the level Cesium sampled each point at), "tiles" (tile requests served), "gzipped"
-// (of them, sent gzipped), "blocked" (requests refused: anything not on the two servers),
-// "errors" (the page's errors). Exits 1 when the page fails.
+// (of them, sent gzipped), "preflights" (CORS preflight requests: none when Cesium's requests
+// are simple ones), "blocked" (requests refused: anything not on the two servers), "errors" (the
+// page's errors); with --screenshot also "rendered" (every tile in view loaded) and "low",
+// "high" (the heights the colour ramp spans). Exits 1 when the page fails.
 import { readFileSync, existsSync, statSync } from 'node:fs';
 import { createServer } from 'node:http';
 import { createRequire } from 'node:module';
@@ -48,9 +50,9 @@ const contentTypes = {
   '.ktx2': 'image/ktx2',
 };
 
-// A static server on 127.0.0.1 (a free port) of ROOT's files under PREFIX, and PAGE at /. With CORS, it answers any origin, the
-// preflight too; with GZIP, it compresses every file for clients that accept it. COUNTS tallies
-// the .terrain requests and those answered gzipped.
+// A static server on 127.0.0.1 (a free port) of ROOT's files under PREFIX, and PAGE at /. With
+// CORS, it answers any origin, the preflight too; with GZIP, it compresses every file for clients
+// that accept it. COUNTS tallies the .terrain requests, those answered gzipped, the preflights.
 function staticServer(root, { prefix = '/', cors, gzip, page, counts }) {
   const server = createServer((request, response) => {
     const headers = {};
@@ -59,6 +61,7 @@ function staticServer(root, { prefix = '/', cors, gzip, page, counts }) {
       headers['Access-Control-Allow-Headers'] = '*';
     }
     if (request.method === 'OPTIONS') {
+      counts.preflights += 1;
       response.writeHead(204, headers).end();
       return;
     }
@@ -68,8 +71,8 @@ function staticServer(root, { prefix = '/', cors, gzip, page, counts }) {
       return;
     }
     const file = resolve(root, '.' + path.slice(prefix.length - 1));
-    if (!path.startsWith(prefix) || !(file + sep).startsWith(resolve(root) + sep) || !existsSync(file) ||
-        !statSync(file).isFile()) {
+    const inside = path.startsWith(prefix) && (file + sep).startsWith(resolve(root) + sep);
+    if (!inside || !existsSync(file) || !statSync(file).isFile()) {
       response.writeHead(404, headers).end();
       return;
     }
@@ -88,7 +91,8 @@ function staticServer(root, { prefix = '/', cors, gzip, page, counts }) {
     response.writeHead(200, headers).end(body);
   });
   return new Promise((done) =>
-    server.listen(0, '127.0.0.1', () => done({ server, origin: `http://127.0.0.1:${server.address().port}` })));
+    server.listen(0, '127.0.0.1', () =>
+      done({ server, origin: `http://127.0.0.1:${server.address().port}` })));
 }
 
 const page = `<!DOCTYPE html>
@@ -194,7 +198,7 @@ async function main() {
   const o = parseArguments(process.argv.slice(2));
   const require = createRequire(join(resolve(o.modules), 'resolve-from-here.js'));
   const { chromium } = require('playwright-core');
-  const counts = { tiles: 0, gzipped: 0 };
+  const counts = { tiles: 0, gzipped: 0, preflights: 0 };
   const cesiumBuild = join(resolve(o.modules), 'cesium', 'Build', 'Cesium');
   const site = await staticServer(cesiumBuild, { prefix: '/cesium/', page, counts });
   const tiles = await staticServer(o.terrain, { cors: true, gzip: o.gzip, counts });
