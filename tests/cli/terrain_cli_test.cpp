@@ -38,7 +38,8 @@ const json::Value& at(const json::Value& v, const char* key) {
 }
 
 // layer.json names exactly the levels and tiles of PYRAMID, its bounds hold every vertex of
-// FULL, and it announces the two extensions.
+// FULL, and it announces the two extensions, with metadataAvailability 1 (each tile's metadata
+// lists its children), without which CesiumJS fails on the first tile it reads.
 void expect_layer_matches(const json::Value& layer, const std::map<Key, DecodedTile>& pyramid,
                           const std::vector<std::array<double, 3>>& full, int min, int max) {
   EXPECT_EQ(at(layer, "format").string(), "quantized-mesh-1.0");
@@ -49,6 +50,7 @@ void expect_layer_matches(const json::Value& layer, const std::map<Key, DecodedT
   std::vector<std::string> extensions;
   for (const auto& e : at(layer, "extensions").items()) extensions.push_back(e.string());
   EXPECT_EQ(extensions, (std::vector<std::string>{"octvertexnormals", "metadata"}));
+  EXPECT_EQ(at(layer, "metadataAvailability").number(), 1);
   const auto& b = at(layer, "bounds").items();
   for (const auto& p : full) {
     EXPECT_GE(p[0], b[0].number());
@@ -222,8 +224,10 @@ TEST(TerrainCli, FillHeightBeyondTheData) {
   const std::string dir = scratch_dir("terrain_cli");
   const ShellRun r = terrain_of_sample(dir, "--terrain-levels 0-0 --terrain-fill-height 12.5");
   ASSERT_EQ(r.exit_code, 0) << r.messages;
-  // The data is far inside its root tile: the tile is the fill, flat at 12.5 m.
-  for (const auto& [key, tile] : read_pyramid(dir + "/t")) {
+  // The data is far inside its root tile: both roots are the fill, flat at 12.5 m.
+  const auto pyramid = read_pyramid(dir + "/t");
+  EXPECT_EQ(pyramid.size(), 2u);
+  for (const auto& [key, tile] : pyramid) {
     EXPECT_EQ(tile.minimum_height, 12.5f);
     EXPECT_EQ(tile.maximum_height, 12.5f);
     EXPECT_EQ(tile.u.size(), 4u);
