@@ -125,6 +125,9 @@ void run(Job& job) {
   const BuildOptions::Terrain& o = job.options.terrain;
   const TerrainSource source(job.tin(), job.crs_wkt, job.describe_inputs(), o.fill_height);
   log_units(job, source);
+  if (!o.fill_height)
+    job.info("terrain fill height: " + short_number(source.fill_height()) +
+             " m (the TIN's lowest)");
   const double spacing = source.point_spacing_metres();
   const int max_level =
       o.max_level ? *o.max_level : std::max(o.min_level, level_for_spacing(spacing));
@@ -223,10 +226,10 @@ constexpr OptionSpec kOptions[] = {
     checked_option("--terrain-levels", "MIN-MAX", option_groups::products, check_levels, set_levels,
                    "The pyramid's levels (default: 0 to the level of the data's point\n"
                    "spacing)"),
-    with_default(checked_option("--terrain-fill-height", "H", option_groups::products, check_number,
-                                set_number<&BuildOptions::terrain, &Terrain::fill_height>,
-                                "Height (metres) of the tiles' surface beyond the data"),
-                 "0", show_number<&BuildOptions::terrain, &Terrain::fill_height>),
+    checked_option("--terrain-fill-height", "H", option_groups::products, check_number,
+                   set_number<&BuildOptions::terrain, &Terrain::fill_height>,
+                   "Height (metres) of the tiles' surface beyond the data (default: the\n"
+                   "TIN's lowest height)"),
 };
 
 }  // namespace

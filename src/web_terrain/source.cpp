@@ -28,8 +28,8 @@ void prefix_sums(std::vector<std::uint32_t>& begin) {
 }  // namespace
 
 TerrainSource::TerrainSource(const mesh::Triangulation& tin, const std::string& crs_wkt,
-                             const std::string& what, double fill_height)
-    : fill_height_(fill_height) {
+                             const std::string& what, std::optional<double> fill_height)
+    : fill_height_(fill_height.value_or(0)) {
   std::vector<Point3> all(tin.vertex_count());
   for (std::size_t v = 0; v < all.size(); ++v) {
     const Point2 p = tin.point(static_cast<VertexId>(v));
@@ -61,6 +61,12 @@ TerrainSource::TerrainSource(const mesh::Triangulation& tin, const std::string& 
       bounds_.east = std::max(bounds_.east, p.x);
       bounds_.south = std::min(bounds_.south, p.y);
       bounds_.north = std::max(bounds_.north, p.y);
+    }
+    // The lowest, not 0: coarse and fine tiles ramp from the data's edge down to the fill over
+    // different widths, and where they meet their ramps differ by up to the drop to the fill.
+    if (!fill_height) {
+      fill_height_ = vertices_[0].z;
+      for (const Point3& p : vertices_) fill_height_ = std::min(fill_height_, p.z);
     }
   }
   build_index();
