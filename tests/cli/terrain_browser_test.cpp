@@ -4,9 +4,11 @@
 // sampleTerrainMostDetailed. The heights it finds are the full TIN's, computed here from the
 // run's PLY, within the finest level's error; it reached that level at every point; no request
 // left localhost, no CORS preflight was needed and the page reported no error; its screenshot has
-// the size asked and shows more than one colour. The same with the tiles gzipped on the wire
-// (Content-Encoding: gzip). Skips, saying why, without Node.js, the npm packages of tests/web or
-// /usr/bin/chromium (cmake/setup_web_tools.sh installs them).
+// the size asked and shows more than one colour; beyond the data, where tiles of different levels
+// meet, it draws no step higher than the data's relief. With Cesium's default options (reading
+// the tiles' metadata extension, as layer.json's metadataAvailability lets it) and with the tiles
+// gzipped on the wire (Content-Encoding: gzip). Skips, saying why, without Node.js, the npm
+// packages of tests/web or /usr/bin/chromium (cmake/setup_web_tools.sh installs them).
 #include <gdal_priv.h>
 #include <gtest/gtest.h>
 
@@ -105,11 +107,10 @@ std::vector<Probe> probes(const std::string& dir) {
 }
 
 // The sample's ground and contours as a pyramid DIR/t, the full TIN beside it (DIR/full.ply),
-// the surface beyond the data a little below it; returns the finest level.
+// the surface beyond the data the default, the TIN's lowest; returns the finest level.
 int build_pyramid(const std::string& dir) {
   const ShellRun r = run_tincdt(dir, "'" + kSample + "' --keep-class 2 --contours '" + kContours +
-                                         "' -o full.ply --ply-ascii --terrain t "
-                                         "--terrain-fill-height 1470");
+                                         "' -o full.ply --ply-ascii --terrain t");
   EXPECT_EQ(r.exit_code, 0) << r.messages;
   const json::Value layer = json::parse(slurp(dir + "/t/layer.json"));
   return static_cast<int>(at(layer, "maxzoom").number());
@@ -132,8 +133,9 @@ json::Value sample_in_browser(const std::string& dir, const std::vector<Probe>& 
   return json::parse(slurp(out));
 }
 
-// Cesium's heights are the TIN's within the finest level's error, sampled at that level; no CORS
-// preflight was needed, nothing was fetched from elsewhere and the page raised no error.
+// Cesium's heights are the TIN's within the finest level's error, sampled at that level; it read
+// the tiles' metadata; no CORS preflight was needed, nothing was fetched from elsewhere (no tile
+// missing either) and the page raised no error.
 void expect_heights_of_tin(const json::Value& answer, const std::vector<Probe>& points, int max) {
   const auto& heights = at(answer, "heights").items();
   const auto& levels = at(answer, "levels").items();
@@ -153,6 +155,7 @@ void expect_heights_of_tin(const json::Value& answer, const std::vector<Probe>& 
             << " points: largest difference " << worst << " m (allowed " << level_error(max)
             << " m, level " << max << ")\n";
   EXPECT_GT(at(answer, "tiles").number(), 0);
+  EXPECT_TRUE(at(answer, "metadata").boolean());
   // Cesium's tile requests are simple CORS requests: Access-Control-Allow-Origin is enough.
   EXPECT_EQ(at(answer, "preflights").number(), 0);
   EXPECT_TRUE(at(answer, "blocked").items().empty()) << lines_of(at(answer, "blocked"));
@@ -191,14 +194,40 @@ TEST(TerrainBrowser, CesiumSamplesTheTinsHeightsAndDrawsIt) {
   const auto points = probes(dir);
   ASSERT_EQ(points.size(), 16u);
   const std::string png = dir + "/terrain.png";
+  // Normals for the lighting; every other option is Cesium's default.
   const json::Value answer =
       sample_in_browser(dir, points,
-                        "--screenshot '" + png + "' --size " + std::to_string(kWidth) + "x" +
-                            std::to_string(kHeight));
+                        "--options '{\"requestVertexNormals\":true}' --screenshot '" + png +
+                            "' --size " + std::to_string(kWidth) + "x" + std::to_string(kHeight));
   expect_heights_of_tin(answer, points, max);
   EXPECT_EQ(at(answer, "gzipped").number(), 0);
   EXPECT_TRUE(at(answer, "rendered").boolean()) << "tiles still loading after 30 s";
   expect_picture(png);
+  // Beyond the data the tiles ramp to the fill, the TIN's lowest: where a fine tile meets a
+  // coarser one their ramps differ by less than the data's relief (with a fill of 0, by 1,000 m).
+  double lowest = INFINITY, highest = -INFINITY;
+  for (const auto& p : read_mesh(dir + "/full.ply").v) {
+    lowest = std::min(lowest, p[2]);
+    highest = std::max(highest, p[2]);
+  }
+  const json::Value& beyond = at(answer, "beyond");
+  std::cout << "beyond the data: heights " << at(beyond, "low").number() << " to "
+            << at(beyond, "high").number() << " m, largest step " << at(beyond, "step").number()
+            << " m (the TIN: " << lowest << " to " << highest << " m)\n";
+  EXPECT_GE(at(beyond, "low").number(), lowest - level_error(max));
+  EXPECT_LE(at(beyond, "high").number(), highest + level_error(max));
+  EXPECT_LT(at(beyond, "step").number(), highest - lowest);
+}
+
+// CesiumTerrainProvider.fromUrl(url) with no options: requestMetadata is on, and Cesium learns the
+// tiles below each from its metadata (layer.json's metadataAvailability 1) down to the finest.
+TEST(TerrainBrowser, CesiumsDefaultOptionsReadTheMetadata) {
+  TINCDT_REQUIRE_BROWSER();
+  const std::string dir = scratch_dir("terrain_browser");
+  const int max = build_pyramid(dir);
+  const auto points = probes(dir);
+  const json::Value answer = sample_in_browser(dir, points, "");
+  expect_heights_of_tin(answer, points, max);
 }
 
 TEST(TerrainBrowser, GzippedTilesSampleTheSame) {

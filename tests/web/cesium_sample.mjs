@@ -8,12 +8,14 @@
 // reported: no Ion token, no imagery, no geocoder.
 //
 // Usage: node cesium_sample.mjs --modules NODE_MODULES --terrain DIR [--screenshot OUT.png]
-//          [--size WIDTHxHEIGHT] [--gzip] [--chromium PATH] LON,LAT ...
+//          [--size WIDTHxHEIGHT] [--gzip] [--chromium PATH] [--options JSON] LON,LAT ...
+// --options: the options of CesiumTerrainProvider.fromUrl (default {}, Cesium's own defaults:
+// requestMetadata true, requestVertexNormals false).
 // Prints one JSON object: "heights" (metres, one a point, null where Cesium found none),
 // "levels" (the level Cesium sampled each point at), "tiles" (tile requests served), "gzipped"
 // (of them, sent gzipped), "preflights" (CORS preflight requests: none when Cesium's requests
 // are simple ones), "blocked" (requests refused: anything not on the two servers), "errors" (the
-// page's errors); with --screenshot also "rendered" (every tile in view loaded) and "low",
+// page's errors), "metadata" (the provider reads the tiles' metadata extension); with --screenshot also "rendered" (every tile in view loaded) and "low",
 // "high" (the heights the colour ramp spans). Exits 1 when the page fails.
 import { readFileSync, existsSync, statSync } from 'node:fs';
 import { createServer } from 'node:http';
@@ -22,18 +24,19 @@ import { extname, join, resolve, sep } from 'node:path';
 import { gzipSync } from 'node:zlib';
 
 function parseArguments(argv) {
-  const o = { size: '800x600', chromium: '/usr/bin/chromium', gzip: false, points: [] };
+  const o = { size: '800x600', chromium: '/usr/bin/chromium', gzip: false, options: '{}',
+    points: [] };
   for (let i = 0; i < argv.length; ++i) {
     const a = argv[i];
     if (a === '--gzip') o.gzip = true;
-    else if (['--modules', '--terrain', '--screenshot', '--size', '--chromium'].includes(a))
+    else if (['--modules', '--terrain', '--screenshot', '--size', '--chromium', '--options'].includes(a))
       o[a.slice(2)] = argv[++i];
     else if (/^-?[\d.]+,-?[\d.]+$/.test(a)) o.points.push(a.split(',').map(Number));
     else throw new Error(`unknown argument: ${a}`);
   }
   if (!o.modules || !o.terrain) throw new Error('--modules and --terrain are required');
   const [width, height] = o.size.split('x').map(Number);
-  return { ...o, width, height };
+  return { ...o, width, height, options: JSON.parse(o.options) };
 }
 
 const contentTypes = {
@@ -106,7 +109,7 @@ const page = `<!DOCTYPE html>
 // In the page: the terrain provider and the samples; with RENDER, a widget looking down on the
 // data's bounds, tinted by height with a contour every 2 m and lit from the north-west by the
 // tiles' normals, drawn until every tile in view has loaded.
-async function inPage({ terrainUrl, points, bounds, render }) {
+async function inPage({ terrainUrl, options, points, bounds, render }) {
   const C = window.Cesium;
   // The globe's material: a colour ramp from LOW to HIGH metres, dark contour lines every 2 m.
   function heightMaterial(C, low, high) {
@@ -138,18 +141,43 @@ async function inPage({ terrainUrl, points, bounds, render }) {
     });
   }
 
-  // requestMetadata: false, because CesiumJS, asked for the metadata extension that layer.json
-  // announces, expects a layer.json with metadataAvailability and fails on the first tile
-  // without it; layer.json's "available" lists every tile anyway.
-  const provider = await C.CesiumTerrainProvider.fromUrl(terrainUrl, {
-    requestVertexNormals: true,
-    requestMetadata: false,
-  });
+  // The heights Cesium draws beyond the data, on a 180 x 180 grid over three times its bounds
+  // less the bounds: their range and "step", the largest difference between neighbours on the grid
+  // (about 1/60 of the data's width apart), the wall where tiles of two levels meet.
+  function heightsBeyond(C, globe, [west, south, east, north]) {
+    const n = 180;
+    const w = east - west, h = north - south;
+    const grid = [];
+    for (let i = 0; i < n; ++i) {
+      grid.push([]);
+      for (let j = 0; j < n; ++j) {
+        const lon = west - w + (3 * w * i) / (n - 1), lat = south - h + (3 * h * j) / (n - 1);
+        const inside = lon >= west && lon <= east && lat >= south && lat <= north;
+        const height = inside ? undefined : globe.getHeight(C.Cartographic.fromDegrees(lon, lat));
+        grid[i].push(height);
+      }
+    }
+    let low = Infinity, high = -Infinity, step = 0;
+    for (let i = 0; i < n; ++i)
+      for (let j = 0; j < n; ++j) {
+        const a = grid[i][j];
+        if (a === undefined) continue;
+        low = Math.min(low, a);
+        high = Math.max(high, a);
+        for (const b of [grid[i + 1]?.[j], grid[i][j + 1]])
+          if (b !== undefined) step = Math.max(step, Math.abs(a - b));
+      }
+    return { low, high, step };
+  }
+
+  const provider = await C.CesiumTerrainProvider.fromUrl(terrainUrl, options);
   const positions = points.map(([lon, lat]) => C.Cartographic.fromDegrees(lon, lat));
-  const levels = positions.map((p) => provider.availability.computeMaximumLevelAtPosition(p));
   const sampled = await C.sampleTerrainMostDetailed(provider, positions, true);
   const heights = sampled.map((p) => (Number.isFinite(p.height) ? p.height : null));
-  if (!render) return { heights, levels };
+  // After sampling: with metadataAvailability, Cesium learns the levels from the tiles it loads.
+  const levels = positions.map((p) => provider.availability.computeMaximumLevelAtPosition(p));
+  const metadata = provider.hasMetadata;
+  if (!render) return { heights, levels, metadata };
 
   const [west, south, east, north] = bounds;
   const grid = [];
@@ -191,7 +219,8 @@ async function inPage({ terrainUrl, points, bounds, render }) {
     await new Promise((frame) => requestAnimationFrame(frame));
     settled = scene.globe.tilesLoaded ? settled + 1 : 0;
   }
-  return { heights, levels, rendered: settled >= 3, low, high };
+  return { heights, levels, metadata, rendered: settled >= 3, low, high,
+    beyond: heightsBeyond(C, scene.globe, bounds) };
 }
 
 async function main() {
@@ -230,6 +259,7 @@ async function main() {
     await tab.goto(`${site.origin}/`);
     result = await tab.evaluate(inPage, {
       terrainUrl: `${tiles.origin}/`,
+      options: o.options,
       points: o.points,
       bounds: layer.bounds,
       render: Boolean(o.screenshot),
