@@ -191,7 +191,7 @@ void check_contour_lines(const BuildOptions::ContourLines& c) {
 }
 
 void check_terrain_output(const BuildOptions::Terrain& t) {
-  if (t.path.empty() && (t.max_level || t.fill_height != 0))
+  if (t.path.empty() && (t.max_level || t.fill_height))
     throw UsageError("--terrain-levels and --terrain-fill-height need --terrain");
 }
 

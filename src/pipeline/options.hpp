@@ -121,7 +121,8 @@ struct BuildOptions {
     std::string path;              // --terrain DIR: a quantized-mesh pyramid; "" = none
     int min_level = 0;             // --terrain-levels MIN-MAX
     std::optional<int> max_level;  // default: from the data's point spacing
-    double fill_height = 0;        // --terrain-fill-height: the surface beyond the data, metres
+    // --terrain-fill-height: the surface beyond the data, metres; default the TIN's lowest
+    std::optional<double> fill_height;
   } terrain;
 };
 

@@ -53,6 +53,12 @@ std::string tile_path(const std::string& dir, const qm::TileKey& key) {
          std::to_string(key.y) + ".terrain";
 }
 
+// The tiles of LEVEL the pyramid has: those over the data, and at level 0 both roots, which
+// Cesium, told by metadataAvailability to learn the tiles from their parents, takes as given.
+qm::TileRange level_tiles(const qm::GeoRectangle& bounds, int level) {
+  return level == 0 ? qm::TileRange{0, 0, 1, 0} : qm::tiles_covering(bounds, level);
+}
+
 // The tiles of the next level below KEY that the pyramid has, for the metadata extension.
 std::vector<std::vector<qm::TileRange>> children(const qm::TileKey& key, int max_level,
                                                  const qm::GeoRectangle& bounds) {
@@ -81,7 +87,7 @@ struct LevelStats {
 
 LevelStats write_level(Job& job, const TerrainSource& source, int level, int max_level, double done,
                        double share) {
-  const qm::TileRange range = qm::tiles_covering(source.bounds(), level);
+  const qm::TileRange range = level_tiles(source.bounds(), level);
   const double error = qm::geometric_error_at_level(level);
   const std::uint64_t count =
       std::uint64_t{range.end_x - range.start_x + 1} * (range.end_y - range.start_y + 1);
@@ -119,6 +125,9 @@ void run(Job& job) {
   const BuildOptions::Terrain& o = job.options.terrain;
   const TerrainSource source(job.tin(), job.crs_wkt, job.describe_inputs(), o.fill_height);
   log_units(job, source);
+  if (!o.fill_height)
+    job.info("terrain fill height: " + short_number(source.fill_height()) +
+             " m (the TIN's lowest)");
   const double spacing = source.point_spacing_metres();
   const int max_level =
       o.max_level ? *o.max_level : std::max(o.min_level, level_for_spacing(spacing));
@@ -128,10 +137,11 @@ void run(Job& job) {
   layer.bounds = source.bounds();
   layer.min_zoom = o.min_level;
   layer.extensions = {"octvertexnormals", "metadata"};
+  layer.metadata_availability = 1;  // every tile's metadata lists its children
   layer.available.resize(static_cast<std::size_t>(max_level) + 1);
   const double share = 1.0 / (max_level - o.min_level + 1);
   for (int level = o.min_level; level <= max_level; ++level) {
-    layer.available[level] = {qm::tiles_covering(source.bounds(), level)};
+    layer.available[level] = {level_tiles(source.bounds(), level)};
     const LevelStats s =
         write_level(job, source, level, max_level, (level - o.min_level) * share, share);
     const double rmse =
@@ -216,10 +226,10 @@ constexpr OptionSpec kOptions[] = {
     checked_option("--terrain-levels", "MIN-MAX", option_groups::products, check_levels, set_levels,
                    "The pyramid's levels (default: 0 to the level of the data's point\n"
                    "spacing)"),
-    with_default(checked_option("--terrain-fill-height", "H", option_groups::products, check_number,
-                                set_number<&BuildOptions::terrain, &Terrain::fill_height>,
-                                "Height (metres) of the tiles' surface beyond the data"),
-                 "0", show_number<&BuildOptions::terrain, &Terrain::fill_height>),
+    checked_option("--terrain-fill-height", "H", option_groups::products, check_number,
+                   set_number<&BuildOptions::terrain, &Terrain::fill_height>,
+                   "Height (metres) of the tiles' surface beyond the data (default: the\n"
+                   "TIN's lowest height)"),
 };
 
 }  // namespace

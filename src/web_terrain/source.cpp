@@ -32,8 +32,8 @@ void prefix_sums(std::vector<std::uint32_t>& begin) {
 }  // namespace
 
 TerrainSource::TerrainSource(const mesh::Triangulation& tin, const std::string& crs_wkt,
-                             const std::string& what, double fill_height)
-    : fill_height_(fill_height) {
+                             const std::string& what, std::optional<double> fill_height)
+    : fill_height_(fill_height.value_or(0)) {
   // Only the vertices of kept triangles are the TIN's, numbered in their order; only they go
   // through PROJ, so that a removed outlier cannot fail the pyramid.
   std::vector<std::uint32_t> number(tin.vertex_count(), UINT32_MAX);
@@ -63,6 +63,12 @@ TerrainSource::TerrainSource(const mesh::Triangulation& tin, const std::string& 
       bounds_.east = std::max(bounds_.east, p.x);
       bounds_.south = std::min(bounds_.south, p.y);
       bounds_.north = std::max(bounds_.north, p.y);
+    }
+    // The lowest, not 0: coarse and fine tiles ramp from the data's edge down to the fill over
+    // different widths, and where they meet their ramps differ by up to the drop to the fill.
+    if (!fill_height) {
+      fill_height_ = vertices_[0].z;
+      for (const Point3& p : vertices_) fill_height_ = std::min(fill_height_, p.z);
     }
   }
   build_index();

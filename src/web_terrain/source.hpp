@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -32,13 +33,15 @@ struct SectionPoint {
 class TerrainSource {
  public:
   // TIN's kept triangles, its coordinates in CRS_WKT transformed (InputError naming WHAT when
-  // there is no CRS or PROJ fails).
+  // there is no CRS or PROJ fails); beyond them FILL_HEIGHT, by default the lowest of their
+  // heights.
   TerrainSource(const mesh::Triangulation& tin, const std::string& crs_wkt, const std::string& what,
-                double fill_height);
+                std::optional<double> fill_height);
 
   const std::vector<Point3>& vertices() const { return vertices_; }
   const GeoRectangle& bounds() const { return bounds_; }
   const io::terrain::HeightUnits& units() const { return units_; }
+  double fill_height() const { return fill_height_; }
   std::size_t triangle_count() const { return triangles_.size(); }
 
   // The TIN's height at LON, LAT, or the fill height outside every triangle.

@@ -6,6 +6,8 @@
 // pair_topography (with its contours) and autzen_trim.laz (in feet) when present.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
@@ -15,6 +17,7 @@
 #include <string>
 
 #include "core/json.hpp"
+#include "core/number_text.hpp"
 #include "support/files.hpp"
 #include "support/shared_data.hpp"
 #include "support/tincdt_run.hpp"
@@ -38,7 +41,8 @@ const json::Value& at(const json::Value& v, const char* key) {
 }
 
 // layer.json names exactly the levels and tiles of PYRAMID, its bounds hold every vertex of
-// FULL, and it announces the two extensions.
+// FULL, and it announces the two extensions, with metadataAvailability 1 (each tile's metadata
+// lists its children), without which CesiumJS fails on the first tile it reads.
 void expect_layer_matches(const json::Value& layer, const std::map<Key, DecodedTile>& pyramid,
                           const std::vector<std::array<double, 3>>& full, int min, int max) {
   EXPECT_EQ(at(layer, "format").string(), "quantized-mesh-1.0");
@@ -49,6 +53,7 @@ void expect_layer_matches(const json::Value& layer, const std::map<Key, DecodedT
   std::vector<std::string> extensions;
   for (const auto& e : at(layer, "extensions").items()) extensions.push_back(e.string());
   EXPECT_EQ(extensions, (std::vector<std::string>{"octvertexnormals", "metadata"}));
+  EXPECT_EQ(at(layer, "metadataAvailability").number(), 1);
   const auto& b = at(layer, "bounds").items();
   for (const auto& p : full) {
     EXPECT_GE(p[0], b[0].number());
@@ -222,11 +227,35 @@ TEST(TerrainCli, FillHeightBeyondTheData) {
   const std::string dir = scratch_dir("terrain_cli");
   const ShellRun r = terrain_of_sample(dir, "--terrain-levels 0-0 --terrain-fill-height 12.5");
   ASSERT_EQ(r.exit_code, 0) << r.messages;
-  // The data is far inside its root tile: the tile is the fill, flat at 12.5 m.
-  for (const auto& [key, tile] : read_pyramid(dir + "/t")) {
+  // The data is far inside its root tile: both roots are the fill, flat at 12.5 m.
+  const auto pyramid = read_pyramid(dir + "/t");
+  EXPECT_EQ(pyramid.size(), 2u);
+  for (const auto& [key, tile] : pyramid) {
     EXPECT_EQ(tile.minimum_height, 12.5f);
     EXPECT_EQ(tile.maximum_height, 12.5f);
     EXPECT_EQ(tile.u.size(), 4u);
+  }
+  EXPECT_EQ(r.messages.find("terrain fill height"), std::string::npos) << r.messages;
+}
+
+// By default the fill is the TIN's lowest height, said in the log: the ramps from the data's edge
+// to it stay within the data's relief where tiles of two levels meet.
+TEST(TerrainCli, FillHeightDefaultsToTheTinsLowest) {
+  const std::string dir = scratch_dir("terrain_cli");
+  const ShellRun r =
+      run_tincdt(dir, "'" + kSample + "' -o full.ply --ply-ascii --terrain t --terrain-levels 0-0");
+  ASSERT_EQ(r.exit_code, 0) << r.messages;
+  double lowest = INFINITY;
+  for (const auto& p : read_mesh(dir + "/full.ply").v) lowest = std::min(lowest, p[2]);
+  EXPECT_NE(
+      r.messages.find("terrain fill height: " + number_text(lowest) + " m (the TIN's lowest)"),
+      std::string::npos)
+      << r.messages;
+  const auto pyramid = read_pyramid(dir + "/t");
+  EXPECT_EQ(pyramid.size(), 2u);  // both roots, the data far inside one
+  for (const auto& [key, tile] : pyramid) {
+    EXPECT_NEAR(tile.minimum_height, lowest, 1e-3) << key.z << "/" << key.x;
+    EXPECT_NEAR(tile.maximum_height, lowest, 1e-3) << key.z << "/" << key.x;
   }
 }
 
@@ -400,7 +429,7 @@ TEST(TerrainCli, AutzenHeightsInFeetBecomeMetres) {
   const int max = static_cast<int>(at(layer, "maxzoom").number());
   expect_pyramid(dir, 0, max, "autzen_trim (ground)");
   // The ground, about 406..434 ft: 124..132 m, not the feet (the tiles reaching beyond the
-  // data go down to the fill, 0).
+  // data go down to the fill, the lowest).
   float highest = 0;
   for (const auto& [key, tile] : read_pyramid(dir + "/t"))
     if (key.z == max) highest = std::max(highest, tile.maximum_height);

@@ -25,7 +25,10 @@ struct TerrainLayer {
   std::vector<std::vector<TileRange>> available;
   // The extensions the tiles carry: "octvertexnormals", "metadata".
   std::vector<std::string> extensions;
-  // Levels between which tiles list the tiles below them (the metadata extension), when set.
+  // Levels between which tiles list the tiles below them (the metadata extension); needed with
+  // "metadata": CesiumJS, reading the extension (its default), fails on the first tile when
+  // layer.json has no metadataAvailability, and with it takes level 0's two roots as present and
+  // every other tile from the metadata, ignoring "available".
   std::optional<int> metadata_availability;
 };
 
