@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/number_text.hpp"
 #include "pipeline/option_spec.hpp"
 #include "pipeline/stage.hpp"
 
@@ -82,11 +83,11 @@ std::string stage_order() {
   std::string text = "Order of the stages (and precedence where features overlap):\n";
   const auto steps = std::count_if(pipeline::stages().begin(), pipeline::stages().end(),
                                    [](const pipeline::Stage* s) { return !s->title.empty(); });
-  const std::size_t width = std::to_string(steps).size();
+  const std::size_t width = count_text(steps).size();
   int step = 0;
   for (const pipeline::Stage* stage : pipeline::stages()) {
     if (stage->title.empty()) continue;
-    std::string number = std::to_string(++step) + ". ";
+    std::string number = count_text(++step) + ". ";
     number.insert(0, width + 2 - number.size(), ' ');
     std::string_view title = stage->title;
     std::string indent = "  " + number;

@@ -10,6 +10,8 @@
 #include <cstdio>
 #include <memory>
 
+#include "core/number_text.hpp"
+
 namespace tincdt::cli {
 namespace {
 
@@ -147,8 +149,8 @@ bool Terminal::report(std::string_view stage, double fraction) {
 void Terminal::draw_line_locked(Clock::time_point now) {
   const int percent = static_cast<int>(fraction_ * 100.0);
   const auto filled = static_cast<std::size_t>(std::lround(fraction_ * kBarWidth));
-  std::string text = "[" + std::to_string(number_) + "/" + std::to_string(count_) + "] " + title_ +
-                     " [" + std::string(filled, '#') +
+  std::string text = "[" + count_text(number_) + "/" + count_text(count_) + "] " + title_ + " [" +
+                     std::string(filled, '#') +
                      std::string(static_cast<std::size_t>(kBarWidth) - filled, '-') + "] ";
   char pct[8];
   std::snprintf(pct, sizeof pct, "%3d%%", percent);
@@ -173,8 +175,7 @@ void Terminal::draw_line_locked(Clock::time_point now) {
 void Terminal::write_ticks_locked(int upto) {
   if (ticks_ > kTicks) return;
   if (!log_open_) {
-    write("tincdt: [" + std::to_string(number_) + "/" + std::to_string(count_) + "] " + title_ +
-          " ");
+    write("tincdt: [" + count_text(number_) + "/" + count_text(count_) + "] " + title_ + " ");
     log_open_ = true;
   }
   for (; ticks_ <= upto; ++ticks_) write(tick_text(ticks_));

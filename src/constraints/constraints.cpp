@@ -8,6 +8,7 @@
 #include <tuple>
 
 #include "core/id_map.hpp"
+#include "core/number_text.hpp"
 #include "mesh/geometry.hpp"
 #include "mesh/point_insertion.hpp"
 #include "predicates/predicates.hpp"
@@ -15,7 +16,7 @@
 namespace tincdt::constraints {
 
 CrossingError::CrossingError(std::uint32_t a, std::uint32_t b, Point2 p)
-    : GeometryError("constraints from features " + std::to_string(a) + " and " + std::to_string(b) +
+    : GeometryError("constraints from features " + count_text(a) + " and " + count_text(b) +
                     " cross, and crossings are refused"),
       source_a(a),
       source_b(b),
@@ -139,7 +140,7 @@ class ConstraintInserter {
       e = tin_.twin(prev_edge(e));
     } while (e != first);
     if (cur == kNoId)
-      throw GeometryError("internal: segment " + std::to_string(a) + "-" + std::to_string(b) +
+      throw GeometryError("internal: segment " + count_text(a) + "-" + count_text(b) +
                           " leaves its first vertex through no triangle");
 
     // Walk along the segment collecting the crossed edges (paper step C.1).
@@ -202,7 +203,7 @@ class ConstraintInserter {
       }
       // A round without a swap would repeat forever: the convexity argument failed.
       if (result_.flips_insertion == flips_before)
-        throw InternalError("inserting a constraint: " + std::to_string(crossed_.size()) +
+        throw InternalError("inserting a constraint: " + count_text(crossed_.size()) +
                             " crossed edges, none of which can be swapped");
       crossed_.swap(waiting_);
     }
@@ -296,8 +297,8 @@ class ConstraintInserter {
     // A crossing within a hair of one of the four ends joins that end instead, so no new piece
     // is shorter than that; a bound on the crossings met ends the rest.
     if (++crossings_met_ > crossing_bound_)
-      throw GeometryError("constraints from features " + std::to_string(s.source) + " and " +
-                          std::to_string(other) +
+      throw GeometryError("constraints from features " + count_text(s.source) + " and " +
+                          count_text(other) +
                           " cross more often than the input segments can: nearly parallel "
                           "lines whose crossings rounding cannot place");
     VertexId w = nearer != kNoId ? nearer : nearest_end({s.a, s.b, r, l}, at, hair);
@@ -496,10 +497,9 @@ std::string check_segments(const Triangulation& tin, const std::vector<Segment>&
     if (p.a >= tin.vertex_count() || p.b >= tin.vertex_count())
       return "a piece names a vertex that does not exist";
     const EdgeId e = find_edge(p.a, p.b);
-    if (e == kNoId)
-      return "piece " + std::to_string(p.a) + "-" + std::to_string(p.b) + " is not an edge";
+    if (e == kNoId) return "piece " + count_text(p.a) + "-" + count_text(p.b) + " is not an edge";
     if (!tin.is_constrained(e))
-      return "edge " + std::to_string(p.a) + "-" + std::to_string(p.b) + " is not constrained";
+      return "edge " + count_text(p.a) + "-" + count_text(p.b) + " is not constrained";
   }
 
   // Each piece both ways, by source and then first vertex: a vertex's neighbours along one
@@ -543,8 +543,8 @@ std::string check_segments(const Triangulation& tin, const std::vector<Segment>&
       }
     }
     if (!joined)
-      return "segment " + std::to_string(s.a) + "-" + std::to_string(s.b) + " of source " +
-             std::to_string(s.source) + " is not joined end to end by constrained edges";
+      return "segment " + count_text(s.a) + "-" + count_text(s.b) + " of source " +
+             count_text(s.source) + " is not joined end to end by constrained edges";
   }
   return {};
 }

@@ -7,6 +7,8 @@
 #include <unordered_set>
 #include <utility>
 
+#include "core/number_text.hpp"
+
 namespace tincdt::json {
 namespace {
 
@@ -140,7 +142,7 @@ void Writer::begin_item() {
 namespace {
 
 std::string line_and_column(std::size_t line, std::size_t column) {
-  return "line " + std::to_string(line) + ", column " + std::to_string(column);
+  return "line " + count_text(line) + ", column " + count_text(column);
 }
 
 }  // namespace

@@ -34,6 +34,11 @@ inline std::string count_text(std::uint64_t n) {
   return detail::group_thousands(std::to_string(n));
 }
 
+// count_text for a value that can be negative: -1234567 -> "-1,234,567".
+inline std::string signed_count_text(std::int64_t n) {
+  return detail::group_thousands(std::to_string(n));
+}
+
 // Six significant digits, without an exponent from 1e-4 to 1e15 and the integer part grouped
 // ("0.25", "12,345.7", "19,876,500"); an exponent beyond ("1e-07", "1e+308"); "inf", "nan".
 inline std::string number_text(double v) {

@@ -6,6 +6,7 @@
 
 #include "core/error.hpp"
 #include "core/memory.hpp"
+#include "core/number_text.hpp"
 #include "delaunay/parallel_delaunay.hpp"
 #include "delaunay/spatial_order.hpp"
 #include "mesh/point_insertion.hpp"
@@ -25,7 +26,7 @@ DelaunayResult triangulate(std::vector<Point3>&& points, const DelaunayOptions& 
   for (std::size_t i = 0; i < n; ++i) {
     Point3& p = input[i];
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-      throw GeometryError("point " + std::to_string(i) + " has a non-finite coordinate");
+      throw GeometryError("point " + count_text(i) + " has a non-finite coordinate");
     // -0.0 becomes 0.0 (x + 0.0 changes nothing else): one point, one key, one text.
     p.x += 0.0;
     p.y += 0.0;
@@ -68,7 +69,7 @@ DelaunayResult triangulate(std::vector<Point3>&& points, const DelaunayOptions& 
 
   const auto nv = static_cast<VertexId>(tin.vertex_count());
   if (nv < 3)
-    throw GeometryError("fewer than 3 distinct points (" + std::to_string(nv) +
+    throw GeometryError("fewer than 3 distinct points (" + count_text(nv) +
                         "): nothing to triangulate");
   // The first triangle: vertices 0, 1 and the first one not collinear with them.
   VertexId third = 2;

@@ -14,6 +14,7 @@
 #include <utility>
 
 #include "core/error.hpp"
+#include "core/number_text.hpp"
 #include "io/temporary_registry.hpp"
 
 namespace tincdt::io {
@@ -220,7 +221,7 @@ void OutputFile::write(const void* data, std::size_t n) {
   if (file_ == nullptr) throw OutputError(path_, "", "write after the file was closed");
   if (std::fwrite(data, 1, n, file_) != n) {
     const int err = errno;
-    throw OutputError(path_, "byte " + std::to_string(bytes_), "write failed: " + error_text(err));
+    throw OutputError(path_, "byte " + count_text(bytes_), "write failed: " + error_text(err));
   }
   bytes_ += n;
 }

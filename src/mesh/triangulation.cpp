@@ -3,9 +3,9 @@
 #include <atomic>
 #include <cassert>
 #include <cmath>
-#include <sstream>
 
 #include "core/memory.hpp"
+#include "core/number_text.hpp"
 #include "core/parallel.hpp"
 #include "mesh/geometry.hpp"
 #include "predicates/predicates.hpp"
@@ -147,11 +147,9 @@ std::size_t Triangulation::memory_bytes() const {
 namespace {
 
 std::string describe_edge(const Triangulation& tin, EdgeId e) {
-  std::ostringstream s;
-  auto name = [](VertexId v) { return v == kInfinite ? std::string("inf") : std::to_string(v); };
-  s << "edge " << e << " (" << name(tin.origin(e)) << " -> " << name(tin.dest(e)) << ", triangle "
-    << triangle_of(e) << ")";
-  return s.str();
+  auto name = [](VertexId v) { return v == kInfinite ? std::string("inf") : count_text(v); };
+  return "edge " + count_text(e) + " (" + name(tin.origin(e)) + " -> " + name(tin.dest(e)) +
+         ", triangle " + count_text(triangle_of(e)) + ")";
 }
 
 // Every triangle names existing, distinct vertices, at most one of them infinite, and a real
@@ -168,19 +166,19 @@ std::string check_triangles(const Triangulation& tin, std::vector<std::uint32_t>
       if (tri[i] == kInfinite) {
         ++infinite;
       } else if (tri[i] >= nv) {
-        return "triangle " + std::to_string(t) + " names vertex " + std::to_string(tri[i]) +
-               " of " + std::to_string(nv);
+        return "triangle " + count_text(t) + " names vertex " + count_text(tri[i]) + " of " +
+               count_text(nv);
       } else {
         ++degree[tri[i]];
       }
     }
     if (tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2])
-      return "triangle " + std::to_string(t) + " repeats a corner";
-    if (infinite > 1) return "triangle " + std::to_string(t) + " has two infinite corners";
+      return "triangle " + count_text(t) + " repeats a corner";
+    if (infinite > 1) return "triangle " + count_text(t) + " has two infinite corners";
     ghosts += infinite;
     if (!infinite &&
         predicates::orient2d(tin.point(tri[0]), tin.point(tri[1]), tin.point(tri[2])) <= 0)
-      return "triangle " + std::to_string(t) + " is not counter-clockwise";
+      return "triangle " + count_text(t) + " is not counter-clockwise";
   }
   return {};
 }
@@ -190,7 +188,7 @@ std::string check_triangles(const Triangulation& tin, std::vector<std::uint32_t>
 std::string check_fans(const Triangulation& tin, const std::vector<std::uint32_t>& degree) {
   const std::size_t nv = tin.vertex_count();
   for (std::size_t v = 0; v < nv; ++v)
-    if (!degree[v]) return "vertex " + std::to_string(v) + " is in no triangle";
+    if (!degree[v]) return "vertex " + count_text(v) + " is in no triangle";
   std::vector<EdgeId> out_edge(nv, kNoId);
   for (std::size_t i = 0; i < 3 * tin.triangle_slots(); ++i) {
     const VertexId v = tin.origin(static_cast<EdgeId>(i));
@@ -204,7 +202,7 @@ std::string check_fans(const Triangulation& tin, const std::vector<std::uint32_t
       if (++around > degree[v]) break;
     } while (e != out_edge[v]);
     if (around != degree[v])
-      return "vertex " + std::to_string(v) + " has more than one fan of triangles";
+      return "vertex " + count_text(v) + " has more than one fan of triangles";
   }
   if (tin.triangle_slots() + 2 != 2 * nv) return "Euler's formula fails: wrong number of triangles";
   return {};

@@ -96,7 +96,7 @@ std::string Job::describe_inputs() const {
     if (i) s += ", ";
     s += inputs[i];
   }
-  if (inputs.size() > shown) s += " and " + std::to_string(inputs.size() - shown) + " more";
+  if (inputs.size() > shown) s += " and " + count_text(inputs.size() - shown) + " more";
   return s;
 }
 

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "core/number_text.hpp"
 #include "io/crs.hpp"
 #include "io/raster/dem_writer.hpp"
 #include "pipeline/build.hpp"
@@ -58,9 +59,9 @@ void check_inputs(const BuildOptions& o) {
 
 void check_simplify(const BuildOptions& o) {
   if (o.max_error && !(*o.max_error >= 0 && std::isfinite(*o.max_error)))
-    throw UsageError("--max-error: " + std::to_string(*o.max_error) + " is not a number >= 0");
+    throw UsageError("--max-error: " + number_text(*o.max_error) + " is not a number >= 0");
   if (o.max_vertices > 0 && o.max_vertices < 3)
-    throw UsageError("--max-vertices: " + std::to_string(o.max_vertices) +
+    throw UsageError("--max-vertices: " + count_text(o.max_vertices) +
                      " vertices make no TIN (give 3 or more)");
 }
 
@@ -68,7 +69,7 @@ void check_terrain(const BuildOptions& o) {
   if (o.fix_flats && o.contours.empty())
     throw UsageError("--fix-flats needs --contours: flat triangles are those of one contour level");
   if (!(o.max_edge >= 0))
-    throw UsageError("--max-edge: " + std::to_string(o.max_edge) + " is not a length > 0");
+    throw UsageError("--max-edge: " + number_text(o.max_edge) + " is not a length > 0");
 }
 
 // Whether a product other than the TIN file is asked for: then -o may be left out.

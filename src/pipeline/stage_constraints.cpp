@@ -34,7 +34,7 @@ std::vector<constraints::Segment> segments_of(Job& job) {
   const detail::SourceTable& sources = job.sources;
   const bool known = sources.known(e.source_a);
   throw InputError(known ? sources.file(e.source_a) : std::string(),
-                   known ? "feature " + std::to_string(sources.fid(e.source_a)) : std::string(),
+                   known ? "feature " + signed_count_text(sources.fid(e.source_a)) : std::string(),
                    std::string("crosses ") + sources.describe(e.source_b) + " at " + at +
                        " (use --on-crossing split to join them there)");
 }

@@ -50,9 +50,9 @@ void plan(const BuildOptions& o, FilePlan& files) {
 
 std::string check_size(std::string_view text) {
   const auto n = parse_count(text);
-  return n && *n >= 2 && *n <= kLargestPreview ? std::string()
-                                               : in_quotes(text) + " is not a size in pixels (2-" +
-                                                     std::to_string(kLargestPreview) + ")";
+  return n && *n >= 2 && *n <= kLargestPreview
+             ? std::string()
+             : in_quotes(text) + " is not a size in pixels (2-" + count_text(kLargestPreview) + ")";
 }
 
 void set_size(BuildOptions& o, std::string_view text) {

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/number_text.hpp"
 #include "io/terrain/geographic_tiling.hpp"
 #include "io/terrain/layer_json.hpp"
 #include "io/terrain/quantized_mesh.hpp"
@@ -131,7 +132,7 @@ void run(Job& job) {
   const double spacing = source.point_spacing_metres();
   const int max_level =
       o.max_level ? *o.max_level : std::max(o.min_level, level_for_spacing(spacing));
-  job.info("terrain: levels " + std::to_string(o.min_level) + "-" + std::to_string(max_level) +
+  job.info("terrain: levels " + count_text(o.min_level) + "-" + count_text(max_level) +
            (o.max_level ? "" : " (point spacing " + short_number(spacing) + " m)"));
   qm::TerrainLayer layer;
   layer.bounds = source.bounds();
@@ -146,19 +147,18 @@ void run(Job& job) {
         write_level(job, source, level, max_level, (level - o.min_level) * share, share);
     const double rmse =
         s.error.count ? std::sqrt(s.error.sum_squares / static_cast<double>(s.error.count)) : 0;
-    job.info("terrain level " + std::to_string(level) + ": " + std::to_string(s.tiles) +
-             " tiles, " + std::to_string(s.vertices) + " vertices, max error " +
-             short_number(s.error.max) + " m (allowed " +
-             short_number(qm::geometric_error_at_level(level)) + "), RMSE " + short_number(rmse) +
-             " m over " + std::to_string(s.error.count) + " vertices" +
-             (s.line_segments ? ", " + std::to_string(s.line_segments) + " line pieces as edges"
+    job.info("terrain level " + count_text(level) + ": " + count_text(s.tiles) + " tiles, " +
+             count_text(s.vertices) + " vertices, max error " + short_number(s.error.max) +
+             " m (allowed " + short_number(qm::geometric_error_at_level(level)) + "), RMSE " +
+             short_number(rmse) + " m over " + count_text(s.error.count) + " vertices" +
+             (s.line_segments ? ", " + count_text(s.line_segments) + " line pieces as edges"
                               : std::string()));
     if (s.lines_dropped)
-      job.debug("terrain level " + std::to_string(level) + ": " + std::to_string(s.lines_dropped) +
+      job.debug("terrain level " + count_text(level) + ": " + count_text(s.lines_dropped) +
                 " tiles without their lines: simplified onto the tile's grid, they overlap "
                 "(coarse tiles over small data)");
     if (s.error.max > qm::geometric_error_at_level(level))
-      job.warn("terrain level " + std::to_string(level) + ": vertices up to " +
+      job.warn("terrain level " + count_text(level) + ": vertices up to " +
                short_number(s.error.max) + " m from the TIN, above the level's error: points " +
                "closer than a tile's quantization step (1/32767 of its width) differ more in " +
                "height (walls, trees; ground points alone make a smoother terrain)");
@@ -205,7 +205,7 @@ std::string check_levels(std::string_view text) {
   int min = 0, max = 0;
   if (parse_levels(text, min, max)) return {};
   return in_quotes(text) +
-         " is not MIN-MAX, two levels 0 <= MIN <= MAX <= " + std::to_string(qm::kMaxTileLevel);
+         " is not MIN-MAX, two levels 0 <= MIN <= MAX <= " + count_text(qm::kMaxTileLevel);
 }
 
 void set_levels(BuildOptions& o, std::string_view text) {

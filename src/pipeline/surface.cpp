@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "core/error.hpp"
+#include "core/number_text.hpp"
 #include "mesh/point_insertion.hpp"
 #include "terrain/hull_cut.hpp"
 #include "terrain/interpolate.hpp"
@@ -36,7 +37,7 @@ std::uint32_t SourceTable::add(std::uint32_t file, std::int64_t fid, SourceKind 
 
 std::string SourceTable::describe(std::uint32_t source) const {
   if (!known(source)) return "a line";
-  return file(source) + " feature " + std::to_string(fid(source));
+  return file(source) + " feature " + signed_count_text(fid(source));
 }
 
 bool is_draped(SourceKind kind, const io::ShapeFeature& feature) {
@@ -54,7 +55,7 @@ using terrain::strict_hull;
 using terrain::zero_area;
 
 std::string where(std::int64_t fid) {
-  return "feature " + std::to_string(fid);
+  return "feature " + signed_count_text(fid);
 }
 
 bool is_polygon(SourceKind kind) {
@@ -85,7 +86,7 @@ std::vector<const std::vector<io::ShapePart>*> parts_to_insert(
         if (f.parts[r].points.size() >= 3 && !zero_area(f.parts[r].points)) continue;
         throw InputError(
             sources.file(source), where(f.fid),
-            "ring " + std::to_string(r) + " encloses no area (its vertices lie on one line)");
+            "ring " + count_text(r) + " encloses no area (its vertices lie on one line)");
       }
       if (!cut || hull.size() < 3) {
         parts_of.push_back(&f.parts);

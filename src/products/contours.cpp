@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/number_text.hpp"
 #include "core/parallel.hpp"
 #include "products/short_number.hpp"
 
@@ -237,7 +238,7 @@ struct Levels {
   // For messages: "a contour interval of 0.5", "3 fixed contour levels".
   std::string described() const {
     return by_interval ? "a contour interval of " + short_number(interval)
-                       : std::to_string(fixed.size()) + " fixed contour levels";
+                       : count_text(fixed.size()) + " fixed contour levels";
   }
 };
 
@@ -255,7 +256,7 @@ Levels interval_levels(ZRange z, double base, double interval) {
   const double span = (z.max - z.min) / interval;
   if (span > static_cast<double>(kMaxLevels))
     throw Error("a contour interval of " + short_number(interval) + " gives more than " +
-                std::to_string(kMaxLevels) + " levels over the TIN's z range");
+                count_text(kMaxLevels) + " levels over the TIN's z range");
   levels.k_lo = first_level_above(base, interval, z.min);
   const std::int64_t k_hi = first_level_above(base, interval, z.max) - 1;
   if (k_hi >= levels.k_lo) levels.count = static_cast<std::size_t>(k_hi - levels.k_lo + 1);

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/number_text.hpp"
 #include "core/parallel.hpp"
 
 namespace tincdt::products {
@@ -164,8 +165,8 @@ template <class T>
 RasterizeStats rasterize(const mesh::Triangulation& tin, const Grid& grid, T nodata,
                          std::span<T> cells, const RasterizeOptions& options) {
   if (cells.size() != grid.cells())
-    throw Error("rasterize: " + std::to_string(cells.size()) + " cells given for a grid of " +
-                std::to_string(grid.cells()));
+    throw Error("rasterize: " + count_text(cells.size()) + " cells given for a grid of " +
+                count_text(grid.cells()));
   RasterizeStats stats;
   if (grid.cells() == 0) return stats;
   const auto threads = static_cast<unsigned>(thread_count(options.threads));

@@ -6,6 +6,7 @@
 
 #include "core/error.hpp"
 #include "core/memory.hpp"
+#include "core/number_text.hpp"
 #include "core/parallel.hpp"
 #include "delaunay/delaunay.hpp"
 #include "simplify/simplifier.hpp"
@@ -25,7 +26,7 @@ Simplifier::Simplifier(const PointSet& set, const SimplifyOptions& options,
     throw GeometryError("simplify: too many points for 32-bit ids");
   if (!(options.max_error >= 0))
     throw Error("simplify: the maximum error must be a number >= 0, not " +
-                std::to_string(options.max_error));
+                number_text(options.max_error));
   // Left unwritten: every entry is written before it is read, and fresh pages cost more than
   // the writes. (Huge pages were no faster here, and asking for them cost 0.2 s a 16M-point
   // run when memory was fragmented.)

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "core/number_text.hpp"
 #include "predicates/predicates.hpp"
 
 namespace tincdt::terrain {
@@ -17,7 +18,7 @@ PolygonIndex::PolygonIndex(const std::vector<Polygon>& polygons) : polygon_count
   for (std::size_t i = 0; i < polygons.size(); ++i) {
     for (std::size_t r = 0; r < polygons[i].rings.size(); ++r) {
       const auto& ring = polygons[i].rings[r];
-      const std::string name = "polygon " + std::to_string(i) + ", ring " + std::to_string(r);
+      const std::string name = "polygon " + count_text(i) + ", ring " + count_text(r);
       std::vector<Point2> pts;
       pts.reserve(ring.size());
       for (const Point2& p : ring) {
@@ -272,7 +273,7 @@ std::uint64_t set_polygon_z_inside(Triangulation& tin, const std::vector<Polygon
                                    const PolygonOptions& options) {
   for (std::size_t i = 0; i < polygons.size(); ++i)
     if (!std::isfinite(polygons[i].z))
-      throw GeometryError("replace polygon " + std::to_string(i) + " has no finite z");
+      throw GeometryError("replace polygon " + count_text(i) + " has no finite z");
   return set_z_where(tin, polygons, options,
                      [&polygons](std::uint32_t i) { return polygons[i].z; });
 }

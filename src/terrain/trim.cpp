@@ -5,13 +5,14 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/number_text.hpp"
 
 namespace tincdt::terrain {
 
 std::uint64_t trim_long_edges(mesh::Triangulation& tin, double max_edge,
                               const TrimOptions& options) {
   if (!(max_edge > 0))
-    throw Error("max edge length must be positive, not " + std::to_string(max_edge));
+    throw Error("max edge length must be positive, not " + number_text(max_edge));
   if (std::isinf(max_edge)) return 0;
   const double limit2 = max_edge * max_edge;  // compare squared lengths: no sqrt per edge
 

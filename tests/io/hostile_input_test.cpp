@@ -86,7 +86,7 @@ TEST(HostileXyz, ALineLongerThanAMegabyteIsAnError) {
   std::string text = "0 0 1\n5 0 2\n";
   text += std::string(std::size_t{3} << 20, '\0');
   EXPECT_THAT(points_error(scratch("zeros.xyz", text)),
-              AllOf(HasSubstr("line 3"), HasSubstr("longer than 1048576 bytes")));
+              AllOf(HasSubstr("line 3"), HasSubstr("longer than 1,048,576 bytes")));
   std::string cr;
   for (int i = 0; i < 200000; ++i) cr += std::to_string(i) + " 0 1\r";
   EXPECT_THAT(points_error(scratch("long_cr.xyz", cr)), HasSubstr("CR-only line ends"));

@@ -12,6 +12,7 @@
 #include "core/error.hpp"
 #include "core/json_text.hpp"
 #include "core/memory.hpp"
+#include "core/number_text.hpp"
 #include "io/mesh/writer_detail.hpp"
 #include "io/output_file.hpp"
 
@@ -19,7 +20,7 @@ namespace tincdt::io {
 namespace {
 
 std::string edge_where(std::size_t i) {
-  return "constraint edge " + std::to_string(i);
+  return "constraint edge " + count_text(i);
 }
 
 // Checks the edges against the TIN and the feature table; returns the number of distinct
@@ -35,8 +36,8 @@ std::uint64_t check_edges(const std::string& path, const mesh::Triangulation& ti
     for (const VertexId v : {e.a, e.b}) {
       if (v >= nv)
         throw OutputError(path, edge_where(i),
-                          "vertex " + std::to_string(v) + " is not a vertex of the TIN (" +
-                              std::to_string(nv) + " vertices)");
+                          "vertex " + count_text(v) + " is not a vertex of the TIN (" +
+                              count_text(nv) + " vertices)");
       if (!used[v]) {
         used[v] = true;
         ++distinct;
@@ -44,8 +45,8 @@ std::uint64_t check_edges(const std::string& path, const mesh::Triangulation& ti
     }
     if (e.feature >= features.size())
       throw OutputError(path, edge_where(i),
-                        "feature index " + std::to_string(e.feature) + " is out of range (" +
-                            std::to_string(features.size()) + " features)");
+                        "feature index " + count_text(e.feature) + " is out of range (" +
+                            count_text(features.size()) + " features)");
   }
   return distinct;
 }

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "core/json.hpp"
+#include "core/number_text.hpp"
 #include "io/mesh/writer_detail.hpp"
 
 namespace tincdt::io::detail {
@@ -288,7 +289,7 @@ TinWriteStats write_gltf(OutputFile& out, const mesh::Triangulation& tin,
   const auto refuse_beyond_4gib = [&path](std::uint64_t bytes) {
     if (bytes > std::numeric_limits<std::uint32_t>::max())
       throw OutputError(path, "",
-                        "the mesh needs " + std::to_string(bytes) +
+                        "the mesh needs " + count_text(bytes) +
                             " bytes; a GLB file holds at most 4 GiB (2^32 - 1 bytes)");
   };
   refuse_beyond_4gib(28 + layout.bin_length);  // before the work; the JSON is added below

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/number_text.hpp"
 
 namespace tincdt::io::detail {
 namespace {
@@ -242,7 +243,7 @@ bool write_gpkg_rtree(GDALDataset& ds, const std::string& table, const std::stri
   const auto n = static_cast<std::int64_t>(rows);
   if (span[2] != n || (n > 0 && (span[0] != 1 || span[1] != n)))
     throw InternalError("the GeoPackage table " + table + " holds rows other than fid 1.." +
-                        std::to_string(n));
+                        signed_count_text(n));
   if (ds.StartTransaction(FALSE) != OGRERR_NONE) return false;
   if (!pack(ds, table, column, fid, rows, envelope)) {
     ds.RollbackTransaction();

@@ -11,6 +11,7 @@
 #include <optional>
 #include <vector>
 
+#include "core/number_text.hpp"
 #include "io/gdal_support.hpp"
 #include "io/mesh/gpkg_rtree.hpp"
 #include "io/mesh/writer_detail.hpp"
@@ -90,7 +91,7 @@ TinWriteStats write_gpkg(OutputFile& out, const mesh::Triangulation& tin,
       }
       feature->SetFID(OGRNullFID);
       if (layer->CreateFeature(feature.get()) != OGRERR_NONE)
-        fail("triangle " + std::to_string(t), "cannot write the feature");
+        fail("triangle " + count_text(t), "cannot write the feature");
       if (++written % kBatch == 0 &&
           (ds->CommitTransaction() != OGRERR_NONE || ds->StartTransaction(FALSE) != OGRERR_NONE))
         fail("", "cannot commit a transaction");

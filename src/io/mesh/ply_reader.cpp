@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/number_text.hpp"
 #include "io/mapped_file.hpp"
 
 namespace tincdt::io {
@@ -109,7 +110,7 @@ class Values {
 
   std::size_t remaining() const { return static_cast<std::size_t>(end_ - p_); }
   [[noreturn]] void fail(const std::string& what) const {
-    throw InputError(path_, "byte " + std::to_string(p_ - begin_) + " after the header", what);
+    throw InputError(path_, "byte " + count_text(p_ - begin_) + " after the header", what);
   }
 
  private:
@@ -145,8 +146,7 @@ class Values {
 
 std::uint32_t index_of(Values& in, double v, std::size_t vertices, const char* what) {
   if (!(v >= 0 && v < static_cast<double>(vertices) && v == std::floor(v)))
-    in.fail(std::string(what) + " names vertex " + std::to_string(v) + " of " +
-            std::to_string(vertices));
+    in.fail(std::string(what) + " names vertex " + number_text(v) + " of " + count_text(vertices));
   return static_cast<std::uint32_t>(v);
 }
 
@@ -167,7 +167,7 @@ Header read_header(const std::string& path, std::string_view text, PlyMesh& mesh
     std::string word;
     ls >> word;
     const auto bad = [&](const std::string& what) {
-      throw InputError(path, "header line " + std::to_string(line_no), what);
+      throw InputError(path, "header line " + count_text(line_no), what);
     };
     if (word == "format") {
       std::string f;
@@ -228,7 +228,7 @@ Columns columns_of(Values& in, const Element& e, bool ascii) {
   for (const Property& p : e.props)
     min_bytes += ascii ? 2 : size_of(p.list ? p.count_type : p.type);
   if (min_bytes > 0 && e.count > in.remaining() / min_bytes)
-    in.fail("element '" + e.name + "' announces " + std::to_string(e.count) +
+    in.fail("element '" + e.name + "' announces " + count_text(e.count) +
             " items, more than the file holds");
   Columns c{};
   c.x = e.find("x"), c.y = e.find("y"), c.z = e.find("z");
@@ -251,7 +251,7 @@ void store_item(Values& in, const Columns& c, std::uint64_t k, const std::vector
   if (c.is_vertex) {
     const Point3 v{at(c.x) + mesh.offset.x, at(c.y) + mesh.offset.y, at(c.z) + mesh.offset.z};
     if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
-      in.fail("vertex " + std::to_string(k) + " is not finite");
+      in.fail("vertex " + count_text(k) + " is not finite");
     mesh.vertices.push_back(v);
   } else if (c.is_face) {
     mesh.faces.push_back(face);
@@ -285,7 +285,7 @@ void read_element(Values& in, const Element& e, bool ascii, PlyMesh& mesh) {
       const double n = in.get(p.count_type);
       if (!(n >= 0 && n == std::floor(n))) in.fail("a list with a bad count");
       if (c.is_face && static_cast<int>(i) == c.list) {
-        if (n != 3) in.fail("face " + std::to_string(k) + " is not a triangle");
+        if (n != 3) in.fail("face " + count_text(k) + " is not a triangle");
         for (auto& corner : face)
           corner = index_of(in, in.get(p.type), mesh.vertices.size(), "a face");
       } else {

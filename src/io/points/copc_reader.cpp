@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/number_text.hpp"
 #include "io/mapped_file.hpp"
 #include "io/points/laz/copc_hierarchy.hpp"
 #include "io/points/laz/laz_reader.hpp"
@@ -42,7 +43,7 @@ PointReadStats read_copc_nodes(const std::string& path, const PointFilter& filte
   const laz::CopcHierarchy h = laz::read_hierarchy(src, nullptr);
   std::vector<laz::CopcNode> chosen;
   for (const std::size_t i : nodes) {
-    if (i >= h.nodes.size()) throw InternalError("read_copc_nodes: no node " + std::to_string(i));
+    if (i >= h.nodes.size()) throw InternalError("read_copc_nodes: no node " + count_text(i));
     chosen.push_back(h.nodes[i]);
   }
   laz::LazReadFigures figures;

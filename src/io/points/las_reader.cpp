@@ -15,6 +15,7 @@
 
 #include "core/coordinates.hpp"
 #include "core/error.hpp"
+#include "core/number_text.hpp"
 #include "io/crs_detail.hpp"
 #include "io/mapped_file.hpp"
 #include "io/points/laz/laz_reader.hpp"
@@ -52,7 +53,7 @@ struct LasHeader {
 };
 
 std::string byte_at(std::uint64_t offset) {
-  return "byte " + std::to_string(offset);
+  return "byte " + count_text(offset);
 }
 
 LasHeader parse_header(const std::string& path, const std::uint8_t* d, std::size_t size) {
@@ -61,8 +62,8 @@ LasHeader parse_header(const std::string& path, const std::uint8_t* d, std::size
   }
   if (size < kMinHeaderSize) {
     throw InputError(path, "header",
-                     "truncated: the file has " + std::to_string(size) +
-                         " bytes, a LAS header needs at least " + std::to_string(kMinHeaderSize));
+                     "truncated: the file has " + count_text(size) +
+                         " bytes, a LAS header needs at least " + count_text(kMinHeaderSize));
   }
   LasHeader h;
   h.version_major = d[24];
@@ -84,13 +85,13 @@ LasHeader parse_header(const std::string& path, const std::uint8_t* d, std::size
   }
   if (h.header_size < kMinHeaderSize) {
     throw InputError(path, "header",
-                     "header size " + std::to_string(h.header_size) + " is smaller than the " +
-                         std::to_string(kMinHeaderSize) + " bytes every LAS header has");
+                     "header size " + count_text(h.header_size) + " is smaller than the " +
+                         count_text(kMinHeaderSize) + " bytes every LAS header has");
   }
   if (h.header_size > size) {
     throw InputError(path, "header",
-                     "truncated: the header announces " + std::to_string(h.header_size) +
-                         " bytes but the file has only " + std::to_string(size));
+                     "truncated: the header announces " + count_text(h.header_size) +
+                         " bytes but the file has only " + count_text(size));
   }
   // LAS 1.3 and 1.4 fields, read only when the header is long enough to hold them (some writers
   // of 1.3 and 1.4 files leave the header at the 1.2 size).
@@ -118,8 +119,8 @@ LasHeader parse_header(const std::string& path, const std::uint8_t* d, std::size
   }
   if (h.record_length < kFormatSize[h.point_format]) {
     throw InputError(path, "header",
-                     "point record length " + std::to_string(h.record_length) +
-                         " is smaller than the " + std::to_string(kFormatSize[h.point_format]) +
+                     "point record length " + count_text(h.record_length) +
+                         " is smaller than the " + count_text(kFormatSize[h.point_format]) +
                          " bytes point format " + std::to_string(h.point_format) + " needs");
   }
   static const char* const kAxis[3] = {"X", "Y", "Z"};
@@ -127,20 +128,20 @@ LasHeader parse_header(const std::string& path, const std::uint8_t* d, std::size
     if (!std::isfinite(h.scale[i]) || h.scale[i] == 0.0 || !std::isfinite(h.offset[i])) {
       throw InputError(path, "header",
                        std::string("invalid ") + kAxis[i] + " scale factor / offset (" +
-                           std::to_string(h.scale[i]) + " / " + std::to_string(h.offset[i]) + ")");
+                           number_text(h.scale[i]) + " / " + number_text(h.offset[i]) + ")");
     }
     h.offset[i] = without_signed_zero(h.offset[i]);  // so that no coordinate is -0
   }
   if (h.offset_to_points < h.header_size) {
     throw InputError(path, "header",
-                     "the point data offset " + std::to_string(h.offset_to_points) +
-                         " lies inside the " + std::to_string(h.header_size) + "-byte header");
+                     "the point data offset " + count_text(h.offset_to_points) +
+                         " lies inside the " + count_text(h.header_size) + "-byte header");
   }
   if (h.offset_to_points > size) {
     throw InputError(path, "header",
                      "truncated: the point data should start at byte " +
-                         std::to_string(h.offset_to_points) + " but the file has only " +
-                         std::to_string(size) + " bytes");
+                         count_text(h.offset_to_points) + " but the file has only " +
+                         count_text(size) + " bytes");
   }
   return h;
 }
@@ -167,11 +168,11 @@ void check_point_count(const std::string& path, const LasHeader& h, std::size_t 
     const std::string before = !followed                   ? ""
                                : limit == h.waveform_start ? " before its waveform packets"
                                                            : " before its extended VLRs";
-    const std::string tail = "the file holds " + std::to_string(whole) + " records" + before +
-                             " but the header announces " + std::to_string(h.point_count);
+    const std::string tail = "the file holds " + count_text(whole) + " records" + before +
+                             " but the header announces " + count_text(h.point_count);
     if (available % h.record_length != 0 && !followed) {
       throw InputError(path,
-                       "point record " + std::to_string(whole) + ", " +
+                       "point record " + count_text(whole) + ", " +
                            byte_at(h.offset_to_points + whole * h.record_length),
                        "truncated: the file ends inside this record; " + tail);
     }
@@ -253,14 +254,14 @@ void read_vlrs(const std::string& path, const LasHeader& h, const std::uint8_t* 
   const auto rest = [&](std::uint32_t after) {
     const std::uint32_t left = h.vlr_count - after;
     return left == 0 ? std::string()
-                     : "; the " + std::to_string(left) + " record" + (left == 1 ? "" : "s") +
+                     : "; the " + count_text(left) + " record" + (left == 1 ? "" : "s") +
                            " after it " + (left == 1 ? "is" : "are") + " ignored";
   };
   std::size_t pos = h.header_size;
   for (std::uint32_t i = 0; i < h.vlr_count; ++i) {
     if (pos + kVlrHeaderSize > h.offset_to_points) {
-      warnings.push_back(path + ": the header announces " + std::to_string(h.vlr_count) +
-                         " variable length records but only " + std::to_string(i) +
+      warnings.push_back(path + ": the header announces " + count_text(h.vlr_count) +
+                         " variable length records but only " + count_text(i) +
                          " fit before the point data at " + byte_at(h.offset_to_points) +
                          "; the rest are ignored");
       return;
@@ -270,10 +271,10 @@ void read_vlrs(const std::string& path, const LasHeader& h, const std::uint8_t* 
     const std::size_t length = load_le<std::uint16_t>(d + pos + 20);
     const std::size_t room = h.offset_to_points - pos - kVlrHeaderSize;
     if (length > room) {
-      warnings.push_back(path + ": variable length record " + std::to_string(i) + " ('" +
+      warnings.push_back(path + ": variable length record " + count_text(i) + " ('" +
                          printable(uid) + "' " + std::to_string(record_id) + ", " + byte_at(pos) +
-                         ") announces " + std::to_string(length) + " bytes but only " +
-                         std::to_string(room) + " lie before the point data at " +
+                         ") announces " + count_text(length) + " bytes but only " +
+                         count_text(room) + " lie before the point data at " +
                          byte_at(h.offset_to_points) + "; reading those" + rest(i + 1));
       take_record(uid, record_id, d + pos + kVlrHeaderSize, room, crs);
       return;
@@ -289,17 +290,17 @@ void read_evlrs(const std::string& path, const LasHeader& h, const std::uint8_t*
   if (h.evlr_count == 0 || h.evlr_start == 0) return;
   std::uint64_t pos = h.evlr_start;
   for (std::uint32_t i = 0; i < h.evlr_count; ++i) {
-    const std::string where = "extended VLR " + std::to_string(i) + ", " + byte_at(pos);
+    const std::string where = "extended VLR " + count_text(i) + ", " + byte_at(pos);
     if (pos > size || size - pos < kEvlrHeaderSize) {
-      throw InputError(path, where,
-                       "truncated: the file ends at byte " + std::to_string(size) +
-                           " before this record's header");
+      throw InputError(
+          path, where,
+          "truncated: the file ends at byte " + count_text(size) + " before this record's header");
     }
     const auto length = load_le<std::uint64_t>(d + pos + 20);
     if (length > size - pos - kEvlrHeaderSize) {
       throw InputError(path, where,
-                       "truncated: the record announces " + std::to_string(length) +
-                           " bytes but the file ends at byte " + std::to_string(size));
+                       "truncated: the record announces " + count_text(length) +
+                           " bytes but the file ends at byte " + count_text(size));
     }
     const std::string uid = user_id(d + pos);
     take_record(uid, load_le<std::uint16_t>(d + pos + 18), d + pos + kEvlrHeaderSize,
@@ -362,7 +363,7 @@ void check_range(const std::string& path, const std::uint8_t* p, std::size_t cou
   for (std::size_t i = 0; i < count; ++i, p += record_length) {
     const Point3 v = t.apply(load_le<std::int32_t>(p), load_le<std::int32_t>(p + 4),
                              load_le<std::int32_t>(p + 8));
-    t.check_range(v, path, "point record " + std::to_string(first + i));
+    t.check_range(v, path, "point record " + count_text(first + i));
   }
 }
 
@@ -515,7 +516,7 @@ PointReadStats read_las(const std::string& path, const PointFilter& filter,
   try {
     out.reserve(out.size() + total);
   } catch (const std::bad_alloc&) {
-    throw Error(path, "", "out of memory: no room for its " + std::to_string(total) + " points");
+    throw Error(path, "", "out of memory: no room for its " + count_text(total) + " points");
   }
   const bool check = !t.in_range_by_header();
   detail::advise_huge_pages(out);

@@ -14,6 +14,7 @@
 
 #include "core/coordinates.hpp"
 #include "core/error.hpp"
+#include "core/number_text.hpp"
 #include "io/crs.hpp"
 #include "io/gdal_support.hpp"
 #include "io/mapped_file.hpp"
@@ -211,7 +212,7 @@ PointReadStats read_ply_points(const std::string& path, const PointFilter& filte
   for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
     const Point3& v = mesh.vertices[i];
     if (coordinate_in_range(v.x) && coordinate_in_range(v.y) && coordinate_in_range(v.z)) continue;
-    throw InputError(path, "vertex " + std::to_string(i),
+    throw InputError(path, "vertex " + count_text(i),
                      std::string("a coordinate is beyond +-") + kMaxCoordinateText +
                          ", the coordinate range tincdt computes with");
   }

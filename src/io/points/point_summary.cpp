@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/number_text.hpp"
 #include "io/mapped_file.hpp"
 #include "io/points/load_le.hpp"
 #include "io/points/point_reader.hpp"
@@ -26,8 +27,8 @@ constexpr std::size_t kHeaderSize14 = 375;   // 1.4: the 64-bit point count at b
 PointFileSummary summarize_las(const std::string& path, const unsigned char* h, std::size_t n) {
   if (n < kMinHeaderSize)
     throw InputError(path, "header",
-                     "truncated: a LAS header needs " + std::to_string(kMinHeaderSize) +
-                         " bytes, the file has " + std::to_string(n));
+                     "truncated: a LAS header needs " + count_text(kMinHeaderSize) +
+                         " bytes, the file has " + count_text(n));
   const unsigned major = h[24], minor = h[25];
   if (major != 1 || minor > 4)
     throw InputError(path, "header",
@@ -53,9 +54,9 @@ PointFileSummary summarize_las(const std::string& path, const unsigned char* h, 
       throw InputError(path, "header", "the scale factors or bounds are not finite numbers");
   if (min_x > max_x || min_y > max_y)
     throw InputError(path, "header",
-                     "the bounds are reversed (min x " + std::to_string(min_x) + ", max x " +
-                         std::to_string(max_x) + ", min y " + std::to_string(min_y) + ", max y " +
-                         std::to_string(max_y) + ")");
+                     "the bounds are reversed (min x " + number_text(min_x) + ", max x " +
+                         number_text(max_x) + ", min y " + number_text(min_y) + ", max y " +
+                         number_text(max_y) + ")");
   s.bounds = {min_x, min_y, max_x, max_y};
   s.tolerance = std::max(std::fabs(scale_x), std::fabs(scale_y));
   return s;

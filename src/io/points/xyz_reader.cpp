@@ -28,6 +28,7 @@
 
 #include "core/coordinates.hpp"
 #include "core/error.hpp"
+#include "core/number_text.hpp"
 #include "core/parallel.hpp"
 #include "io/mapped_file.hpp"
 #include "io/points/point_reader.hpp"
@@ -280,8 +281,8 @@ const char* const kCrOnlyAdvice =
     "LF, e.g. with tr '\\r' '\\n'";
 
 [[noreturn]] void throw_too_long(const std::string& name, std::size_t line_number, bool cr) {
-  throw InputError(name, "line " + std::to_string(line_number),
-                   "longer than " + std::to_string(kMaxLineBytes) + " bytes: " +
+  throw InputError(name, "line " + count_text(line_number),
+                   "longer than " + count_text(kMaxLineBytes) + " bytes: " +
                        (cr ? std::string(kCrOnlyAdvice)
                            : std::string("not XYZ text (binary data, or no line ends)")));
 }
@@ -292,7 +293,7 @@ const char* const kCrOnlyAdvice =
     throw_too_long(name, line_number, has_cr(f.line, f.line + kMaxLineBytes));
   }
   if (f.problem == Problem::kBareCr) {
-    throw InputError(name, "line " + std::to_string(line_number),
+    throw InputError(name, "line " + count_text(line_number),
                      "a carriage return (CR) inside the line: " + std::string(kCrOnlyAdvice));
   }
   std::string why;
@@ -302,7 +303,7 @@ const char* const kCrOnlyAdvice =
       why = "too few fields";
       break;
     case Problem::kEmptyField:
-      why = "field " + std::to_string(f.column + 1) + " is empty";
+      why = "field " + count_text(f.column + 1) + " is empty";
       break;
     case Problem::kNotANumber:
       why = "'" + field + "' is not a number";
@@ -326,7 +327,7 @@ const char* const kCrOnlyAdvice =
       break;
   }
   throw InputError(
-      name, "line " + std::to_string(line_number),
+      name, "line " + count_text(line_number),
       "expected 3 numbers x y z, got '" + quote(f.line, f.line_end) + "' (" + why + ")");
 }
 
@@ -442,7 +443,7 @@ Start find_start(const char* b, const char* e, bool at_eof) {
   if (start.problem == Problem::kTooLong) {
     throw_too_long(name, line, has_cr(start.problem_line, start.problem_line + kMaxLineBytes));
   }
-  throw InputError(name, "line " + std::to_string(line),
+  throw InputError(name, "line " + count_text(line),
                    "a carriage return (CR) inside the line: " + std::string(kCrOnlyAdvice));
 }
 
@@ -651,7 +652,7 @@ PointReadStats read_xyz(const std::string& path, const PointFilter& filter,
   } catch (const std::bad_alloc&) {
     const std::size_t read = out.size() - before;
     out.resize(before);  // frees nothing, but allocates nothing either
-    throw Error(name, "", "out of memory after reading " + std::to_string(read) + " of its points");
+    throw Error(name, "", "out of memory after reading " + count_text(read) + " of its points");
   }
 }
 

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/number_text.hpp"
 #include "core/parallel.hpp"
 #include "io/gdal_support.hpp"
 #include "io/mesh/writer_detail.hpp"
@@ -247,8 +248,7 @@ DemWriteStats write(OutputFile& out, const products::Grid& grid, std::span<const
   const std::string& path = out.path();
   if (cells.size() != grid.cells())
     throw OutputError(
-        path, "",
-        std::to_string(cells.size()) + " cells for a grid of " + std::to_string(grid.cells()));
+        path, "", count_text(cells.size()) + " cells for a grid of " + count_text(grid.cells()));
   if (grid.cells() == 0) throw OutputError(path, "", "the DEM has no cells");
   DemWriteStats stats;
   stats.driver = dem_driver_for(path, options.format, type == GDT_Float64);

@@ -12,6 +12,7 @@
 #include <utility>
 
 #include "core/error.hpp"
+#include "core/number_text.hpp"
 #include "io/gdal_support.hpp"
 #include "io/mesh/writer_detail.hpp"
 #include "io/output_file.hpp"
@@ -40,7 +41,7 @@ bool finite(const Point3& p) {
 void check_locations(const std::string& path, const Diagnostics& d) {
   const auto check = [&path](const char* layer, std::size_t i, const Point3& p) {
     if (!finite(p))
-      throw OutputError(path, std::string("layer ") + layer + ", entry " + std::to_string(i),
+      throw OutputError(path, std::string("layer ") + layer + ", entry " + count_text(i),
                         "location is not a finite number");
   };
   for (std::size_t i = 0; i < d.crossings.size(); ++i) check(kCrossings, i, d.crossings[i].at);
@@ -90,7 +91,7 @@ class GpkgBuilder {
       fill(*f, items[i]);
       f->SetFID(OGRNullFID);
       if (layer.CreateFeature(f.get()) != OGRERR_NONE)
-        fail(std::string("layer ") + layer.GetName() + ", entry " + std::to_string(i),
+        fail(std::string("layer ") + layer.GetName() + ", entry " + count_text(i),
              "cannot write the feature");
     }
   }

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/number_text.hpp"
 #include "io/gdal_support.hpp"
 
 namespace tincdt::io::terrain {
@@ -76,7 +77,7 @@ HeightUnits to_lon_lat_metres(const std::string& wkt, std::span<Point3> points,
     for (std::size_t i = 0; i < n; ++i) {
       Point3& p = points[first + i];
       if (!ok[i] || !std::isfinite(x[i]) || !std::isfinite(y[i]))
-        throw InputError(what, "point " + std::to_string(p.x) + " " + std::to_string(p.y),
+        throw InputError(what, "point " + number_text(p.x) + " " + number_text(p.y),
                          "cannot be transformed to longitude/latitude on WGS 84");
       p = {x[i], y[i], p.z * units.to_metres};
     }

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "core/number_text.hpp"
 #include "io/terrain/quantized_mesh.hpp"
 #include "io/terrain/quantized_mesh_detail.hpp"
 #include "io/terrain/wgs84.hpp"
@@ -148,12 +149,12 @@ void check_tile_mesh(const TileMesh& mesh) {
     const Point3& p = mesh.vertices[i];
     if (!(p.x >= r.west && p.x <= r.east && p.y >= r.south && p.y <= r.north) ||
         !std::isfinite(p.z))
-      refuse("vertex " + std::to_string(i) + " is outside the tile or not finite");
+      refuse("vertex " + count_text(i) + " is outside the tile or not finite");
   }
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     for (const std::uint32_t c : mesh.triangles[t]) {
       if (c >= mesh.vertices.size())
-        refuse("triangle " + std::to_string(t) + " has no vertex " + std::to_string(c));
+        refuse("triangle " + count_text(t) + " has no vertex " + count_text(c));
     }
   }
 }

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/number_text.hpp"
 #include "io/gdal_support.hpp"
 #include "io/mesh/writer_detail.hpp"
 #include "io/output_set.hpp"
@@ -116,7 +117,7 @@ ContourWriteStats write_contours(OutputFile& out, const products::ContourSet& co
       if (elevation >= 0) feature->SetField(elevation, c.level);
       feature->SetFID(OGRNullFID);
       if (layer->CreateFeature(feature.get()) != OGRERR_NONE)
-        fail("line " + std::to_string(i) + " (level " + std::to_string(c.level) + ")",
+        fail("line " + count_text(i) + " (level " + number_text(c.level) + ")",
              "cannot write the feature");
       if (transactions && (i + 1) % kBatch == 0) {
         if (ds->CommitTransaction() != OGRERR_NONE || ds->StartTransaction(FALSE) != OGRERR_NONE)

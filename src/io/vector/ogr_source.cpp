@@ -13,6 +13,7 @@
 
 #include "core/coordinates.hpp"
 #include "core/error.hpp"
+#include "core/number_text.hpp"
 #include "io/crs_detail.hpp"
 
 namespace tincdt::io::detail {
@@ -128,7 +129,7 @@ OgrLayer::OgrLayer(const std::string& spec, const std::string& layer_option, std
   } else if (layers.size() > 1) {
     throw InputError(
         file, "",
-        std::to_string(layers.size()) + " layers (" + join(layers) + "): name one as FILE:LAYER",
+        count_text(layers.size()) + " layers (" + join(layers) + "): name one as FILE:LAYER",
         Remedy::choose_layer);
   } else {
     layer_ = ds_->GetLayer(0);
@@ -190,14 +191,14 @@ void OgrLayer::ignore_fields_except(int keep) const {
 void OgrLayer::reading_failed(std::int64_t last_fid) const {
   throw InputError(
       spec_.file,
-      "layer " + name_ + (last_fid >= 0 ? ", after feature " + std::to_string(last_fid) : ""),
+      "layer " + name_ + (last_fid >= 0 ? ", after feature " + signed_count_text(last_fid) : ""),
       "reading failed: " + messages_.failure());
 }
 
 void OgrLayer::add_warnings(std::uint64_t curves, std::vector<std::string>& warnings) const {
   for (const std::string& w : messages_.warnings()) warnings.push_back(spec_.file + ": " + w);
   if (curves > 0) {
-    warnings.push_back(spec_.file + ": layer " + name_ + ": " + std::to_string(curves) +
+    warnings.push_back(spec_.file + ": layer " + name_ + ": " + count_text(curves) +
                        " curved geometries approximated by line strings");
   }
 }
@@ -218,24 +219,23 @@ void OgrLayer::check_usable(const Yield& yield, const std::vector<LineDrop>& dro
   std::string why;
   for (const auto& [reason, count] : reasons) {
     if (!why.empty()) why += "; ";
-    why += reason + " (" + std::to_string(count) + (count == 1 ? " feature)" : " features)");
+    why += reason + " (" + count_text(count) + (count == 1 ? " feature)" : " features)");
   }
   const std::string where = "layer " + name_;
   if (yield.used == 0) {
     if (yield.features == 0) throw InputError(spec_.file, where, "the layer has no features");
-    throw InputError(spec_.file, where,
-                     "none of its " + std::to_string(yield.features) + " features gives " +
-                         yield.what + ": " + why);
+    throw InputError(
+        spec_.file, where,
+        "none of its " + count_text(yield.features) + " features gives " + yield.what + ": " + why);
   }
   const std::uint64_t lost = yield.features - yield.used;
   if (lost == 0 && yield.degenerate_parts == 0) return;
   std::string w = spec_.file + ": " + where + ": ";
   if (lost > 0)
-    w += std::to_string(lost) + " of " + std::to_string(yield.features) +
-         " features dropped: " + why;
+    w += count_text(lost) + " of " + count_text(yield.features) + " features dropped: " + why;
   if (yield.degenerate_parts > 0) {
     if (lost > 0) w += "; ";
-    w += std::to_string(yield.degenerate_parts) + " " + yield.part +
+    w += count_text(yield.degenerate_parts) + " " + yield.part +
          (yield.degenerate_parts == 1 ? "" : "s") + " with too few distinct vertices skipped";
   }
   warnings.push_back(w + " (the diagnostics output lists them)");
@@ -349,7 +349,8 @@ void FeatureReader::drop(const OGRGeometry* geometry) {
 }
 
 void FeatureReader::fail(const std::string& detail, Remedy remedy) const {
-  throw InputError(file_, "layer " + layer_ + ", feature " + std::to_string(fid_), detail, remedy);
+  throw InputError(file_, "layer " + layer_ + ", feature " + signed_count_text(fid_), detail,
+                   remedy);
 }
 
 void FeatureReader::check_z(ZSource source, bool has_z, bool has_m, const char* no_z_what) const {
@@ -388,11 +389,10 @@ void FeatureReader::check_coordinates(Point3* p, std::size_t n, bool check_z) co
     const double v[3] = {p[i].x, p[i].y, check_z ? p[i].z : 0.0};
     for (int k = 0; k < 3; ++k) {
       if (coordinate_in_range(v[k])) continue;
-      if (!std::isfinite(v[k]))
-        fail("vertex " + std::to_string(i) + " has a non-finite coordinate");
+      if (!std::isfinite(v[k])) fail("vertex " + count_text(i) + " has a non-finite coordinate");
       char text[48];
       std::snprintf(text, sizeof text, "%g", v[k]);
-      fail("vertex " + std::to_string(i) + ": " + "xyz"[k] + " = " + text + " is beyond +-" +
+      fail("vertex " + count_text(i) + ": " + "xyz"[k] + " = " + text + " is beyond +-" +
            kMaxCoordinateText + ", the coordinate range tincdt computes with");
     }
     p[i] = without_signed_zero(p[i]);

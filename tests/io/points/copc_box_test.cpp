@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/number_text.hpp"
 #include "io/mapped_file.hpp"
 #include "io/points/laz/copc_hierarchy.hpp"
 #include "io/points/laz/laz_reader.hpp"
@@ -333,7 +334,7 @@ TEST(CopcSynthetic, DamagedHierarchiesAreRefusedNamingThePlace) {
   TINCDT_REQUIRE_SHARED_DATA("laz");
   const Synthetic s = split_pages(test::slurp(shared(kSimple)));
   const std::uint64_t root = s.root_offset;
-  const std::string root_at = "hierarchy page at byte " + std::to_string(root);
+  const std::string root_at = "hierarchy page at byte " + count_text(root);
   constexpr std::size_t kInfo = 375 + 54;
   struct Case {
     const char* name;

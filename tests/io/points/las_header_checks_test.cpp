@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/number_text.hpp"
 #include "core/types.hpp"
 #include "io/points/point_reader.hpp"
 #include "point_reading.hpp"
@@ -59,7 +60,7 @@ TEST(PointCounts, ALazHeaderCountAboveTheChunksIsRefused) {
   const auto e = input_error(path);
   ASSERT_TRUE(e);
   EXPECT_EQ(e->file(), path);
-  EXPECT_THAT(e->detail(), AllOf(HasSubstr("37806"), HasSubstr("37805")));
+  EXPECT_THAT(e->detail(), AllOf(HasSubstr("37,806"), HasSubstr("37,805")));
   // The true count still reads.
   EXPECT_EQ(points_of((kData / "laz" / "append-bug.laz").string()).size(), 37805u);
 }
@@ -88,8 +89,8 @@ TEST(PointCounts, ALasHeaderCountAboveTheRecordsIsRefused) {
     }
     const auto e = input_error(scratch(std::string("count_up_") + c.file, b));
     ASSERT_TRUE(e);
-    EXPECT_THAT(e->detail(), AllOf(HasSubstr(std::to_string(c.records + 1)),
-                                   HasSubstr("holds " + std::to_string(c.records) + " records")));
+    EXPECT_THAT(e->detail(), AllOf(HasSubstr(count_text(c.records + 1)),
+                                   HasSubstr("holds " + count_text(c.records) + " records")));
   }
 }
 
@@ -135,7 +136,7 @@ TEST(VlrChain, ARecordRunningPastThePointDataIsReadWithAWarning) {
     EXPECT_FALSE(stats.crs_wkt.empty());
     ASSERT_EQ(stats.warnings.size(), 1u);
     EXPECT_THAT(stats.warnings[0],
-                AllOf(HasSubstr(c.warning), HasSubstr(std::to_string(c.length) + " bytes")));
+                AllOf(HasSubstr(c.warning), HasSubstr(count_text(c.length) + " bytes")));
   }
 }
 

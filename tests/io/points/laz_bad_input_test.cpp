@@ -204,7 +204,7 @@ TEST(LazBadInput, VariableChunksOfFormats0To3ReadWithTheirTableOnly) {
   // A table whose counts fall short of the header's.
   points.back() -= 10;
   EXPECT_THAT(read_error(scratch("variable_short.laz", with_table(b, points, bytes, true))),
-              HasSubstr("its chunks hold 109990 points but the header announces 110000"));
+              HasSubstr("its chunks hold 109,990 points but the header announces 110,000"));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -267,7 +267,7 @@ TEST(LazBadInput, HeaderAnnouncingMorePointsThanTheChunksHold) {
   std::string copc = original("simple.copc");
   put<std::uint64_t>(copc, 247, 2130);
   EXPECT_THAT(read_error(scratch("count_copc.laz", copc)),
-              HasSubstr("the header announces 2130 points but the compressed data holds 1065"));
+              HasSubstr("the header announces 2,130 points but the compressed data holds 1,065"));
   // A count no file this size could hold, with the table gone: refused before any allocation.
   std::string huge = original("autzen_trim");
   put<std::uint32_t>(huge, 107, 0xFFFFFFF0u);

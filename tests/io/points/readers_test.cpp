@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/number_text.hpp"
 #include "core/types.hpp"
 #include "io/crs.hpp"
 #include "io/points/point_reader.hpp"
@@ -451,9 +452,9 @@ TEST(LasReader, TruncatedInsideThePoints) {
   const std::string path = scratch_file("cut_in_points.las", b);
   const std::string what = read_points_error(path);
   EXPECT_THAT(what, HasSubstr(path));
-  EXPECT_THAT(what, HasSubstr("point record 55000"));
-  EXPECT_THAT(what, HasSubstr("byte " + std::to_string(h.offset_to_points + 55000 * 34)));
-  EXPECT_THAT(what, HasSubstr("file holds 55000 records but the header announces 110000"));
+  EXPECT_THAT(what, HasSubstr("point record 55,000"));
+  EXPECT_THAT(what, HasSubstr("byte " + count_text(h.offset_to_points + 55000 * 34)));
+  EXPECT_THAT(what, HasSubstr("file holds 55,000 records but the header announces 110,000"));
 }
 
 TEST(LasReader, TruncatedAtARecordBoundary) {
@@ -462,7 +463,7 @@ TEST(LasReader, TruncatedAtARecordBoundary) {
   const RawHeader h = raw_header(b);
   b.resize(h.offset_to_points + 1000 * h.record_length);
   const std::string what = read_points_error(scratch_file("cut_at_record.las", b));
-  EXPECT_THAT(what, HasSubstr("file holds 1000 records but the header announces 1065"));
+  EXPECT_THAT(what, HasSubstr("file holds 1,000 records but the header announces 1,065"));
 }
 
 TEST(LasReader, TruncatedInsideTheHeader) {
@@ -494,12 +495,12 @@ TEST(LasReader, PointCountLargerThanTheFile) {
   std::string b = test::slurp(las("simple.las"));
   put<std::uint32_t>(b, 107, 1075);
   EXPECT_THAT(read_points_error(scratch_file("count_up.las", b)),
-              HasSubstr("file holds 1065 records but the header announces 1075"));
+              HasSubstr("file holds 1,065 records but the header announces 1,075"));
   // LAS 1.4: the 64-bit count is the one that counts.
   std::string b14 = test::slurp(las("test1_4.las"));
   put<std::uint64_t>(b14, 247, 5000);
   EXPECT_THAT(read_points_error(scratch_file("count64_up.las", b14)),
-              HasSubstr("file holds 1000 records but the header announces 5000"));
+              HasSubstr("file holds 1,000 records but the header announces 5,000"));
 }
 
 TEST(LasReader, LegacyCountIsUsedWhenThe64BitCountIsZero) {
@@ -755,7 +756,7 @@ TEST(XyzReader, LargeFileKeepsOrderAndLineNumbers) {
   text.insert(pos + 1, "1,2\n");
   const std::size_t line =
       static_cast<std::size_t>(std::count(text.begin(), text.begin() + pos + 1, '\n')) + 1;
-  EXPECT_THAT(xyz_error("large_bad.csv", text), HasSubstr(": line " + std::to_string(line) + ": "));
+  EXPECT_THAT(xyz_error("large_bad.csv", text), HasSubstr(": line " + count_text(line) + ": "));
 }
 
 TEST(XyzReader, ReadsFromAPipe) {
@@ -771,7 +772,7 @@ TEST(XyzReader, ReadsFromAPipe) {
   });
   const std::string what = read_points_error(fifo.string());
   writer.join();
-  EXPECT_THAT(what, HasSubstr(": line 5003: "));
+  EXPECT_THAT(what, HasSubstr(": line 5,003: "));
   EXPECT_THAT(what, HasSubstr("'oops' is not a number"));
 
   std::thread writer2([&] {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/number_text.hpp"
 
 namespace tincdt::io::laz {
 
@@ -37,11 +38,10 @@ struct ChunkInput {
   // "FILE: chunk 2, point 100017: WHAT" (point = file-wide index, from 0).
   InputError error(std::uint64_t point_in_chunk, const std::string& what) const {
     if (names != nullptr)
-      return InputError(*path, (*names)[index] + ", point " + std::to_string(point_in_chunk), what);
-    return InputError(*path,
-                      "chunk " + std::to_string(index) + ", point " +
-                          std::to_string(first_point + point_in_chunk),
-                      what);
+      return InputError(*path, (*names)[index] + ", point " + count_text(point_in_chunk), what);
+    return InputError(
+        *path, "chunk " + count_text(index) + ", point " + count_text(first_point + point_in_chunk),
+        what);
   }
 };
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "core/error.hpp"
+#include "core/number_text.hpp"
 #include "io/points/laz/arithmetic_decoder.hpp"
 #include "io/points/laz/integer_decompressor.hpp"
 #include "io/points/load_le.hpp"
@@ -11,7 +12,7 @@ namespace tincdt::io::laz {
 namespace {
 
 std::string byte_at(std::uint64_t offset) {
-  return "byte " + std::to_string(offset);
+  return "byte " + count_text(offset);
 }
 
 // The fewest bytes a chunk with at least one point takes: its raw first point, then the
@@ -44,8 +45,8 @@ TableResult read_table(const PointData& data, const PointLayout& layout,
   }
   if (offset < static_cast<std::int64_t>(chunks_begin) ||
       static_cast<std::uint64_t>(offset) + 8 > size) {
-    result.problem = "its offset " + std::to_string(offset) + " lies outside the " +
-                     std::to_string(size) + "-byte file";
+    result.problem = "its offset " + signed_count_text(offset) + " lies outside the " +
+                     count_text(size) + "-byte file";
     return result;
   }
   const auto table = static_cast<std::uint64_t>(offset);
@@ -58,9 +59,9 @@ TableResult read_table(const PointData& data, const PointLayout& layout,
   const std::uint64_t count = load_le<std::uint32_t>(file + table + 4);
   const std::uint64_t room = (table - chunks_begin) / min_chunk_bytes(layout);
   if (count > room) {
-    result.problem = "it lists " + std::to_string(count) + " chunks, but the " +
-                     std::to_string(table - chunks_begin) + " bytes before it hold at most " +
-                     std::to_string(room);
+    result.problem = "it lists " + count_text(count) + " chunks, but the " +
+                     count_text(table - chunks_begin) + " bytes before it hold at most " +
+                     count_text(room);
     return result;
   }
   if (count == 0) {
@@ -85,7 +86,7 @@ TableResult read_table(const PointData& data, const PointLayout& layout,
     }
     bytes = static_cast<std::uint32_t>(ic.decompress(dec, static_cast<std::int32_t>(bytes), 1));
     if (dec.failed()) {
-      result.problem = "its data ends before entry " + std::to_string(i);
+      result.problem = "its data ends before entry " + count_text(i);
       return result;
     }
     ChunkEntry& chunk = result.chunks[i];
@@ -94,14 +95,14 @@ TableResult read_table(const PointData& data, const PointLayout& layout,
     chunk.points = points;
     chunk.first_point = first_point;
     if (points > 0 && bytes < min_chunk_bytes(layout)) {
-      result.problem = "chunk " + std::to_string(i) + " is " + std::to_string(bytes) +
+      result.problem = "chunk " + count_text(i) + " is " + count_text(bytes) +
                        " bytes long, less than one point takes";
       return result;
     }
     start += bytes;
     first_point += points;
     if (start > table) {
-      result.problem = "chunk " + std::to_string(i) + " would end at " + byte_at(start) +
+      result.problem = "chunk " + count_text(i) + " would end at " + byte_at(start) +
                        ", past the table itself at " + byte_at(table);
       return result;
     }
@@ -111,10 +112,10 @@ TableResult read_table(const PointData& data, const PointLayout& layout,
     // decoding in order would not tell (chunks would start inside others).
     const std::uint64_t needed = (data.point_count + layout.chunk_size - 1) / layout.chunk_size;
     if (count < needed) {
-      result.contradiction = "it lists " + std::to_string(count) + " chunks, but the header's " +
-                             std::to_string(data.point_count) + " points in chunks of " +
-                             std::to_string(layout.chunk_size) + " (LASzip VLR) need " +
-                             std::to_string(needed);
+      result.contradiction = "it lists " + count_text(count) + " chunks, but the header's " +
+                             count_text(data.point_count) + " points in chunks of " +
+                             count_text(layout.chunk_size) + " (LASzip VLR) need " +
+                             count_text(needed);
     }
   }
   return result;
@@ -131,11 +132,11 @@ std::vector<ChunkEntry> walk_chunks(const std::string& path, const PointData& da
   std::uint64_t at = chunks_begin;
   std::uint64_t points = 0;
   while (points < data.point_count) {
-    const std::string where = "chunk " + std::to_string(chunks.size()) + ", " + byte_at(at);
+    const std::string where = "chunk " + count_text(chunks.size()) + ", " + byte_at(at);
     if (end < at || end - at < header) {
       throw InputError(path, where,
-                       "the point data ends (at " + byte_at(end) + ") after " +
-                           std::to_string(points) + " of the " + std::to_string(data.point_count) +
+                       "the point data ends (at " + byte_at(end) + ") after " + count_text(points) +
+                           " of the " + count_text(data.point_count) +
                            " points the header announces");
     }
     const std::uint8_t* p = data.file + at + layout.record_length;
@@ -173,8 +174,8 @@ void fit_to_count(const std::string& path, std::vector<ChunkEntry>& chunks,
     total += chunks[i].points;
   }
   throw InputError(path, "chunk table",
-                   "its chunks hold " + std::to_string(total) +
-                       " points but the header announces " + std::to_string(point_count));
+                   "its chunks hold " + count_text(total) + " points but the header announces " +
+                       count_text(point_count));
 }
 
 // Formats 6-10: every chunk starts with the number of points it holds, the data's own word. A
@@ -189,8 +190,8 @@ void check_held_points(const std::string& path, const PointData& data, const Poi
   }
   if (data.point_count > held) {
     throw InputError(path, "point data",
-                     "the header announces " + std::to_string(data.point_count) +
-                         " points but the compressed data holds " + std::to_string(held));
+                     "the header announces " + count_text(data.point_count) +
+                         " points but the compressed data holds " + count_text(held));
   }
 }
 
@@ -251,9 +252,9 @@ ChunkPlan plan_chunks(const std::string& path, const PointData& data, const Poin
   const std::uint64_t count = (data.point_count + chunk_size - 1) / chunk_size;
   if (count > (end - chunks_begin) / min_chunk_bytes(layout)) {
     throw InputError(path, "point data",
-                     "the header announces " + std::to_string(data.point_count) +
-                         " points, more than " + std::to_string(end - chunks_begin) +
-                         " bytes of chunks of " + std::to_string(chunk_size) + " can hold");
+                     "the header announces " + count_text(data.point_count) +
+                         " points, more than " + count_text(end - chunks_begin) +
+                         " bytes of chunks of " + count_text(chunk_size) + " can hold");
   }
   plan.sequential = true;
   plan.exact_end = table.table_offset > chunks_begin;

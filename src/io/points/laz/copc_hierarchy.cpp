@@ -5,6 +5,7 @@
 #include <set>
 
 #include "core/error.hpp"
+#include "core/number_text.hpp"
 #include "io/points/laz/laz_reader.hpp"
 #include "io/points/load_le.hpp"
 
@@ -15,7 +16,7 @@ namespace {
 constexpr std::int32_t kMaxLevel = 30;
 
 std::string byte_at(std::uint64_t offset) {
-  return "byte " + std::to_string(offset);
+  return "byte " + count_text(offset);
 }
 
 bool meets(const BBox& a, const BBox& b) {
@@ -56,10 +57,10 @@ class Walker {
 
   void check_page(const Page& page, const std::string& where) {
     if (page.size == 0 || page.size % kCopcEntrySize != 0)
-      fail(where, "a page of " + std::to_string(page.size) + " bytes, not a multiple of " +
-                      std::to_string(kCopcEntrySize) + " bytes of entries");
+      fail(where, "a page of " + count_text(page.size) + " bytes, not a multiple of " +
+                      count_text(kCopcEntrySize) + " bytes of entries");
     if (page.offset > src_.file_size || page.size > src_.file_size - page.offset)
-      fail(where, "the page ends past the " + std::to_string(src_.file_size) + "-byte file");
+      fail(where, "the page ends past the " + count_text(src_.file_size) + "-byte file");
     if (!seen_.insert(page.offset).second) fail(where, "the page is listed twice");
     // Pages that overlap could make the walk read the file many times over.
     h_.page_bytes += page.size;
@@ -72,14 +73,13 @@ class Walker {
     const VoxelKey key{load_le<std::int32_t>(e), load_le<std::int32_t>(e + 4),
                        load_le<std::int32_t>(e + 8), load_le<std::int32_t>(e + 12)};
     if (key.level < 0 || key.level > kMaxLevel)
-      fail(where, "key " + key.text() + ": level " + std::to_string(key.level) + " (0 to " +
-                      std::to_string(kMaxLevel) + ")");
+      fail(where, "key " + key.text() + ": level " + signed_count_text(key.level) + " (0 to " +
+                      count_text(kMaxLevel) + ")");
     const std::int64_t cells = std::int64_t{1} << key.level;
     for (const std::int32_t v : {key.x, key.y, key.z})
       if (v < 0 || v >= cells)
         fail(where, "key " + key.text() + " lies outside the root cube (level " +
-                        std::to_string(key.level) + " has " + std::to_string(cells) +
-                        " cells a side)");
+                        count_text(key.level) + " has " + count_text(cells) + " cells a side)");
     return key;
   }
 
@@ -89,7 +89,7 @@ class Walker {
     const std::uint64_t count = page.size / kCopcEntrySize;
     for (std::uint64_t i = 0; i < count; ++i) {
       const std::uint8_t* e = src_.file + page.offset + i * kCopcEntrySize;
-      const std::string where = page_where + ", entry " + std::to_string(i);
+      const std::string where = page_where + ", entry " + count_text(i);
       const VoxelKey key = read_key(e, where);
       if (!inside(key, page.key))
         fail(where, "key " + key.text() + " is not inside its page's node " + page.key.text());
@@ -99,12 +99,12 @@ class Walker {
       const BBox bounds = grown(voxel_bounds(h_.info, key));
       if (box_ != nullptr && !meets(bounds, *box_)) continue;
       if (points == -1) {
-        if (bytes <= 0) fail(where, "a child page of " + std::to_string(bytes) + " bytes");
+        if (bytes <= 0) fail(where, "a child page of " + signed_count_text(bytes) + " bytes");
         pending.push_back({offset, static_cast<std::uint64_t>(bytes), key});
       } else if (points > 0) {
         add_node(key, offset, bytes, static_cast<std::uint64_t>(points), bounds, where);
       } else if (points < -1) {
-        fail(where, "point count " + std::to_string(points) + " (-1: a child page, 0: empty)");
+        fail(where, "point count " + signed_count_text(points) + " (-1: a child page, 0: empty)");
       }
     }
   }
@@ -112,16 +112,15 @@ class Walker {
   void add_node(const VoxelKey& key, std::uint64_t offset, std::int32_t bytes, std::uint64_t points,
                 const BBox& bounds, const std::string& where) {
     const std::uint64_t begin = src_.offset_to_points + 8;  // after the chunk table's offset
-    if (bytes <= 0) fail(where, "node " + key.text() + ": " + std::to_string(bytes) + " bytes");
+    if (bytes <= 0) fail(where, "node " + key.text() + ": " + signed_count_text(bytes) + " bytes");
     const auto size = static_cast<std::uint64_t>(bytes);
     if (offset < begin || offset > src_.data_limit || size > src_.data_limit - offset)
-      fail(where, "node " + key.text() + ": its " + std::to_string(size) + " bytes at " +
+      fail(where, "node " + key.text() + ": its " + count_text(size) + " bytes at " +
                       byte_at(offset) + " lie outside the point data (" + byte_at(begin) + " to " +
                       byte_at(src_.data_limit) + ")");
     total_points_ += points;
     if (total_points_ > src_.point_count)
-      fail(where,
-           "its nodes hold more points than the header's " + std::to_string(src_.point_count));
+      fail(where, "its nodes hold more points than the header's " + count_text(src_.point_count));
     h_.nodes.push_back({key, offset, size, points, bounds});
   }
 
@@ -143,7 +142,7 @@ class Walker {
       if (a.offset + a.bytes > b.offset)
         throw InputError(src_.path, "COPC node " + b.key.text() + ", " + byte_at(b.offset),
                          "COPC hierarchy: its chunk overlaps that of node " + a.key.text() + " (" +
-                             byte_at(a.offset) + ", " + std::to_string(a.bytes) + " bytes)");
+                             byte_at(a.offset) + ", " + count_text(a.bytes) + " bytes)");
     }
   }
 
@@ -164,8 +163,8 @@ std::string VoxelKey::text() const {
 CopcInfo parse_copc_info(const std::string& path, const std::uint8_t* p, std::size_t size) {
   if (p == nullptr || size < kCopcInfoSize)
     throw InputError(path, "COPC info VLR",
-                     "holds " + std::to_string(size) + " bytes, not the " +
-                         std::to_string(kCopcInfoSize) + " of the COPC specification");
+                     "holds " + count_text(size) + " bytes, not the " + count_text(kCopcInfoSize) +
+                         " of the COPC specification");
   CopcInfo info;
   info.center_x = load_le<double>(p);
   info.center_y = load_le<double>(p + 8);

@@ -3,6 +3,7 @@
 #include <array>
 
 #include "core/error.hpp"
+#include "core/number_text.hpp"
 #include "io/points/load_le.hpp"
 
 namespace tincdt::io::laz {
@@ -95,7 +96,7 @@ std::string list_items(const std::vector<LaszipItem>& items) {
   std::string s;
   for (const LaszipItem& it : items) {
     if (!s.empty()) s += ", ";
-    s += item_name(it.type) + " (" + std::to_string(it.size) + " bytes, v" +
+    s += item_name(it.type) + " (" + count_text(it.size) + " bytes, v" +
          std::to_string(it.version) + ")";
   }
   return s.empty() ? "no items" : s;
@@ -107,8 +108,8 @@ LaszipVlr parse_laszip_vlr(const std::string& path, const std::uint8_t* payload,
   const std::string where = "LASzip VLR";
   if (size < kFixedPart) {
     throw InputError(path, where,
-                     "truncated: " + std::to_string(size) + " bytes, at least " +
-                         std::to_string(kFixedPart) + " needed");
+                     "truncated: " + count_text(size) + " bytes, at least " +
+                         count_text(kFixedPart) + " needed");
   }
   LaszipVlr vlr;
   vlr.compressor = load_le<std::uint16_t>(payload);
@@ -117,8 +118,8 @@ LaszipVlr parse_laszip_vlr(const std::string& path, const std::uint8_t* payload,
   const std::size_t count = load_le<std::uint16_t>(payload + 32);
   if (size < kFixedPart + count * kItemSize) {
     throw InputError(path, where,
-                     "lists " + std::to_string(count) + " items but has room for only " +
-                         std::to_string((size - kFixedPart) / kItemSize));
+                     "lists " + count_text(count) + " items but has room for only " +
+                         count_text((size - kFixedPart) / kItemSize));
   }
   vlr.items.resize(count);
   for (std::size_t i = 0; i < count; ++i) {
@@ -153,19 +154,18 @@ PointLayout check_layout(const std::string& path, const LaszipVlr& vlr, unsigned
     return InputError(path, where,
                       "its items (" + list_items(vlr.items) + ") do not describe point format " +
                           std::to_string(point_format) + " records of " +
-                          std::to_string(record_length) + " bytes: " + why);
+                          count_text(record_length) + " bytes: " + why);
   };
   std::size_t total = 0;
   for (std::size_t i = 0; i < vlr.items.size(); ++i) {
     const LaszipItem& item = vlr.items[i];
     if (i < expected.count) {
       if (item.type != expected.types[i]) {
-        throw mismatch("item " + std::to_string(i + 1) + " should be " +
-                       item_name(expected.types[i]));
+        throw mismatch("item " + count_text(i + 1) + " should be " + item_name(expected.types[i]));
       }
       if (item.size != item_size(item.type)) {
-        throw mismatch(item_name(item.type) + " has " + std::to_string(item_size(item.type)) +
-                       " bytes, not " + std::to_string(item.size));
+        throw mismatch(item_name(item.type) + " has " + count_text(item_size(item.type)) +
+                       " bytes, not " + count_text(item.size));
       }
     } else if (i == expected.count && item.type == (layout.layered ? kByte14 : kByte) &&
                item.size > 0) {
@@ -177,7 +177,7 @@ PointLayout check_layout(const std::string& path, const LaszipVlr& vlr, unsigned
   }
   if (vlr.items.size() < expected.count) throw mismatch("items are missing");
   if (total != record_length) {
-    throw mismatch("they add up to " + std::to_string(total) + " bytes");
+    throw mismatch("they add up to " + count_text(total) + " bytes");
   }
   // One coder version for the whole record: LASzip writes point10 items as v2 (v1 before 2012)
   // and point14 items as v3 (v4 since LASzip 3.4, the same format with two context fixes).

@@ -9,6 +9,7 @@
 
 #include "core/error.hpp"
 #include "core/memory.hpp"
+#include "core/number_text.hpp"
 #include "core/parallel.hpp"
 #include "io/points/laz/chunk.hpp"
 #include "io/points/laz/chunk_table.hpp"
@@ -71,17 +72,16 @@ Prepared prepare_copc(const LazSource& src, const PointLayout& layout,
   p.plan.data_end = src.data_limit;
   std::uint64_t first = 0;
   for (const CopcNode& node : nodes) {
-    const std::string name =
-        "COPC node " + node.key.text() + ", byte " + std::to_string(node.offset);
+    const std::string name = "COPC node " + node.key.text() + ", byte " + count_text(node.offset);
     if (node.bytes < src.record_length + 4)
       throw InputError(src.path, name,
-                       "its chunk of " + std::to_string(node.bytes) +
+                       "its chunk of " + count_text(node.bytes) +
                            " bytes is too short for a first point and a point count");
     const std::uint64_t held = load_le<std::uint32_t>(src.file + node.offset + src.record_length);
     if (held != node.points)
       throw InputError(src.path, name,
-                       "the hierarchy gives it " + std::to_string(node.points) +
-                           " points, its chunk holds " + std::to_string(held));
+                       "the hierarchy gives it " + count_text(node.points) +
+                           " points, its chunk holds " + count_text(held));
     p.plan.chunks.push_back({node.offset, node.bytes, node.points, first});
     p.names.push_back(name);
     first += node.points;
@@ -138,9 +138,9 @@ void decode_in_sequence(const LazSource& src, const Prepared& prep, unsigned fie
   }
   if (plan.exact_end && offset != plan.data_end) {
     // Without the table nothing says where each chunk starts; a wrong chunk size shows here.
-    throw InputError(src.path, "chunk " + std::to_string(n - 1),
-                     "the chunks end at byte " + std::to_string(offset) +
-                         " but the chunk table starts at byte " + std::to_string(plan.data_end) +
+    throw InputError(src.path, "chunk " + count_text(n - 1),
+                     "the chunks end at byte " + count_text(offset) +
+                         " but the chunk table starts at byte " + count_text(plan.data_end) +
                          ": the file is damaged, or its LASzip VLR has the wrong chunk size");
   }
 }
@@ -259,10 +259,10 @@ void check_in_node(const LazSource& src, const CopcNode& node, const ChunkInput&
     const Point3 p = src.transform.apply(points[i][0], points[i][1], points[i][2]);
     if (p.x >= b.min_x && p.x <= b.max_x && p.y >= b.min_y && p.y <= b.max_y) continue;
     throw InputError(*in.path, (*in.names)[in.index],
-                     "a point at (" + std::to_string(p.x) + ", " + std::to_string(p.y) +
-                         ") lies outside the node's cube (x " + std::to_string(b.min_x) + " to " +
-                         std::to_string(b.max_x) + ", y " + std::to_string(b.min_y) + " to " +
-                         std::to_string(b.max_y) + "): the file cannot be read by box");
+                     "a point at (" + number_text(p.x) + ", " + number_text(p.y) +
+                         ") lies outside the node's cube (x " + number_text(b.min_x) + " to " +
+                         number_text(b.max_x) + ", y " + number_text(b.min_y) + " to " +
+                         number_text(b.max_y) + "): the file cannot be read by box");
   }
 }
 
@@ -312,8 +312,7 @@ std::uint64_t decode_points(const LazSource& src, const Prepared& prep, const Po
         const Point3 p = src.transform.apply(buffer[i][0], buffer[i][1], buffer[i][2]);
         // Without filters the points kept are the file's points, in order.
         src.transform.check_range(
-            p, src.path,
-            sel.any() || fig.by_box ? std::string() : "point " + std::to_string(kept + i));
+            p, src.path, sel.any() || fig.by_box ? std::string() : "point " + count_text(kept + i));
       }
     }
     for (const Xyz& v : buffer) out.push_back(src.transform.apply(v[0], v[1], v[2]));

@@ -8,6 +8,7 @@
 #include <optional>
 #include <vector>
 
+#include "core/number_text.hpp"
 #include "io/points/laz/arithmetic_decoder.hpp"
 #include "io/points/laz/chunk.hpp"
 #include "io/points/laz/integer_decompressor.hpp"
@@ -184,8 +185,8 @@ std::size_t Point10Decoder::run(const ChunkInput& in, Sink& sink) {
   if (in.points == 0) return 0;
   const std::size_t record = layout_.record_length;
   if (in.size < record) {
-    throw in.error(0, "the chunk ends inside its first point (" + std::to_string(in.size) +
-                          " bytes, the point needs " + std::to_string(record) + ")");
+    throw in.error(0, "the chunk ends inside its first point (" + count_text(in.size) +
+                          " bytes, the point needs " + count_text(record) + ")");
   }
   point_.reset(in.data);
   if constexpr (kGps) {
@@ -223,7 +224,7 @@ std::size_t Point10Decoder::run(const ChunkInput& in, Sink& sink) {
     const std::uint64_t at = i < in.points ? i : in.points - 1;
     throw in.error(
         at, dec.consumed() > in.size - record
-                ? "the compressed data ends early (chunk of " + std::to_string(in.size) + " bytes)"
+                ? "the compressed data ends early (chunk of " + count_text(in.size) + " bytes)"
                 : std::string("corrupt compressed data"));
   }
   return record + dec.consumed();

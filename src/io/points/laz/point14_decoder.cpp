@@ -2,6 +2,7 @@
 
 #include <string>
 
+#include "core/number_text.hpp"
 #include "io/points/load_le.hpp"
 
 namespace tincdt::io::laz {
@@ -176,16 +177,16 @@ std::size_t Point14Decoder::begin_chunk(const ChunkInput& in) {
   const std::size_t record = layout_.record_length;
   const std::size_t header = record + 4 + 4 * std::size_t{layers_};
   if (in.size < header) {
-    throw in.error(0, "the chunk ends inside its header (" + std::to_string(in.size) +
-                          " bytes, the first point and the layer sizes need " +
-                          std::to_string(header) + ")");
+    throw in.error(0, "the chunk ends inside its header (" + count_text(in.size) +
+                          " bytes, the first point and the layer sizes need " + count_text(header) +
+                          ")");
   }
   // The chunk's own count: more points asked of it than it holds would be decoded from the
   // bytes after its last one.
   const std::uint64_t held = load_le<std::uint32_t>(in.data + record);
   if (held < in.points) {
-    throw in.error(held, "the chunk holds " + std::to_string(held) + " points, not the " +
-                             std::to_string(in.points) + " the header and chunk table give it");
+    throw in.error(held, "the chunk holds " + count_text(held) + " points, not the " +
+                             count_text(in.points) + " the header and chunk table give it");
   }
   const bool every = fields_ == kEveryField;
   const std::size_t bytes_layer =
@@ -194,8 +195,7 @@ std::size_t Point14Decoder::begin_chunk(const ChunkInput& in) {
   for (unsigned i = 0; i < layers_; ++i) {
     const std::size_t bytes = load_le<std::uint32_t>(in.data + record + 4 + 4 * i);
     if (bytes > in.size - offset) {
-      throw in.error(0,
-                     "its layers take more than the chunk's " + std::to_string(in.size) + " bytes");
+      throw in.error(0, "its layers take more than the chunk's " + count_text(in.size) + " bytes");
     }
     bool wanted;
     if (i == kZ) {
@@ -424,7 +424,7 @@ void Point14Decoder::decode_bytes() {
 }
 
 void Point14Decoder::fail(const ChunkInput& in, std::uint64_t point) const {
-  throw in.error(point, "the compressed data ends early (chunk of " + std::to_string(in.size) +
+  throw in.error(point, "the compressed data ends early (chunk of " + count_text(in.size) +
                             " bytes) or is corrupt");
 }
 
@@ -435,7 +435,7 @@ void Point14Decoder::end_chunk(const ChunkInput& in) const {
   for (unsigned i = 0; i < layers_; ++i) {
     const bool failed = i == kXy ? in.points > 1 && xy_.failed() : active_[i] && layer_[i].failed();
     if (!failed) continue;
-    const std::string name = i < kFixedLayers ? kNames[i] : "layer " + std::to_string(i);
+    const std::string name = i < kFixedLayers ? kNames[i] : "layer " + count_text(i);
     throw in.error(in.points - 1, "the " + name + " layer's data ends early or is corrupt");
   }
 }
