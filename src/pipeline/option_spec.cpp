@@ -96,11 +96,11 @@ void set_threads(BuildOptions& o, std::string_view v) {
 }
 
 constexpr OptionSpec kJobOptions[] = {
-    with_default(
-        checked_option("--threads", "N", option_groups::run, check_threads, set_threads,
-                       "Threads for the parallel stages (reading XYZ, Delaunay, quality);\n"
-                       "0 = every core"),
-        "0", [](const BuildOptions& o) { return std::to_string(o.threads); }),
+    with_default(checked_option("--threads", "N", option_groups::run, check_threads, set_threads,
+                                "Threads for the parallel stages (reading XYZ and LAZ, Delaunay,\n"
+                                "quality, writing the TIN); "
+                                "0 = every core"),
+                 "0", [](const BuildOptions& o) { return std::to_string(o.threads); }),
 };
 
 }  // namespace

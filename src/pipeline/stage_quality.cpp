@@ -12,8 +12,8 @@ bool wanted(const BuildOptions& o) {
 }
 
 void run(Job& job) {
-  // Beside the writers on one core fewer than the job's (the mesh writers use one); with one
-  // core in all, here, in turn.
+  // Beside the output stages on one core fewer than the job's, so that the writers, which use
+  // every thread of the job, keep most of the cores; with one core in all, here, in turn.
   const std::size_t cores = thread_count(job.options.threads);
   const auto threads = static_cast<unsigned>(std::max<std::size_t>(1, cores - 1));
   job.quality_pass = std::make_unique<BackgroundJob>(cores > 1, [&job, threads] {

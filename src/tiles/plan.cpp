@@ -344,10 +344,14 @@ void find_rim(const PlanOptions& options, TilePlan& plan, const BBox& all,
       PlanInput& in = plan.inputs[batch[k]];
       const detail::PointScan& scan = b.scans[k];
       ++scanned;
-      // Exact now, and the bounds too (a COPC file's unread nodes hold no hull point).
-      in.count = scan.points + scan.unread_points;
-      in.bounds = scan.bounds;
-      in.tolerance = 0;
+      // Exact now for a file read whole. A COPC file keeps its header's bounds and count: the
+      // nodes its scan leaves out depend on the hull of the files scanned before it, and so on
+      // the batches, and points there lie outside the bounds of those read.
+      if (scan.nodes == 0) {
+        in.count = scan.points;
+        in.bounds = scan.bounds;
+        in.tolerance = 0;
+      }
       hull.insert(hull.end(), scan.hull.begin(), scan.hull.end());
       for (const Point3& p : scan.near_outline) near.emplace_back(batch[k], p);
       if (log)

@@ -285,6 +285,10 @@ void check_tile_options(const TileOptions& t, const BuildOptions& o) {
            "its rings are draped on the TIN and cross the contours' pieces, which a tile holds "
            "only near itself" +
                whole_job);
+  if (!o.terrain.path.empty())
+    refuse("--terrain",
+           "a web-terrain pyramid's coarse tiles span many plan tiles; merge the tiles, then "
+           "build the pyramid from the merged TIN");
   if (o.dem.extent)
     refuse("--dem-extent",
            "a tile's DEM covers exactly its tile, so that the tiles join (gdalbuildvrt)");

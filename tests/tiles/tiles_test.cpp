@@ -370,6 +370,12 @@ TEST(TileDems, AResolutionThatDoesNotDivideTheTileOrAnExtentIsRefused) {
   EXPECT_NE(error_of<UsageError>([&] { tiles::build_tile(t, o); }).find("--dem-extent"),
             std::string::npos);
   EXPECT_FALSE(fs::exists(dir / "t.tif"));
+  // A pyramid's coarse tiles span the plan's tiles: it is built from the merged TIN.
+  o.dem = {};
+  o.terrain.path = (dir / "web").string();
+  const std::string terrain = error_of<UsageError>([&] { tiles::build_tile(t, o); });
+  EXPECT_NE(terrain.find("--terrain cannot be used with --plan"), std::string::npos) << terrain;
+  EXPECT_FALSE(fs::exists(dir / "web"));
 }
 
 // A tile job runs the pipeline's stages with the tile stage after the last that removes

@@ -25,7 +25,8 @@ std::vector<CopcNodeSummary> copc_nodes(const std::string& path) {
   } catch (const InputError&) {
     return {};  // not LAZ, or damaged: read_points() says how
   }
-  if (src.copc_info == nullptr) return {};
+  // Only the layered point formats (6, 7, 8) are read by node; others are read whole.
+  if (src.copc_info == nullptr || src.point_format < 6) return {};
   std::vector<CopcNodeSummary> out;
   for (const laz::CopcNode& n : laz::read_hierarchy(src, nullptr).nodes)
     out.push_back({n.bounds, n.key.level, n.points, n.bytes});

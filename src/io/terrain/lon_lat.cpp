@@ -50,7 +50,8 @@ HeightUnits to_lon_lat_metres(const std::string& wkt, std::span<Point3> points,
   if (wkt.empty())
     throw InputError(what, "",
                      "web terrain needs the data's CRS to place it on the globe, and the input "
-                     "has none (assign one with --a-srs)");
+                     "has none",
+                     Remedy::assign_crs);
   detail::register_gdal_drivers();
   OGRSpatialReference source = srs_of(wkt, what);
   if (source.IsCompound()) source.StripVertical();
