@@ -3,9 +3,9 @@
 # writes N points, then ROUNDS rounds (the order alternating) of
 #   tincdt big.las -o x.ply           (the TIN to a binary PLY)
 #   tincdt big.las --terrain DIR      (the pyramid alone, its default levels)
-# each under /usr/bin/time -v. Prints every run (wall seconds, peak RSS, bytes a point) and the
-# levels the pyramid chose, then the per-round ratios terrain / PLY; removes the big files at the
-# end (KEEP=1 keeps them).
+# each under /usr/bin/time -v. Prints every run (wall seconds, CPU seconds (user + system: a
+# shared machine disturbs them less), peak RSS, bytes a point) and the levels the pyramid chose,
+# then the per-round ratios terrain / PLY; removes the big files at the end (KEEP=1 keeps them).
 #
 #   tests/bench/terrain_bench.sh
 #
@@ -43,11 +43,12 @@ run() {
     args=(--terrain "$out")
   fi
   /usr/bin/time -v "$TINCDT" "$big" "${args[@]}" > "$BIG_DIR/log" 2>&1
-  local wall rss
+  local wall rss cpu
   wall=$(awk -F': ' '/Elapsed \(wall clock\)/ {n = split($2, p, ":"); s = 0;
     for (i = 1; i <= n; ++i) s = s * 60 + p[i]; print s}' "$BIG_DIR/log")
   rss=$(awk -F': ' '/Maximum resident set size/ {print $2}' "$BIG_DIR/log")
-  echo "round=$round job=$job wall_s=$wall peak_rss_kb=$rss" \
+  cpu=$(awk -F': ' '/(User|System) time \(seconds\)/ {s += $2} END {printf "%.1f", s}' "$BIG_DIR/log")
+  echo "round=$round job=$job wall_s=$wall cpu_s=$cpu peak_rss_kb=$rss" \
     "bytes_per_point=$(awk -v r="$rss" -v n="$N" 'BEGIN {printf "%.1f", r * 1024 / n}')" |
     tee -a "$runs"
   if [[ $job == terrain ]]; then grep -E "terrain: levels|terrain level" "$BIG_DIR/log" || true; fi
@@ -61,4 +62,5 @@ done
 echo
 awk '{for (i = 1; i <= NF; ++i) {split($i, kv, "="); f[kv[1]] = kv[2]}
       key = f["round"]; if (f["job"] == "ply") {pw[key] = f["wall_s"]} else {tw[key] = f["wall_s"]}}
-     END {for (r in pw) printf "round %s: terrain / ply wall = %.2f\n", r, tw[r] / pw[r]}' "$runs"
+     END {for (r in pw) if (r in tw) printf "round %s: terrain / ply wall = %.2f\n", r, tw[r] / pw[r]}' \
+  "$runs"
