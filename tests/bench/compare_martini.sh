@@ -41,7 +41,8 @@ work=$(mktemp -d /tmp/compare_martini.XXXXXX)
 trap 'rm -rf "$work"' EXIT
 mkdir "$work/grids"
 lines=()
-[[ $CONTOURS == 0 ]] || lines=(--contours "$SHARED/data/pair_topography/Topography_contours_1m_3d.shp")
+contours="$SHARED/data/pair_topography/Topography_contours_1m_3d.shp"
+[[ $CONTOURS == 0 ]] || lines=(--contours "$contours")
 
 "$BUILD/tincdt" "$SHARED/data/las/Topography.las" --keep-class 2 "${lines[@]}" \
   -o "$work/full.ply" --terrain "$work/t" --terrain-levels "$LEVELS" 2> "$work/log"

@@ -21,7 +21,10 @@ ROUNDS="${ROUNDS:-2}"
 BIG_DIR="${BIG_DIR:-/tmp/tincdt_terrain_bench}"
 KEEP="${KEEP:-0}"
 
-[[ -x $TINCDT ]] || { echo "no $TINCDT: cmake --preset release && cmake --build build/release" >&2; exit 1; }
+if [[ ! -x $TINCDT ]]; then
+  echo "no $TINCDT: cmake --preset release && cmake --build build/release" >&2
+  exit 1
+fi
 if [[ ! -f $BUILD/build.ninja ]]; then cmake --preset test -S "$ROOT" >/dev/null; fi
 cmake --build "$BUILD" --target make_big_las >/dev/null
 
@@ -47,7 +50,8 @@ run() {
   wall=$(awk -F': ' '/Elapsed \(wall clock\)/ {n = split($2, p, ":"); s = 0;
     for (i = 1; i <= n; ++i) s = s * 60 + p[i]; print s}' "$BIG_DIR/log")
   rss=$(awk -F': ' '/Maximum resident set size/ {print $2}' "$BIG_DIR/log")
-  cpu=$(awk -F': ' '/(User|System) time \(seconds\)/ {s += $2} END {printf "%.1f", s}' "$BIG_DIR/log")
+  cpu=$(awk -F': ' '/(User|System) time \(seconds\)/ {s += $2} END {printf "%.1f", s}' \
+    "$BIG_DIR/log")
   echo "round=$round job=$job wall_s=$wall cpu_s=$cpu peak_rss_kb=$rss" \
     "bytes_per_point=$(awk -v r="$rss" -v n="$N" 'BEGIN {printf "%.1f", r * 1024 / n}')" |
     tee -a "$runs"
@@ -62,5 +66,6 @@ done
 echo
 awk '{for (i = 1; i <= NF; ++i) {split($i, kv, "="); f[kv[1]] = kv[2]}
       key = f["round"]; if (f["job"] == "ply") {pw[key] = f["wall_s"]} else {tw[key] = f["wall_s"]}}
-     END {for (r in pw) if (r in tw) printf "round %s: terrain / ply wall = %.2f\n", r, tw[r] / pw[r]}' \
+     END {for (r in pw) if (r in tw)
+            printf "round %s: terrain / ply wall = %.2f\n", r, tw[r] / pw[r]}' \
   "$runs"
