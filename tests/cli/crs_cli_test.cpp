@@ -19,18 +19,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-bool has(const ShellRun& r, const std::string& text) {
-  return r.messages.find(text) != std::string::npos;
-}
-
-// PATH quoted for the shell.
-std::string quoted(const fs::path& path) {
-  std::string q = "'";
-  q += path.string();
-  q += "'";
-  return q;
-}
-
 std::string shared(const std::string& name) {
   return quoted(fs::path(shared_data()) / name);
 }

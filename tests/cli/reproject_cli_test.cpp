@@ -28,17 +28,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-bool has(const ShellRun& r, const std::string& text) {
-  return r.messages.find(text) != std::string::npos;
-}
-
-std::string quoted(const fs::path& path) {
-  std::string q = "'";  // built in steps: GCC 12's -Wrestrict misfires on "'" + s + "'"
-  q += path.string();
-  q += "'";
-  return q;
-}
-
 // `ogr2ogr -t_srs EPSG:4326 DST SRC`, through GDAL's library form of ogr2ogr.
 void ogr2ogr_to_wgs84(const std::string& src, const std::string& dst) {
   GDALAllRegister();

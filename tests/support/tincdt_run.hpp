@@ -36,6 +36,25 @@ inline ShellRun run_tincdt(const std::string& dir, const std::string& args) {
   return r;
 }
 
+// Whether R's messages hold TEXT.
+inline bool has(const ShellRun& r, const std::string& text) {
+  return r.messages.find(text) != std::string::npos;
+}
+
+// PATH quoted for the shell.
+inline std::string quoted(const std::filesystem::path& path) {
+  std::string q = "'";  // built in steps: GCC 12's -Wrestrict misfires on "'" + s + "'"
+  q += path.string();
+  q += "'";
+  return q;
+}
+
+// tincdt ARGS in DIR succeeds (exit 0).
+inline void expect_success(const std::filesystem::path& dir, const std::string& args) {
+  const ShellRun r = run_tincdt(dir.string(), args);
+  EXPECT_EQ(r.exit_code, 0) << args << ": " << r.messages;
+}
+
 // Each case {ARGS, TEXT}: `tincdt PREFIX ARGS` in DIR is a usage error (exit 2) whose message
 // holds TEXT; and DIR stays empty (nothing written, no temporary left).
 inline void expect_usage_errors(const std::string& dir, const std::string& prefix,

@@ -17,11 +17,6 @@ namespace fs = std::filesystem;
 using namespace tincdt;
 using namespace tincdt::tile_test;
 
-void expect_success(const fs::path& dir, const std::string& args) {
-  const test::ShellRun r = test::run_tincdt(dir.string(), args);
-  EXPECT_EQ(r.exit_code, 0) << args << ": " << r.messages;
-}
-
 TEST(TileLinesCli, CrossingContoursAndHardLinesPlanTileMergeAsTheWholeJob) {
   const fs::path dir = test::scratch_dir("tile_lines_cli");
   const double x0 = 500000, y0 = 4000000;
@@ -31,21 +26,22 @@ TEST(TileLinesCli, CrossingContoursAndHardLinesPlanTileMergeAsTheWholeJob) {
   write_straight_lines(dir / "roads.geojson", {{x0 + 12, y0 + 8, x0 + 290, y0 + 281},
                                                {x0 + 5, y0 + 270, x0 + 294, y0 + 30}});
   const std::string lines = " --contours lines.geojson --breaklines roads.geojson";
-  expect_success(dir, "points.xyz" + lines + " -o whole.ply -q");
-  expect_success(dir, "plan points.xyz" + lines + " --tile-size 150 --buffer 30 -o plan.json -q");
+  test::expect_success(dir, "points.xyz" + lines + " -o whole.ply -q");
+  test::expect_success(dir,
+                       "plan points.xyz" + lines + " --tile-size 150 --buffer 30 -o plan.json -q");
   const std::size_t n = tiles::read_plan((dir / "plan.json").string()).tiles.size();
   ASSERT_GE(n, 4u);
   std::string merge = "merge";
   for (std::size_t i = 0; i < n; ++i) {
     const std::string tile = "tile_" + std::to_string(i);
-    expect_success(dir, "--plan plan.json --tile " + std::to_string(i) + " -o " + tile +
-                            ".ply --stats " + tile + ".json -q");
+    test::expect_success(dir, "--plan plan.json --tile " + std::to_string(i) + " -o " + tile +
+                                  ".ply --stats " + tile + ".json -q");
     merge += " " + tile + ".ply";
     // The buffer the tile read, in its stats: the plan's, or more where it had to grow.
     const std::string stats = test::slurp(dir / (tile + ".json"));
     EXPECT_NE(stats.find("\"figures\": {\n    \"buffer\": "), std::string::npos) << stats;
   }
-  expect_success(dir, merge + " -o merged.ply -q");
+  test::expect_success(dir, merge + " -o merged.ply -q");
   expect_same_tin((dir / "whole.ply").string(), (dir / "merged.ply").string());
 }
 

@@ -18,11 +18,6 @@ namespace fs = std::filesystem;
 using namespace tincdt;
 using namespace tincdt::tile_test;
 
-void expect_success(const fs::path& dir, const std::string& args) {
-  const test::ShellRun r = test::run_tincdt(dir.string(), args);
-  ASSERT_EQ(r.exit_code, 0) << args << ": " << r.messages;
-}
-
 // Every file under DIR by its path relative to DIR, with its bytes.
 std::map<std::string, std::string> files_under(const fs::path& dir) {
   std::map<std::string, std::string> out;
@@ -37,24 +32,23 @@ TEST(TileTerrainCli, ThePyramidOfTheMergedTilesIsTheSingleJobsByteForByte) {
   write_xyz(dir / "points.xyz", random_points(3000, x0, y0, 300, 77));
   write_rings(dir / "rings.geojson", x0 + 150, y0 + 150, {30, 60, 95, 130});
   const std::string lines = " --contours rings.geojson --a-srs EPSG:32632";
-  ASSERT_NO_FATAL_FAILURE(
-      expect_success(dir, "points.xyz" + lines + " --terrain whole_web -o whole.ply -q"));
-  ASSERT_NO_FATAL_FAILURE(expect_success(
+  test::expect_success(dir, "points.xyz" + lines + " --terrain whole_web -o whole.ply -q");
+  test::expect_success(
       dir,
       "plan points.xyz --contours rings.geojson --tile-size 150 --buffer 30 -o plan.json "
-      "-q"));
+      "-q");
   const std::size_t n = tiles::read_plan((dir / "plan.json").string()).tiles.size();
   ASSERT_GE(n, 4u);
   std::string merge = "merge";
   for (std::size_t i = 0; i < n; ++i) {
     const std::string tile = "tile_" + std::to_string(i) + ".ply";
-    ASSERT_NO_FATAL_FAILURE(expect_success(
-        dir, "--plan plan.json --tile " + std::to_string(i) + " -o " + tile + " -q"));
+    test::expect_success(dir,
+                         "--plan plan.json --tile " + std::to_string(i) + " -o " + tile + " -q");
     merge += " " + tile;
   }
-  ASSERT_NO_FATAL_FAILURE(expect_success(dir, merge + " -o merged.ply -q"));
+  test::expect_success(dir, merge + " -o merged.ply -q");
   expect_same_tin((dir / "whole.ply").string(), (dir / "merged.ply").string());
-  ASSERT_NO_FATAL_FAILURE(expect_success(dir, "merged.ply" + lines + " --terrain tiled_web -q"));
+  test::expect_success(dir, "merged.ply" + lines + " --terrain tiled_web -q");
 
   const auto whole = files_under(dir / "whole_web");
   const auto tiled = files_under(dir / "tiled_web");
