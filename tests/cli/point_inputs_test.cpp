@@ -18,10 +18,6 @@ namespace {
 namespace fs = std::filesystem;
 using Outcome = ShellRun;
 
-bool has(const Outcome& r, const std::string& text) {
-  return r.messages.find(text) != std::string::npos;
-}
-
 // Every byte printable ASCII or a line end: no file's binary bytes reach the terminal.
 bool printable(const std::string& text) {
   for (const char c : text) {
