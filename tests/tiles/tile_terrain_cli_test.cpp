@@ -1,7 +1,7 @@
-// The large-area route to a web-terrain pyramid, as docs/web_terrain.md gives it: tile jobs,
-// merge, then one --terrain job on the merged TIN with the lines given again. Its pyramid is the
-// single job's, byte for byte: the merged TIN is the single job's, and the pyramid is a function
-// of the TIN.
+// The large-area route to a web-terrain pyramid, as docs/web_terrain.md gives it: tile jobs
+// (given the CRS the inputs lack, as the single job is), merge, then one --terrain job on the
+// merged TIN with the lines given again. Its pyramid is the single job's, byte for byte: the
+// merged TIN is the single job's, and the pyramid is a function of the TIN.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -42,8 +42,8 @@ TEST(TileTerrainCli, ThePyramidOfTheMergedTilesIsTheSingleJobsByteForByte) {
   std::string merge = "merge";
   for (std::size_t i = 0; i < n; ++i) {
     const std::string tile = "tile_" + std::to_string(i) + ".ply";
-    test::expect_success(dir,
-                         "--plan plan.json --tile " + std::to_string(i) + " -o " + tile + " -q");
+    test::expect_success(dir, "--plan plan.json --tile " + std::to_string(i) + " -o " + tile +
+                                  " --a-srs EPSG:32632 -q");
     merge += " " + tile;
   }
   test::expect_success(dir, merge + " -o merged.ply -q");
