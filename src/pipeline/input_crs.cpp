@@ -43,8 +43,8 @@ void InputCrs::add(const std::string& path, const std::string& own, bool implied
     throw InputError(path, "",
                      "CRS " + mine + " differs from " + theirs + " of " + source_ +
                          (mine == theirs ? " (same name, different definition)" : "") +
-                         " (a tiled job cuts its inputs by boxes in one CRS: reproject one of "
-                         "them)",
+                         " (a job that reads its points by a box takes them in one CRS: "
+                         "reproject one of them)",
                      Remedy::override_crs);
   }
   taken_[path] = std::move(taken);

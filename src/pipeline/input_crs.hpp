@@ -31,7 +31,7 @@ class InputCrs {
   // (a GeoJSON file that names no CRS), which counts as none beside inputs that name theirs. An
   // input added before is skipped (its header was read before its points). Throws InputError
   // (Remedy::override_crs) when OWN is not usable and nothing replaces it, and in a job that reads
-  // its points by a box (a tile's) when the CRS it is taken in differs from the inputs' CRS found
+  // its points by a box when the CRS it is taken in differs from the inputs' CRS found
   // so far: the box is in one CRS.
   void add(const std::string& path, const std::string& own, bool implied = false);
 

@@ -52,7 +52,8 @@ constexpr OptionSpec kOptions[] = {
 
 }  // namespace
 
+constexpr StageProgress kConstraintLinesProgress{"writing constraint lines"};
 extern const Stage constraint_lines_stage{
-    "constraint_lines", "write", wanted, run, plan, "", kOptions, {"writing constraint lines"}};
+    "constraint_lines", "write", wanted, run, plan, "", kOptions, kConstraintLinesProgress};
 
 }  // namespace tincdt::pipeline

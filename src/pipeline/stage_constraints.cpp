@@ -112,10 +112,9 @@ constexpr OptionSpec kOptions[] = {
 
 }  // namespace
 
-extern const Stage constraints_stage{
-    "constraints", "constraints",
-    wanted,        run,
-    nullptr,       "",
-    kOptions,      {"inserting breaklines", "segments", stage_items::segments}};
+constexpr StageProgress kConstraintsProgress{"inserting breaklines", "segments",
+                                             stage_items::segments};
+extern const Stage constraints_stage{"constraints", "constraints",       wanted, run, nullptr, "",
+                                     kOptions,      kConstraintsProgress};
 
 }  // namespace tincdt::pipeline

@@ -145,13 +145,9 @@ constexpr OptionSpec kOptions[] = {
 // The library calls that report progress under this stage, in order.
 constexpr std::string_view kProgressPhases[] = {"contours", "write contours"};
 
-extern const Stage contour_lines_stage{"contour_lines",
-                                       "contours",
-                                       wanted,
-                                       run,
-                                       plan,
-                                       "",
-                                       kOptions,
-                                       {"tracing contour lines", "", nullptr, kProgressPhases}};
+constexpr StageProgress kContourLinesProgress{"tracing contour lines", "", nullptr,
+                                              kProgressPhases};
+extern const Stage contour_lines_stage{"contour_lines", "contours",           wanted, run, plan, "",
+                                       kOptions,        kContourLinesProgress};
 
 }  // namespace tincdt::pipeline

@@ -65,8 +65,8 @@ constexpr OptionSpec kOptions[] = {
 
 }  // namespace
 
-extern const Stage delaunay_stage{
-    "delaunay", "delaunay", wanted,   run,
-    nullptr,    "",         kOptions, {"triangulating", "points", stage_items::points}};
+constexpr StageProgress kDelaunayProgress{"triangulating", "points", stage_items::points};
+extern const Stage delaunay_stage{"delaunay", "delaunay", wanted,   run,
+                                  nullptr,    "",         kOptions, kDelaunayProgress};
 
 }  // namespace tincdt::pipeline

@@ -234,8 +234,7 @@ constexpr OptionSpec kOptions[] = {
 // The library calls that report progress under this stage, in order.
 constexpr std::string_view kProgressPhases[] = {"dem", "write dem"};
 
-extern const Stage dem_stage{
-    "dem", "dem", wanted,   run,
-    plan,  "",    kOptions, {"making the DEM", "", nullptr, kProgressPhases}};
+constexpr StageProgress kDemProgress{"making the DEM", "", nullptr, kProgressPhases};
+extern const Stage dem_stage{"dem", "dem", wanted, run, plan, "", kOptions, kDemProgress};
 
 }  // namespace tincdt::pipeline

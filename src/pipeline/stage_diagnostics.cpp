@@ -64,7 +64,8 @@ constexpr OptionSpec kOptions[] = {text_option(
 
 }  // namespace
 
+constexpr StageProgress kDiagnosticsProgress{"writing diagnostics"};
 extern const Stage diagnostics_stage{"diagnostics", "write", wanted,   run,
-                                     plan,          "",      kOptions, {"writing diagnostics"}};
+                                     plan,          "",      kOptions, kDiagnosticsProgress};
 
 }  // namespace tincdt::pipeline

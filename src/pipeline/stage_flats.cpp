@@ -48,10 +48,9 @@ constexpr OptionSpec kOptions[] = {
 
 }  // namespace
 
-extern const Stage flats_stage{
-    "flats",  "terrain",
-    wanted,   run,
-    nullptr,  "--fix-flats",
-    kOptions, {"fixing flat triangles", "triangles", stage_items::triangles}};
+constexpr StageProgress kFlatsProgress{"fixing flat triangles", "triangles",
+                                       stage_items::triangles};
+extern const Stage flats_stage{"flats", "terrain",     wanted,   run,
+                               nullptr, "--fix-flats", kOptions, kFlatsProgress};
 
 }  // namespace tincdt::pipeline

@@ -74,6 +74,7 @@ constexpr OptionSpec kEraseOptions[] = {
 
 }  // namespace
 
+constexpr StageProgress kReplaceProgress{"flattening replace polygons"};
 extern const Stage replace_stage{"replace",
                                  "terrain",
                                  wanted<kReplace>,
@@ -82,12 +83,13 @@ extern const Stage replace_stage{"replace",
                                  "--replace: vertices on or inside get the polygon's z (later "
                                  "polygons win)",
                                  kReplaceOptions,
-                                 {"flattening replace polygons"}};
+                                 kReplaceProgress};
+constexpr StageProgress kClipProgress{"clipping", "triangles", stage_items::triangles};
 extern const Stage clip_stage{
-    "clip",        "terrain",
-    wanted<kClip>, run<kClip>,
-    nullptr,       "--clip: triangles outside every clip polygon are removed",
-    kClipOptions,  {"clipping", "triangles", stage_items::triangles}};
+    "clip",       "terrain",    wanted<kClip>,
+    run<kClip>,   nullptr,      "--clip: triangles outside every clip polygon are removed",
+    kClipOptions, kClipProgress};
+constexpr StageProgress kEraseProgress{"erasing", "triangles", stage_items::triangles};
 extern const Stage erase_stage{"erase",
                                "terrain",
                                wanted<kErase>,
@@ -97,6 +99,6 @@ extern const Stage erase_stage{"erase",
                                "wins over\nclip; replaced vertices inside an erase polygon go "
                                "with their triangles)",
                                kEraseOptions,
-                               {"erasing", "triangles", stage_items::triangles}};
+                               kEraseProgress};
 
 }  // namespace tincdt::pipeline

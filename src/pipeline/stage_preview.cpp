@@ -73,7 +73,8 @@ constexpr OptionSpec kOptions[] = {
 
 }  // namespace
 
+constexpr StageProgress kPreviewProgress{"drawing the preview"};
 extern const Stage preview_stage{"preview", "preview", wanted,   run,
-                                 plan,      "",        kOptions, {"drawing the preview"}};
+                                 plan,      "",        kOptions, kPreviewProgress};
 
 }  // namespace tincdt::pipeline

@@ -27,7 +27,7 @@ void run(Job& job) {
 }  // namespace
 
 // No timing key: the pass times itself, as it runs while the next stages do.
-extern const Stage quality_stage{"quality", "", wanted, run,
-                                 nullptr,   "", {},     {"measuring quality"}};
+constexpr StageProgress kQualityProgress{"measuring quality"};
+extern const Stage quality_stage{"quality", "", wanted, run, nullptr, "", {}, kQualityProgress};
 
 }  // namespace tincdt::pipeline

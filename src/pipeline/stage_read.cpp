@@ -347,6 +347,7 @@ constexpr OptionSpec kOptions[] = {
 
 }  // namespace
 
+constexpr StageProgress kReadProgress{"reading the inputs", "bytes", stage_items::point_file_bytes};
 extern const Stage read_stage{"read",
                               "read",
                               wanted,
@@ -355,6 +356,6 @@ extern const Stage read_stage{"read",
                               "points, contours and hard lines: triangulated, the lines made TIN "
                               "edges",
                               kOptions,
-                              {"reading the inputs", "bytes", stage_items::point_file_bytes}};
+                              kReadProgress};
 
 }  // namespace tincdt::pipeline

@@ -83,6 +83,7 @@ constexpr OptionSpec kOptions[] = {
 
 }  // namespace
 
+constexpr StageProgress kSimplifyProgress{"simplifying"};
 extern const Stage simplify_stage{"simplify",
                                   "simplify",
                                   wanted,
@@ -92,6 +93,6 @@ extern const Stage simplify_stage{"simplify",
                                   "within\nthe tolerance are kept (every line vertex and segment "
                                   "stays)",
                                   kOptions,
-                                  {"simplifying"}};
+                                  kSimplifyProgress};
 
 }  // namespace tincdt::pipeline

@@ -32,7 +32,7 @@ constexpr OptionSpec kOptions[] = {
 
 }  // namespace
 
-extern const Stage stats_stage{"stats", "", wanted,   run,
-                               plan,    "", kOptions, {"writing statistics"}};
+constexpr StageProgress kStatsProgress{"writing statistics"};
+extern const Stage stats_stage{"stats", "", wanted, run, plan, "", kOptions, kStatsProgress};
 
 }  // namespace tincdt::pipeline

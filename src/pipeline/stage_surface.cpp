@@ -51,6 +51,7 @@ void run(Job& job) {
 
 }  // namespace
 
+constexpr StageProgress kSurfaceProgress{"draping soft lines and polygons"};
 extern const Stage surface_stage{"surface",
                                  "surface",
                                  wanted,
@@ -60,6 +61,6 @@ extern const Stage surface_stage{"surface",
                                  "that TIN,\nthen made TIN edges (a draped line crossing a hard "
                                  "one takes its z there)",
                                  {},
-                                 {"draping soft lines and polygons"}};
+                                 kSurfaceProgress};
 
 }  // namespace tincdt::pipeline

@@ -29,10 +29,9 @@ constexpr OptionSpec kOptions[] = {
 
 }  // namespace
 
+constexpr StageProgress kTrimProgress{"trimming long edges", "triangles", stage_items::triangles};
 extern const Stage trim_stage{
-    "trim",   "terrain",
-    wanted,   run,
-    nullptr,  "--max-edge: trims inward from the convex hull",
-    kOptions, {"trimming long edges", "triangles", stage_items::triangles}};
+    "trim",   "terrain",    wanted, run, nullptr, "--max-edge: trims inward from the convex hull",
+    kOptions, kTrimProgress};
 
 }  // namespace tincdt::pipeline

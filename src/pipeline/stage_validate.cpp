@@ -46,8 +46,8 @@ constexpr OptionSpec kOptions[] = {flag_option("--validate", option_groups::chec
 
 }  // namespace
 
-extern const Stage validate_stage{
-    "validate", "validate",   wanted,   run,
-    nullptr,    "--validate", kOptions, {"validating", "triangles", stage_items::triangles}};
+constexpr StageProgress kValidateProgress{"validating", "triangles", stage_items::triangles};
+extern const Stage validate_stage{"validate", "validate",   wanted,   run,
+                                  nullptr,    "--validate", kOptions, kValidateProgress};
 
 }  // namespace tincdt::pipeline

@@ -161,6 +161,7 @@ const OptionSpec kOptions[] = {
 
 }  // namespace
 
+constexpr StageProgress kWriteProgress{"writing the TIN", "triangles", stage_items::triangles};
 extern const Stage write_stage{"write",
                                "write",
                                wanted,
@@ -169,6 +170,6 @@ extern const Stage write_stage{"write",
                                "the outputs (the TIN, then --dem and --contour-lines from it):\n"
                                "all of them are written, or none",
                                kOptions,
-                               {"writing the TIN", "triangles", stage_items::triangles}};
+                               kWriteProgress};
 
 }  // namespace tincdt::pipeline

@@ -306,8 +306,9 @@ void run_tile(pipeline::Job& job) {
 
 }  // namespace
 
-extern const pipeline::Stage tile_stage{
-    "tile",  "tile", wanted, run_tile,
-    nullptr, "",     {},     {"cutting the tile", "triangles", pipeline::stage_items::triangles}};
+constexpr pipeline::StageProgress kTileProgress{"cutting the tile", "triangles",
+                                                pipeline::stage_items::triangles};
+extern const pipeline::Stage tile_stage{"tile",  "tile", wanted, run_tile,
+                                        nullptr, "",     {},     kTileProgress};
 
 }  // namespace tincdt::tiles
