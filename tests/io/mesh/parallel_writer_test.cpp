@@ -23,7 +23,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path kTmp = fs::path(TINCDT_TEST_TMP) / "parallel_writer";
+// A folder of the running test's own: CTest runs the tests of this file at once.
+fs::path test_folder() {
+  return fs::path(TINCDT_TEST_TMP) / "parallel_writer" /
+         ::testing::UnitTest::GetInstance()->current_test_info()->name();
+}
 
 struct Format {
   const char* name;
@@ -72,7 +76,7 @@ void constrain_and_clip(mesh::Triangulation& tin, bool clip) {
 
 std::string write(const mesh::Triangulation& tin, const Format& f, unsigned threads,
                   const Point3& offset = {0, 0, 0}) {
-  const fs::path path = kTmp / (std::string("tin") + f.extension);
+  const fs::path path = test_folder() / (std::string("tin") + f.extension);
   TinWriteOptions options;
   options.ply_ascii = f.ply_ascii;
   options.overwrite = true;
@@ -94,7 +98,7 @@ std::uint64_t digest(const std::string& bytes) {
 
 class ParallelWriter : public ::testing::Test {
  protected:
-  void SetUp() override { fs::create_directories(kTmp); }
+  void SetUp() override { fs::create_directories(test_folder()); }
 };
 
 // With the digests of the files the single-threaded writers wrote before they formatted in
