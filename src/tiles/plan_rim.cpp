@@ -46,8 +46,8 @@ double magnitude(const BBox& b) {
 
 PointScan scan_points(const std::string& path, const io::PointFilter& filter, double width,
                       unsigned threads, const std::vector<Point2>& hull) {
-  const std::vector<io::CopcNodeSummary> nodes = io::copc_nodes(path);
-  if (!nodes.empty()) return scan_copc(path, filter, width, threads, nodes, hull);
+  const io::CopcNodes copc(path);
+  if (!copc.nodes().empty()) return scan_copc(copc, filter, width, threads, hull);
   std::vector<Point3> points;
   io::read_points(path, filter, points, threads);
   return measure_points(points, width);

@@ -34,10 +34,9 @@ PointScan scan_points(const std::string& path, const io::PointFilter& filter, do
 // The measures of POINTS (scan_points() without the reading).
 PointScan measure_points(const std::vector<Point3>& points, double width);
 
-// scan_points() of a COPC file whose nodes are NODES.
-PointScan scan_copc(const std::string& path, const io::PointFilter& filter, double width,
-                    unsigned threads, const std::vector<io::CopcNodeSummary>& nodes,
-                    std::vector<Point2> hull);
+// scan_points() of the COPC file COPC, read node by node.
+PointScan scan_copc(const io::CopcNodes& copc, const io::PointFilter& filter, double width,
+                    unsigned threads, std::vector<Point2> hull);
 
 // Whether the closed box B lies inside the convex polygon HULL (counter-clockwise) farther than
 // WIDTH from its boundary, with room for rounding.

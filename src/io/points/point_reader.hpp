@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -48,23 +49,39 @@ struct PointReadStats {
 PointReadStats read_points(const std::string& path, const PointFilter& filter,
                            std::vector<Point3>& out, unsigned threads = 0);
 
-// A COPC file's octree nodes that hold points, for reading a file part by part.
+// A COPC file's octree node that holds points, for reading a file part by part.
 struct CopcNodeSummary {
   BBox bounds;  // x, y of the node's cube, grown by the points' rounding: its points lie inside
   int level = 0;
   std::uint64_t points = 0;
   std::uint64_t bytes = 0;
+  std::uint64_t offset = 0;  // of its chunk: the file order of the nodes
 };
 
-// The nodes of the COPC file at PATH, from its hierarchy (every page); empty for a file that is
-// not COPC. Throws InputError naming the file and the place for a damaged hierarchy.
-std::vector<CopcNodeSummary> copc_nodes(const std::string& path);
+// A COPC file opened once to be read node by node (the tile plan's rim): the file is mapped and
+// its hierarchy (every page) read once, however many times read() is called.
+class CopcNodes {
+ public:
+  // PATH's nodes; none for a file that is not COPC or whose point format is not 6, 7 or 8 (a
+  // whole read then says what is wrong). Throws InputError naming the file and the place for a
+  // damaged hierarchy.
+  explicit CopcNodes(const std::string& path);
+  ~CopcNodes();
+  CopcNodes(const CopcNodes&) = delete;
+  CopcNodes& operator=(const CopcNodes&) = delete;
 
-// Appends the points of the COPC file's nodes NODES (indices into copc_nodes()) that pass
-// FILTER (its box ignored), in file order.
-PointReadStats read_copc_nodes(const std::string& path, const PointFilter& filter,
-                               const std::vector<std::size_t>& nodes, std::vector<Point3>& out,
-                               unsigned threads = 0);
+  const std::vector<CopcNodeSummary>& nodes() const { return nodes_; }
+
+  // Appends the points of the nodes NODES (indices into nodes()) that pass FILTER (its box
+  // ignored) in file order, and returns how many each node gave, in the same order.
+  std::vector<std::uint64_t> read(const std::vector<std::size_t>& nodes, const PointFilter& filter,
+                                  std::vector<Point3>& out, unsigned threads = 0) const;
+
+ private:
+  struct File;
+  std::unique_ptr<File> file_;
+  std::vector<CopcNodeSummary> nodes_;
+};
 
 PointReadStats read_xyz(const std::string& path, std::vector<Point3>& out, unsigned threads = 0);
 PointReadStats read_xyz(const std::string& path, const PointFilter& filter,

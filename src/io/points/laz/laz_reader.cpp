@@ -274,9 +274,11 @@ std::uint64_t data_bytes(const LazSource& src) {
 
 namespace {
 
-// Decodes the chunks of PREP into OUT (see read_points), the figures into FIG.
+// Decodes the chunks of PREP into OUT (see read_points), the figures into FIG and, when given,
+// how many points each chunk gave into KEPT_PER_CHUNK.
 std::uint64_t decode_points(const LazSource& src, const Prepared& prep, const PointFilter& filter,
-                            unsigned threads, std::vector<Point3>& out, LazReadFigures& fig) {
+                            unsigned threads, std::vector<Point3>& out, LazReadFigures& fig,
+                            std::vector<std::uint64_t>* kept_per_chunk = nullptr) {
   for (const ChunkEntry& c : prep.plan.chunks) fig.points_decoded += c.points;
   if (fig.by_box) {
     for (const ChunkEntry& c : prep.plan.chunks) fig.chunk_bytes += c.size;
@@ -317,6 +319,7 @@ std::uint64_t decode_points(const LazSource& src, const Prepared& prep, const Po
     }
     for (const Xyz& v : buffer) out.push_back(src.transform.apply(v[0], v[1], v[2]));
     kept += buffer.size();
+    if (kept_per_chunk != nullptr) kept_per_chunk->push_back(buffer.size());
   };
   const unsigned fields = kCoordinates | (sel.filter_classes ? kClassification : 0u);
   decode_all<std::vector<Xyz>>(src, prep, fields, threads, decode, commit);
@@ -348,7 +351,7 @@ std::uint64_t read_points(const LazSource& src, const PointFilter& filter, unsig
 
 std::uint64_t read_nodes(const LazSource& src, std::vector<CopcNode> nodes,
                          const PointFilter& filter, unsigned threads, std::vector<Point3>& out,
-                         LazReadFigures& figures) {
+                         LazReadFigures& figures, std::vector<std::uint64_t>* kept_per_node) {
   const PointLayout layout = layout_of(src);
   if (!layout.layered)
     throw InputError(src.path, "header",
@@ -358,7 +361,7 @@ std::uint64_t read_nodes(const LazSource& src, std::vector<CopcNode> nodes,
   figures = {};
   figures.by_box = true;
   return decode_points(src, prepare_copc(src, layout, std::move(nodes)), filter, threads, out,
-                       figures);
+                       figures, kept_per_node);
 }
 
 std::vector<std::uint8_t> read_records(const LazSource& src, unsigned threads,

@@ -64,10 +64,12 @@ std::uint64_t read_points(const LazSource& source, const PointFilter& filter, un
                           LazReadFigures* figures = nullptr);
 
 // Appends the points of the COPC nodes NODES (from read_hierarchy()) that pass FILTER, whose box
-// is ignored, in file order. Throws as read_points().
+// is ignored, in file order; KEPT_PER_NODE, when given, receives how many each node gave, in
+// file order. Throws as read_points().
 std::uint64_t read_nodes(const LazSource& source, std::vector<CopcNode> nodes,
                          const PointFilter& filter, unsigned threads, std::vector<Point3>& out,
-                         LazReadFigures& figures);
+                         LazReadFigures& figures,
+                         std::vector<std::uint64_t>* kept_per_node = nullptr);
 
 // Every record in full, as the uncompressed LAS file holds them (all layers decoded): what the
 // tests compare with a LAS twin, and what the fuzz target exercises.
