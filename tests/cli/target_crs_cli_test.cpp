@@ -305,6 +305,37 @@ TEST(TargetCrsCli, AnInputWithoutCrsNeedsASrs) {
   EXPECT_LT(farthest_unmatched(transformed(given, 32632, 32633), tin.v), 0.001);
 }
 
+// A GeoJSON file that names no CRS, alone, is in its format's default (WGS 84 longitude and
+// latitude), transformed from it into the target.
+TEST(TargetCrsCli, AGeoJsonNamingNoCrsIsTransformedFromItsDefault) {
+  const std::string dir = scratch_dir("target_crs_cli");
+  MeshFile given;
+  given.v = {{600200, 5190300, 1480},
+             {600360, 5190310, 1490},
+             {600350, 5190420, 1500},
+             {600210, 5190400, 1495}};
+  std::string coordinates;
+  for (const auto& v : given.v) {
+    const XY p = proj_transform(32632, 4326, {v[0], v[1]});
+    char text[96];
+    std::snprintf(text, sizeof text, "%s[%.17g, %.17g, %.17g]", coordinates.empty() ? "" : ", ",
+                  p[0], p[1], v[2]);
+    coordinates += text;
+  }
+  spit(fs::path(dir) / "line.geojson",
+       R"({"type": "FeatureCollection", "features": [{"type": "Feature", "properties": {},)"
+       R"( "geometry": {"type": "LineString", "coordinates": [)" +
+           coordinates + "]}}]}");
+  const ShellRun r =
+      run_tincdt(dir, "--hard-lines line.geojson --t-srs EPSG:32632 -o t.ply --ply-ascii");
+  ASSERT_EQ(r.exit_code, 0) << r;
+  EXPECT_TRUE(has(r, "line.geojson: transformed from EPSG:4979 to EPSG:32632 (the target CRS)"))
+      << r;
+  const MeshFile tin = read_ply_ascii(fs::path(dir) / "t.ply");
+  EXPECT_EQ(tin.v.size(), given.v.size());
+  EXPECT_LT(farthest_unmatched(given.v, tin.v), 0.001);
+}
+
 // --override-srs takes every input as in its CRS, then --t-srs transforms from it.
 TEST(TargetCrsCli, OverrideSrsThenTransform) {
   const std::string dir = scratch_dir("target_crs_cli");
