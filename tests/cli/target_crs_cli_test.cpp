@@ -196,13 +196,15 @@ TEST(TargetCrsCli, VerticesAreTheInputPointsTransformedByProj) {
   EXPECT_GT(target.v.front()[0], 1.1e6);  // Web Mercator metres, not UTM's 600 km
 }
 
-// --resolution and --interval are in the target CRS's units: Web Mercator stretches the sample's
-// 160 m x 120 m by 1 / cos(46.86 deg), so 2 m cells are about 117 across, not 80.
+// The DEM, the contour lines, the constrained edges and the diagnostics are in the target CRS, and
+// --resolution in its units: Web Mercator stretches the sample's 160 m x 120 m by
+// 1 / cos(46.86 deg), so 2 m cells are about 117 across, not 80.
 TEST(TargetCrsCli, DemAndContoursAreInTheTargetCrsAndItsUnits) {
   const std::string dir = scratch_dir("target_crs_cli");
   const ShellRun r = run_tincdt(dir, kSample + " --contours " + kContours +
                                          " --t-srs EPSG:3857 -o t.ply --dem d.tif --resolution 2 "
-                                         "--contour-lines c.gpkg --interval 2 --stats s.json");
+                                         "--contour-lines c.gpkg --interval 2 --stats s.json "
+                                         "--constraints-out k.geojson --diagnostics g.gpkg");
   ASSERT_EQ(r.exit_code, 0) << r;
   EXPECT_TRUE(
       has(r, "sample_contours.shp: transformed from EPSG:32632 to EPSG:3857 (the target CRS)"))
@@ -232,6 +234,10 @@ TEST(TargetCrsCli, DemAndContoursAreInTheTargetCrsAndItsUnits) {
   EXPECT_LE(extent.max_x, want.max_x);
   EXPECT_GE(extent.min_y, want.min_y);
   EXPECT_LE(extent.max_y, want.max_y);
+  EXPECT_EQ(layer_crs_and_extent(dir + "/k.geojson", "GeoJSON").first, "EPSG:3857");
+  const VectorFile diagnostics(dir + "/g.gpkg", "GPKG");
+  ASSERT_NE(diagnostics.ds, nullptr);
+  EXPECT_EQ(layer_crs_code(diagnostics.layer()), "EPSG:3857");
   for (const auto& [kind, label] : output_crs(dir + "/s.json"))
     EXPECT_EQ(label, "EPSG:3857") << kind;
   EXPECT_EQ(StatsJson(slurp(dir + "/s.json")).text("crs").value_or(""), "EPSG:3857");
