@@ -45,8 +45,11 @@ class UsageFormatter : public CLI::Formatter {
 constexpr const char* kExamples = R"(Examples:
   LAS to binary PLY, in local coordinates for a mesh viewer:
     tincdt Topography.las -o tin.ply --offset auto
-  Several XYZ files (no CRS in them) to one GeoJSON in WGS 84 (RFC 7946):
-    tincdt a.xyz b.xyz --a-srs EPSG:2949 --t-srs EPSG:4326 -o tin.geojson
+  Several XYZ files (no CRS in them) to a TIN and a 1 m DEM in UTM zone 19N:
+    tincdt a.xyz b.xyz --a-srs EPSG:2949 --t-srs EPSG:32619 -o tin.ply --dem dem.tif
+           --resolution 1
+  A GeoJSON TIN in WGS 84 (RFC 7946), triangulated in degrees:
+    tincdt tile.las --t-srs EPSG:4326 --allow-geographic -o tin.geojson
   Ground class only, with a JSON report:
     tincdt tile.las --keep-class 2 -o ground.obj --stats ground.json
   Ground points plus 3D contour lines as constrained edges:

@@ -115,7 +115,7 @@ void log_outputs(const pipeline::BuildOptions& options, const pipeline::BuildRep
     format = io::format_info(*f).title;
     if (*f == io::TinFormat::ply) format += options.write.ply_ascii ? " ASCII" : " binary";
   }
-  // Each output's own CRS: a TIN reprojected with --t-srs is in the target CRS.
+  // Each output's own CRS: the web terrain's is not the TIN's.
   const auto crs_text = [&r](const std::string& label) {
     return label.empty() ? std::string(r.crs_wkt.empty() ? "no CRS" : "CRS unnamed")
                          : "CRS " + label;

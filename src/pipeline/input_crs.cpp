@@ -34,9 +34,23 @@ void InputCrs::add(const std::string& path, const std::string& own, bool implied
     throw InputError(path, "", "its CRS " + names.name(own) + " cannot be used: " + why,
                      Remedy::override_crs);
   }
+  if (taken.empty() && !target().empty())
+    throw InputError(path, "",
+                     "no CRS in the file, so it cannot be transformed into the target CRS " +
+                         names.name(target()),
+                     Remedy::assign_crs);
   if (taken.empty()) {
     without_crs_.push_back(path);
     return;
+  }
+  if (job_.options.filter.box && !target().empty() && !io::same_crs(target(), taken)) {
+    const std::string mine = names.name(taken), theirs = names.name(target());
+    throw InputError(path, "",
+                     "CRS " + mine + " differs from the target CRS " + theirs +
+                         (mine == theirs ? " (same name, different definition)" : "") +
+                         ": a job that reads its points by a box, as a tile of a plan does, reads "
+                         "them in the box's CRS, its inputs'; merge the tiles, then transform the "
+                         "merged TIN into the target CRS in a job of its own");
   }
   if (job_.options.filter.box && !crs_.empty() && !io::same_crs(crs_, taken)) {
     const std::string mine = names.name(taken), theirs = names.name(crs_);
@@ -64,9 +78,23 @@ void InputCrs::settle_first() {
 
 const std::string& InputCrs::transform_from(const std::string& path) const {
   static const std::string none;
+  if (!target().empty()) return transform_to_target_from(path);
   const auto it = taken_.find(path);
   if (it == taken_.end() || path == source_ || io::same_crs(crs_, it->second)) return none;
   return it->second;
+}
+
+const std::string& InputCrs::transform_to_target_from(const std::string& path) const {
+  static const std::string none;
+  const std::string* from = nullptr;
+  if (const auto it = taken_.find(path); it != taken_.end()) from = &it->second;
+  for (const Implied& implied : implied_) {
+    if (implied.path != path) continue;
+    check_none_without();  // its format's default counts only when no input names its CRS
+    from = &implied.wkt;
+  }
+  assert(from != nullptr && "with a target CRS, add() refuses an input without a CRS");
+  return from == nullptr || io::same_crs(target(), *from) ? none : *from;
 }
 
 void InputCrs::check_none_without() const {
@@ -113,7 +141,8 @@ InputTransform::InputTransform(Job& job, const InputCrs& crs, const std::string&
   if (transform_->z_factor() != 1)
     heights = "; heights converted from " + transform_->from_height_unit() + " to " +
               transform_->to_height_unit();
-  job.info(path + ": transformed from " + from_ + " to " + to_ + " (the CRS of " + crs.source() +
+  const std::string whose = crs.target().empty() ? "the CRS of " + crs.source() : "the target CRS";
+  job.info(path + ": transformed from " + from_ + " to " + to_ + " (" + whose +
            (from_ == to_ ? ", same name, different definition" : "") + ")" + heights);
   if (!transform_->vertical_mismatch().empty())
     job.warn(path + ": heights are not transformed between the vertical CRSs (" +

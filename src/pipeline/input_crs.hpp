@@ -1,7 +1,8 @@
 // The CRS a job's inputs are taken in. Each input's own CRS must be one a terrain TIN can be built
 // in; the override CRS replaces every input's own, the default CRS is given to inputs without
 // one; then every input has a CRS, or none has: a file's CRS is never guessed from the others'.
-// The job's CRS is the first input's; an input in another is transformed into it when read.
+// The job's CRS is the target CRS when one is given (every input must then have a CRS), else the
+// first input's; an input in another is transformed into it when read.
 #pragma once
 
 #include <initializer_list>
@@ -32,7 +33,8 @@ class InputCrs {
   // input added before is skipped (its header was read before its points). Throws InputError
   // (Remedy::override_crs) when OWN is not usable and nothing replaces it, and in a job that reads
   // its points by a box when the CRS it is taken in differs from the inputs' CRS found
-  // so far: the box is in one CRS.
+  // so far or from the target CRS: the box is in one CRS. With a target CRS, throws InputError
+  // (Remedy::assign_crs) when the input has no CRS: it cannot be transformed.
   void add(const std::string& path, const std::string& own, bool implied = false);
 
   // Throws InputError (Remedy::assign_crs) naming the first input without a CRS when another
@@ -43,10 +45,13 @@ class InputCrs {
   // (if any) is the inputs', and the inputs without a CRS take it, with a warning each.
   void finish();
 
-  // The CRS of the inputs added so far, "" when none has one. Final for an input once every input
-  // before it in reading order is added, as it is when the input is read.
-  const std::string& crs() const { return crs_; }
-  // The input the CRS comes from.
+  // The job's CRS: the target CRS, else that of the inputs added so far, "" when none has one.
+  // Final for an input once every input before it in reading order is added, as it is when the
+  // input is read.
+  const std::string& crs() const { return target().empty() ? crs_ : target(); }
+  // The target CRS (the job's --t-srs), "" when none is given.
+  const std::string& target() const { return job_.target_crs_wkt; }
+  // The input the inputs' CRS comes from.
   const std::string& source() const { return source_; }
   // The CRS input PATH is taken in when it is not crs() (its points are to be transformed from
   // it), else "".
@@ -59,6 +64,9 @@ class InputCrs {
   };
   // crs_ and source_ from taken_: the first input in order_ with a CRS.
   void settle_first();
+  // transform_from() with a target CRS: from the CRS PATH is taken in, its format's default when
+  // no input names its CRS (check_none_without() throws otherwise).
+  const std::string& transform_to_target_from(const std::string& path) const;
 
   Job& job_;
   std::vector<std::string> order_;

@@ -26,6 +26,7 @@ Job::Job(const BuildOptions& job_options, const CheckedOptions& checked, const P
     : options(job_options),
       assign_crs_wkt(checked.assign_crs_wkt),
       override_crs_wkt(checked.override_crs_wkt),
+      target_crs_wkt(checked.target_crs_wkt),
       outputs(job_options.write.overwrite),
       started(std::chrono::steady_clock::now()),
       user_progress_(progress && *progress ? progress : nullptr),
@@ -36,7 +37,6 @@ Job::Job(const BuildOptions& job_options, const CheckedOptions& checked, const P
   write.ply_ascii = options.write.ply_ascii;
   write.overwrite = options.write.overwrite;
   write.offset = options.write.offset;
-  write.target_crs_wkt = checked.target_crs_wkt;
   write.ogr_tin = options.write.gpkg_tin;
   if (user_progress_)
     stage_progress_ = [this](std::string_view call, double fraction) {
@@ -57,8 +57,8 @@ void Job::wait_for_quality() {
   report.timings_s.quality = quality_measured.seconds;
 }
 
-// The CRS the output of KIND is written in: the target CRS for the outputs reprojected into it,
-// none for a picture, longitude and latitude on WGS 84 for the web terrain, else the TIN's.
+// The CRS the output of KIND is written in: none for a picture, longitude and latitude on WGS 84
+// for the web terrain, else the TIN's.
 const std::string& Job::crs_of_output(const std::string& kind) const {
   static const std::string none;
   if (kind == "preview") return none;
@@ -66,8 +66,7 @@ const std::string& Job::crs_of_output(const std::string& kind) const {
     static const std::string wgs84 = io::crs_from_user("EPSG:4326");
     return wgs84;
   }
-  const bool reprojected = kind == "tin" || kind == "constraint_lines";
-  return reprojected && !write.target_crs_wkt.empty() ? write.target_crs_wkt : crs_wkt;
+  return crs_wkt;
 }
 
 void Job::finish_output(io::OutputFile& out) {

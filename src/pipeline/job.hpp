@@ -54,7 +54,9 @@ struct Job {
   // ---- inputs (read) --------------------------------------------------------------------------
   const std::string assign_crs_wkt;    // --a-srs as WKT, "" when not given
   const std::string override_crs_wkt;  // --override-srs as WKT, "" when not given
-  // The CRS of every input (they must agree), "" when none is known.
+  const std::string target_crs_wkt;    // --t-srs as WKT, "" when not given
+  // The CRS of the TIN and every output, every input transformed into it: the target CRS, else
+  // the first input's; "" when none is known.
   std::string crs_wkt;
   CrsNames crs_names;
   // The points of every point file in order, then the contour and hard-line vertices

@@ -30,14 +30,29 @@ std::string srs_option(const std::string& text, const char* option) {
   }
 }
 
+// A CRS as the user gave it, for a message: a WKT cut short.
+std::string shown_srs(const std::string& text) {
+  return "'" + (text.size() > 60 ? text.substr(0, 60) + "..." : text) + "'";
+}
+
 // An input CRS option: readable, and one a terrain TIN can be built in.
 std::string input_srs_option(const std::string& text, const char* option) {
   std::string wkt = srs_option(text, option);
   if (wkt.empty()) return wkt;
   if (const std::string why = io::crs_unusable_reason(wkt); !why.empty())
-    throw UsageError(std::string(option) + ": '" +
-                     (text.size() > 60 ? text.substr(0, 60) + "..." : text) +
-                     "' cannot be used: " + why);
+    throw UsageError(std::string(option) + ": " + shown_srs(text) + " cannot be used: " + why);
+  return wkt;
+}
+
+// --t-srs: an input CRS option, refused when geographic unless allowed.
+std::string target_srs_option(const BuildOptions& o) {
+  std::string wkt = input_srs_option(o.target_srs, "--t-srs");
+  if (!o.allow_geographic && io::is_geographic(wkt))
+    throw UsageError(
+        "--t-srs: " + shown_srs(o.target_srs) +
+        " is geographic (degrees): the TIN would be Delaunay in degrees, and DEM cells and "
+        "lengths in degrees are distorted; name a projected CRS (e.g. the data's UTM zone), or "
+        "pass --allow-geographic");
   return wkt;
 }
 
@@ -102,8 +117,6 @@ io::TinFormat check_outputs(const BuildOptions& o) {
       throw UsageError(e.file(), e.where(), e.detail() + "; use -f " + names);
     }
   }
-  if (!o.write.target_srs.empty() && format != io::TinFormat::geojson)
-    throw UsageError("--t-srs needs GeoJSON output; OBJ and PLY keep the input CRS (in a .prj)");
   const Point3& d = o.write.offset;
   if (!std::isfinite(d.x) || !std::isfinite(d.y) || !std::isfinite(d.z))
     throw UsageError("--offset: every coordinate must be a finite number");
@@ -219,17 +232,18 @@ CheckedOptions check_options(const BuildOptions& options) {
         "CRS, --a-srs only the inputs without one");
   checked.assign_crs_wkt = input_srs_option(options.assign_srs, "--a-srs");
   checked.override_crs_wkt = input_srs_option(options.override_srs, "--override-srs");
-  checked.target_crs_wkt = srs_option(options.write.target_srs, "--t-srs");
+  checked.target_crs_wkt = target_srs_option(options);
   if (options.write.ply_ascii && checked.format != io::TinFormat::ply)
     checked.warnings.push_back("--ply-ascii is ignored: the output is " +
                                std::string(io::format_name(checked.format)) + ", not PLY");
   if (options.write.gpkg_tin && checked.format != io::TinFormat::gpkg)
     checked.warnings.push_back("--gpkg-tin is ignored: the output is " +
                                std::string(io::format_name(checked.format)) + ", not GeoPackage");
-  const Point3& offset = options.write.offset;
-  if (!checked.target_crs_wkt.empty() &&
-      (options.write.offset_auto || offset.x != 0 || offset.y != 0 || offset.z != 0))
-    throw UsageError("--offset cannot be combined with --t-srs (it is in the input CRS's units)");
+  if (options.allow_geographic && !io::is_geographic(checked.target_crs_wkt))
+    checked.warnings.push_back("--allow-geographic is ignored: " +
+                               std::string(checked.target_crs_wkt.empty()
+                                               ? "there is no --t-srs"
+                                               : "the --t-srs CRS is not geographic"));
   return checked;
 }
 

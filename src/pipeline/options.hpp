@@ -29,6 +29,11 @@ struct BuildOptions {
   // string, a .prj file). --override-srs: the CRS of every input, replacing the files' own.
   std::string assign_srs;
   std::string override_srs;
+  // --t-srs: the CRS of the TIN and every output, as the user gave it; every input is transformed
+  // into it as it is read, so that the TIN is Delaunay in the CRS it is delivered in. "" = the
+  // first input's CRS. A geographic one (degrees) only with allow_geographic (--allow-geographic).
+  std::string target_srs;
+  bool allow_geographic = false;
 
   // ---- read: contours and hard lines (any OGR source, "FILE" or "FILE:LAYER") ------------
   // Their vertices join the Delaunay stage, their segments become constrained edges. Lines
@@ -84,12 +89,11 @@ struct BuildOptions {
     Point3 offset{0, 0, 0};               // --offset X,Y,Z: subtracted from written coordinates
     bool offset_auto = false;             // --offset auto: the data's min corner, rounded down
                                           // to 1000
-    std::string target_srs;               // --t-srs (GeoJSON only), as the user gave it
     bool gpkg_tin = false;                // --gpkg-tin: GeoPackage TIN Z instead of POLYGON Z
   } write;
   std::string stats_path;  // --stats FILE.json
   // --constraints-out FILE.geojson: every constrained edge of the written TIN with its source
-  // feature (in the TIN's coordinates: offset, target CRS).
+  // feature (in the TIN's coordinates, offset).
   std::string constraints_out;
   // --diagnostics FILE.gpkg: crossings, skipped segments and dropped features as GIS layers.
   std::string diagnostics;
@@ -136,10 +140,10 @@ struct CheckedOptions {
 };
 
 // Every rule that involves more than one option, or a value no single option can check: some
-// input, the output format, GeoJSON for --t-srs, the extensions of --constraints-out and
-// --diagnostics, --fix-flats with contours, exclusive options, readable --a-srs / --t-srs, no
-// offset for LandXML and GeoPackage, each product's settings only with the product and the ones
-// it needs.
+// input, the output format, the extensions of --constraints-out and --diagnostics, --fix-flats
+// with contours, exclusive options, readable --a-srs / --t-srs, a geographic --t-srs only with
+// --allow-geographic, no offset for LandXML and GeoPackage, each product's settings only with
+// the product and the ones it needs.
 // Throws UsageError naming the option. Cheap (no input is read); build() runs it first, and a
 // command line runs it before anything else to tell a usage error from a failed job.
 CheckedOptions check_options(const BuildOptions& options);

@@ -1,8 +1,8 @@
 // read: the point files, then the contours and hard lines, then the surface features, each
 // source's CRS checked against the others' and, when it is another, its coordinates transformed
-// into the job's (the first input's). Line vertices go after the points, so that the
-// Delaunay stage triangulates both; line and surface features get their constraint source ids
-// (Job::sources) in reading order, contours first.
+// into the job's (the target CRS, else the first input's). Line vertices go after the points, so
+// that the Delaunay stage triangulates both; line and surface features get their constraint source
+// ids (Job::sources) in reading order, contours first.
 #include <algorithm>
 #include <cassert>
 #include <cctype>
@@ -201,10 +201,6 @@ void settle_crs(Job& job, detail::InputCrs& crs) {
   job.report.crs_wkt = job.crs_wkt;
   job.report.crs = job.crs_names.label(job.crs_wkt);
   job.write.crs_wkt = job.crs_wkt;
-  if (!job.write.target_crs_wkt.empty() && job.crs_wkt.empty())
-    throw InputError(job.describe_inputs(), "",
-                     "cannot reproject to " + job.crs_names.name(job.write.target_crs_wkt) +
-                         ": the input has no CRS (assign one with --a-srs)");
   job.write_prj = io::wants_prj(*job.write.format, job.crs_wkt);
   if (!job.write_prj) return;
   const std::string prj = io::prj_path(job.options.output);
@@ -315,6 +311,12 @@ constexpr OptionSpec kOptions[] = {
     text_option("--override-srs", "SRS", groups::input, set_text<&BuildOptions::override_srs>,
                 "Replace every input's own CRS with SRS (EPSG:n, WKT, PROJ string\n"
                 "or .prj file): for files whose CRS is missing or wrong"),
+    text_option("--t-srs", "SRS", groups::input, set_text<&BuildOptions::target_srs>,
+                "The CRS of the TIN and every output (e.g. EPSG:32633): every\n"
+                "input is transformed into SRS as it is read, before triangulation"),
+    flag_option("--allow-geographic", groups::input, set_true<&BuildOptions::allow_geographic>,
+                "Let --t-srs be geographic (degrees): the TIN is then Delaunay\n"
+                "in degrees, DEM cells and lengths are in degrees"),
     class_option<&io::PointFilter::keep_classes>(
         "--keep-class",
         "Keep only these classes (e.g. 2,8): LAS, or XYZ text\n"

@@ -154,9 +154,6 @@ const OptionSpec kOptions[] = {
            o.write.offset_auto = lower(v) == "auto";
            if (!o.write.offset_auto) o.write.offset = *parse_offset(v);
          }},
-    text_option("--t-srs", "SRS", option_groups::output,
-                set_text<&BuildOptions::write, &Write::target_srs>,
-                "Reproject the GeoJSON output to SRS (e.g. EPSG:4326)"),
 };
 
 }  // namespace

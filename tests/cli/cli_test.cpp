@@ -292,7 +292,7 @@ TEST_F(Cli, BadOptionValuesAreUsageErrors) {
       {{"-f", "dwg"}, "--format"},
       {{"--first-only", "--last-only"}, "exclude each other"},
       {{"-q", "-v"}, "exclude each other"},
-      {{"--t-srs", "EPSG:4326"}, "GeoJSON"},  // OBJ output
+      {{"--t-srs", "EPSG:4326"}, "--allow-geographic"},
   };
   for (const auto& [extra, pattern] : cases) {
     SCOPED_TRACE(extra.front() + " " + extra.back());
@@ -606,14 +606,14 @@ TEST_F(Cli, AssignedCrsGoesToPrjAndStats) {
 
 TEST_F(Cli, ReprojectWithoutCrsFails) {
   spit(s.path("a.xyz"), grid_xyz());
-  const Outcome r = s.run({s.path("a.xyz"), "-o", s.path("t.geojson"), "--t-srs", "EPSG:4326"});
+  const Outcome r = s.run({s.path("a.xyz"), "-o", s.path("t.geojson"), "--t-srs", "EPSG:32633"});
   expect_failure(r, 1, s.path("a.xyz"), "no CRS.*--a-srs", s, {"a.xyz"});
 }
 
 TEST_F(Cli, ReprojectToWgs84) {
   spit(s.path("a.xyz"), grid_xyz());
   const Outcome r = s.run({s.path("a.xyz"), "-o", s.path("t.geojson"), "--a-srs", "EPSG:32633",
-                           "--t-srs", "EPSG:4326"});
+                           "--t-srs", "EPSG:4326", "--allow-geographic"});
   ASSERT_EQ(r.exit_code, 0) << r;
   const std::string gj = slurp(s.path("t.geojson"));
   // UTM 33N, x = 500100 m lies about 15 degrees east, y = 4000200 m about 36 degrees north.

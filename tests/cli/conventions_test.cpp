@@ -143,8 +143,8 @@ TEST_F(Conventions, StatsDashPrintsTheJsonAlone) {
 // ---- GDAL's spellings ------------------------------------------------------------------------
 
 TEST_F(Conventions, GdalSrsWordsAreTheSrsOptions) {
-  const Outcome r =
-      run({kSample, "-o", "t.geojson", "-a_srs", "EPSG:32632", "-t_srs", "EPSG:4326"});
+  const Outcome r = run({kSample, "-o", "t.geojson", "-a_srs", "EPSG:32632", "-t_srs", "EPSG:4326",
+                         "--allow-geographic"});
   ASSERT_EQ(r.exit_code, 0) << r;
   const std::string json = slurp(path("t.geojson"));
   // UTM zone 32 metres became degrees: the sample lies near 10.3 E, 46.8 N.

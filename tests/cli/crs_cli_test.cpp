@@ -166,14 +166,14 @@ TEST(CrsCli, OutputsWithoutCrsAreWarnedAboutOnce) {
   for (const auto& [kind, crs] : output_crs(dir + "/s.json")) EXPECT_EQ(crs, "") << kind;
 }
 
-// A GeoJSON TIN reprojected with --t-srs is in the target CRS, in the log and in --stats; the
-// other outputs stay in the inputs' CRS.
+// A GeoJSON TIN built with --t-srs is in the target CRS, in the log and in --stats, and so are
+// the other outputs.
 TEST(CrsCli, EachOutputIsReportedInItsOwnCrs) {
   TINCDT_REQUIRE_SHARED_DATA("las");
   const std::string dir = scratch_dir("crs_cli");
   const ShellRun r = run_tincdt(dir, shared("las/Topography.las") +
-                                         " -o t.geojson --t-srs EPSG:4326 --dem d.tif "
-                                         "--resolution 10 --stats s.json");
+                                         " -o t.geojson --t-srs EPSG:4326 --allow-geographic "
+                                         "--dem d.tif --resolution 0.0001 --stats s.json");
   ASSERT_EQ(r.exit_code, 0) << r;
   EXPECT_TRUE(has(r, "wrote t.geojson (GeoJSON")) << r;
   EXPECT_TRUE(has(r, "CRS EPSG:4326)")) << r;
@@ -181,8 +181,8 @@ TEST(CrsCli, EachOutputIsReportedInItsOwnCrs) {
   const auto outputs = output_crs(dir + "/s.json");
   ASSERT_EQ(outputs.size(), 2u);
   EXPECT_EQ(outputs[0], (std::pair<std::string, std::string>{"tin", "EPSG:4326"}));
-  EXPECT_EQ(outputs[1], (std::pair<std::string, std::string>{"dem", "EPSG:2949"}));
-  EXPECT_EQ(stats_crs(dir + "/s.json"), "EPSG:2949");  // the inputs' and the TIN's
+  EXPECT_EQ(outputs[1], (std::pair<std::string, std::string>{"dem", "EPSG:4326"}));
+  EXPECT_EQ(stats_crs(dir + "/s.json"), "EPSG:4326");  // the TIN's
 }
 
 }  // namespace

@@ -246,9 +246,9 @@ TEST_F(Pipeline, UnknownFormatFailsBeforeReading) {
   EXPECT_THROW(pipeline::build(o), UsageError);
 }
 
-TEST_F(Pipeline, ReprojectionNeedsGeojson) {
+TEST_F(Pipeline, GeographicTargetCrsNeedsAllowing) {
   auto o = options_for(square_with_jittered_grid(3, 0, 0), "t.ply");
-  o.write.target_srs = "EPSG:4326";
+  o.target_srs = "EPSG:4326";
   EXPECT_THROW(pipeline::build(o), UsageError);
   EXPECT_EQ(names_in(dir_), std::set<std::string>{"in.xyz"});
 }

@@ -167,13 +167,7 @@ TEST(CheckOptions, EachRuleNamesItsOptions) {
       {[](BuildOptions& o) { o.max_edge = -1; }, "--max-edge"},
       {[](BuildOptions& o) { o.output.clear(); }, "-o"},
       {[](BuildOptions& o) { o.output = "t.dwg"; }, "t.dwg"},
-      {[](BuildOptions& o) { o.write.target_srs = "EPSG:4326"; }, "--t-srs needs GeoJSON"},
-      {[](BuildOptions& o) {
-         o.output = "t.geojson";
-         o.write.target_srs = "EPSG:4326";
-         o.write.offset_auto = true;
-       },
-       "--offset cannot be combined with --t-srs"},
+      {[](BuildOptions& o) { o.target_srs = "EPSG:4326"; }, "--allow-geographic"},
       {[](BuildOptions& o) { o.write.offset.x = std::numeric_limits<double>::infinity(); },
        "--offset"},
       {[](BuildOptions& o) { o.constraints_out = "c.txt"; }, "--constraints-out"},
@@ -181,7 +175,7 @@ TEST(CheckOptions, EachRuleNamesItsOptions) {
       {[](BuildOptions& o) { o.assign_srs = "EPSG:999999"; }, "--a-srs"},
       {[](BuildOptions& o) {
          o.output = "t.geojson";
-         o.write.target_srs = "not a CRS";
+         o.target_srs = "not a CRS";
        },
        "--t-srs"},
   };
@@ -198,7 +192,8 @@ TEST(CheckOptions, ResolvesFormatAndCrsAndWarnsAboutIneffectiveOptions) {
   EXPECT_EQ(usage_error(o), "no usage error");
   o.output = "t.json";
   o.assign_srs = "EPSG:32633";
-  o.write.target_srs = "EPSG:4326";
+  o.target_srs = "EPSG:4326";
+  o.allow_geographic = true;
   o.write.ply_ascii = true;
   pipeline::CheckedOptions c = pipeline::check_options(o);
   EXPECT_EQ(c.format, io::TinFormat::geojson);
@@ -207,7 +202,8 @@ TEST(CheckOptions, ResolvesFormatAndCrsAndWarnsAboutIneffectiveOptions) {
   ASSERT_EQ(c.warnings.size(), 1u);
   EXPECT_NE(c.warnings[0].find("--ply-ascii is ignored"), std::string::npos);
   o.write.format = io::TinFormat::obj;
-  o.write.target_srs.clear();
+  o.target_srs.clear();
+  o.allow_geographic = false;
   o.output = "mesh.txt";
   c = pipeline::check_options(o);
   EXPECT_EQ(c.format, io::TinFormat::obj);
