@@ -64,9 +64,22 @@ CLI::Option* add_repeated(CLI::App& app, const std::string& flags, std::vector<s
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
 }
 
-void set_verbosity(bool quiet, bool verbose) {
-  if (quiet) spdlog::set_level(spdlog::level::warn);
-  if (verbose) spdlog::set_level(spdlog::level::debug);
+// An option the command cannot run without, its value shown in the help as TYPE.
+template <class T>
+CLI::Option* add_required(CLI::App& app, const std::string& flags, T& value,
+                          const std::string& help, const std::string& type) {
+  return app.add_option(flags, value, help)->type_name(type)->required();
+}
+
+// The -q and -v flags of a command, into V.
+void add_quiet_verbose(CLI::App& app, Verbosity& v) {
+  app.add_flag("-q,--quiet", v.quiet, "Only warnings and errors");
+  app.add_flag("-v,--verbose", v.verbose, "Also debug messages");
+}
+
+void set_verbosity(const Verbosity& v) {
+  if (v.quiet) spdlog::set_level(spdlog::level::warn);
+  if (v.verbose) spdlog::set_level(spdlog::level::debug);
 }
 
 // "2,8" or repeated options: LAS classification codes.
@@ -119,8 +132,8 @@ int run_plan(int argc, char** argv) {
       "Slurm, Kubernetes; see examples/tiles/) and join them with 'tincdt merge'.",
       "tincdt plan");
   tiles::PlanOptions o;
+  Verbosity verbosity;
   std::vector<std::string> hard_lines;
-  bool quiet = false, verbose = false;
   app.add_option("INPUT", o.inputs, "Point files: LAS, LAZ (header only) or XYZ (read whole)")
       ->type_name("FILE");
   add_repeated(app, "--contours", o.contours, "Contour lines (any OGR source: FILE or FILE:LAYER)")
@@ -143,24 +156,21 @@ int run_plan(int argc, char** argv) {
                  "every tile along the outline reads (default: ten times the mean point\n"
                  "spacing; 0: none, and the plan reads headers only)")
       ->type_name("W");
-  app.add_option("--tile-size", o.tile_size, "Tile width and height; tiles start at multiples")
-      ->type_name("S")
-      ->required();
-  app.add_option("--buffer", o.buffer,
-                 "How far around its tile each job reads: enough that every triangle near\n"
-                 "the tile is settled (a first guess: a tile that needs more reads more)")
-      ->type_name("B")
-      ->required();
-  app.add_option("-o,--output", o.output, "The plan (JSON)")->type_name("PLAN.json")->required();
+  add_required(app, "--tile-size", o.tile_size, "Tile width and height; tiles start at multiples",
+               "S");
+  add_required(app, "--buffer", o.buffer,
+               "How far around its tile each job reads: enough that every triangle near\n"
+               "the tile is settled (a first guess: a tile that needs more reads more)",
+               "B");
+  add_required(app, "-o,--output", o.output, "The plan (JSON)", "PLAN.json");
   app.add_option("--threads", o.threads, "Point files read at once for the rim; 0 = one per core")
       ->type_name("N");
   app.add_flag("--overwrite", o.overwrite, "Replace an existing plan");
-  app.add_flag("-q,--quiet", quiet, "Only warnings and errors");
-  app.add_flag("-v,--verbose", verbose, "Also debug messages");
+  add_quiet_verbose(app, verbosity);
   if (const int code = parse(app, "plan", argc, argv); code >= 0) return code;
   if (const int code = refuse_standard_output("plan", o.output); code >= 0) return code;
   o.breaklines = hard_lines;
-  set_verbosity(quiet, verbose);
+  set_verbosity(verbosity);
   return guarded("plan", [&] {
     o.filter.keep_classes = parse_classes(keep, "--keep-class");
     o.filter.drop_classes = parse_classes(drop, "--drop-class");
@@ -186,10 +196,9 @@ int run_merge(int argc, char** argv) {
       "outlines), writing nothing.",
       "tincdt merge");
   tiles::MergeOptions o;
-  bool quiet = false, verbose = false;
-  app.add_option("TILE", o.inputs, "Tile TINs written by tile jobs (PLY), or outlines (--outline)")
-      ->type_name("FILE")
-      ->required();
+  Verbosity verbosity;
+  add_required(app, "TILE", o.inputs,
+               "Tile TINs written by tile jobs (PLY), or outlines (--outline)", "FILE");
   app.add_option("-o,--output", o.output,
                  "The merged TIN: .obj, .ply or .geojson; or, with\n"
                  "--outline, the outline of the tiles together (PLY)")
@@ -199,11 +208,10 @@ int run_merge(int argc, char** argv) {
                "Write only the outline of the tiles (their border edges, for a later --check),\n"
                "so that the tiles themselves can be deleted");
   app.add_flag("--overwrite", o.overwrite, "Replace an existing output");
-  app.add_flag("-q,--quiet", quiet, "Only warnings and errors");
-  app.add_flag("-v,--verbose", verbose, "Also debug messages");
+  add_quiet_verbose(app, verbosity);
   if (const int code = parse(app, "merge", argc, argv); code >= 0) return code;
   if (const int code = refuse_standard_output("merge", o.output); code >= 0) return code;
-  set_verbosity(quiet, verbose);
+  set_verbosity(verbosity);
   if (o.check_only && !o.output.empty())
     return usage_error("merge", "--check writes nothing: give no -o");
   if (!o.check_only && o.output.empty())

@@ -5,7 +5,6 @@
 #include <cassert>
 #include <cmath>
 #include <cstdio>
-#include <map>
 #include <optional>
 #include <set>
 #include <string>
@@ -18,6 +17,7 @@
 #include "predicates/predicates.hpp"
 #include "simplify/profile.hpp"
 #include "simplify/simplify.hpp"
+#include "simplify/simplify_input.hpp"
 #include "tiles/tile_job.hpp"
 
 namespace tincdt::tiles::detail {
@@ -103,37 +103,9 @@ std::optional<double> height_at(const Triangulation& tin, Point2 c) {
 
 // ---- the tile's points ------------------------------------------------------------------------
 
-// The points of the tile's greedy run: the border vertices (kept; found by their x, y), the TIN's
-// vertices strictly inside the tile, one point an (x, y).
-struct TilePoints {
-  std::vector<Point2> xy;
-  std::vector<double> z;
-  std::vector<std::uint32_t> kept;
-  std::vector<constraints::Segment> segments;
-  std::map<std::pair<double, double>, std::uint32_t> at;
-
-  // A border vertex, kept.
-  std::uint32_t add_kept(Point2 p, double height) {
-    const auto [it, added] = at.try_emplace({p.x, p.y}, static_cast<std::uint32_t>(xy.size()));
-    if (added) {
-      xy.push_back(p);
-      z.push_back(height);
-      kept.push_back(it->second);
-    }
-    return it->second;
-  }
-  // A vertex inside the tile, unless the border holds it already (a hull corner it turns to).
-  std::uint32_t add_inner(Point2 p, double height) {
-    if (const std::uint32_t id = find(p); id != kNoId) return id;
-    xy.push_back(p);
-    z.push_back(height);
-    return static_cast<std::uint32_t>(xy.size() - 1);
-  }
-  std::uint32_t find(Point2 p) const {
-    const auto it = at.find({p.x, p.y});
-    return it == at.end() ? kNoId : it->second;
-  }
-};
+// The points of the tile's greedy run: the border vertices (kept), the TIN's vertices strictly
+// inside the tile (candidates).
+using TilePoints = simplify::SimplifyInput;
 
 // The tile's sides, counter-clockwise from the south west corner; north and west run backwards
 // (each side's section is computed by increasing place, as its other tile computes it).
@@ -477,7 +449,7 @@ void simplify_tile(TileJob& job) {
   for (VertexId v = 0; v < full.vertex_count(); ++v) {
     const Point2 p = full.point(v);
     if (b.min_x < p.x && p.x < b.max_x && b.min_y < p.y && p.y < b.max_y)
-      point_of_full[v] = points.add_inner(p, full.z(v));
+      point_of_full[v] = points.add_candidate(p, full.z(v));
     else if (in_closed(b, p))
       point_of_full[v] = points.find(p);  // on a border: a border vertex, or left out
   }

@@ -165,12 +165,11 @@ std::size_t add_lines(const TerrainSource& source, const GeoRectangle& r, double
       const Point2 place{std::round(n.u), std::round(n.v)};
       std::uint32_t id = 0;
       if (n.on_side) {
-        const std::uint32_t* border = p.find(place);
-        if (border == nullptr) continue;  // the border has no vertex there: no crossing
-        id = *border;
+        id = p.find(place);
+        if (id == kNoId) continue;  // the border has no vertex there: no crossing
       } else {
         if (!strictly_inside(place.x, place.y)) continue;  // within half a step of a side
-        id = p.kept_point(place, n.z);
+        id = p.add_kept(place, n.z);
       }
       if (previous != UINT32_MAX && id != previous) {
         p.segments.push_back({previous, id, 1});

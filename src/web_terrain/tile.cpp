@@ -82,7 +82,7 @@ void add_border(const TerrainSource& source, const GeoRectangle& r, double toler
                         : side == Side::east  ? Point2{kMax, q}
                         : side == Side::north ? Point2{q, kMax}
                                               : Point2{0, q};
-      const std::uint32_t id = p.kept_point(xy, v[i].second);
+      const std::uint32_t id = p.add_kept(xy, v[i].second);
       if (id > 0) p.segments.push_back({id - 1, id, 0});
     }
   }
@@ -101,9 +101,7 @@ void add_candidates(const TerrainSource& source, const GeoRectangle& r, TilePoin
   for (std::size_t i = 0; i < cells.size(); ++i) {
     const auto& [u, w, id] = cells[i];
     if (i > 0 && std::get<0>(cells[i - 1]) == u && std::get<1>(cells[i - 1]) == w) continue;
-    if (p.find({u, w}) != nullptr) continue;  // a line's vertex is there
-    p.xy.push_back({u, w});
-    p.z.push_back(source.vertices()[id].z);
+    p.add_candidate({u, w}, source.vertices()[id].z);  // unless a line's vertex is there
   }
 }
 

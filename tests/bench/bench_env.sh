@@ -4,3 +4,20 @@ ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 SHARED="${TINCDT_SHARED:-$ROOT/../shared}"
 DATA="${TINBENCH_DATA:-/tmp/tinbench}"
 BUILD="${TINCDT_BENCH_BUILD:-$ROOT/build/bench}"
+
+# bench_defaults NAME=VALUE...: each NAME as the environment gives it, else VALUE.
+bench_defaults() {
+  local setting
+  for setting in "$@"; do
+    local name=${setting%%=*}
+    [[ -n ${!name:-} ]] || printf -v "$name" '%s' "${setting#*=}"
+  done
+}
+
+# build_test_targets TARGET...: BUILD becomes the test tree ($TINCDT_BENCH_BUILD, default
+# build/test, configured by the test preset when it is not yet), where TARGET... are built.
+build_test_targets() {
+  BUILD="${TINCDT_BENCH_BUILD:-$ROOT/build/test}"
+  if [[ ! -f $BUILD/build.ninja ]]; then cmake --preset test -S "$ROOT" >/dev/null; fi
+  cmake --build "$BUILD" --target "$@" >/dev/null
+}

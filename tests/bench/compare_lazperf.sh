@@ -14,17 +14,11 @@
 # (/tmp/tincdt_laz).
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/bench_env.sh"
-BUILD="${TINCDT_BENCH_BUILD:-$ROOT/build/test}"  # laz_bench is a test-tree target
-ROUNDS="${ROUNDS:-5}"
-REPEAT="${REPEAT:-5}"
-THREADS="${THREADS:-$(nproc)}"
-BIG_COPIES="${BIG_COPIES:-20}"
-BIG_DIR="${BIG_DIR:-/tmp/tincdt_laz}"
+bench_defaults ROUNDS=5 REPEAT=5 THREADS="$(nproc)" BIG_COPIES=20 BIG_DIR=/tmp/tincdt_laz
 LAZPERF="$SHARED/bench/node/lazperf_decode.mjs"
 
 [[ -d $SHARED/bench/node/node_modules/laz-perf ]] || npm install --prefix "$SHARED/bench/node"
-if [[ ! -f $BUILD/build.ninja ]]; then cmake --preset test -S "$ROOT" >/dev/null; fi
-cmake --build "$BUILD" --target laz_bench make_big_laz >/dev/null
+build_test_targets laz_bench make_big_laz
 BENCH="$BUILD/tests/bench/laz_bench"
 
 files=("$@")

@@ -25,17 +25,13 @@
 # $TINCDT_SHARED/bench/node when missing.
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/bench_env.sh"
-BUILD="${TINCDT_BENCH_BUILD:-$ROOT/build/test}"  # terrain_tile_grids is a test-tree target
-LEVELS="${LEVELS:-14-19}"
-SIZE="${SIZE:-257}"
-CONTOURS="${CONTOURS:-1}"
+bench_defaults LEVELS=14-19 SIZE=257 CONTOURS=1
 NODE_MODULES="$SHARED/bench/node/node_modules"
 level=${LEVELS#*-}
 
 [[ -d $NODE_MODULES/@mapbox/martini && -d $NODE_MODULES/@here/quantized-mesh-decoder ]] ||
   npm install --prefix "$SHARED/bench/node" >&2
-if [[ ! -f $BUILD/build.ninja ]]; then cmake --preset test -S "$ROOT" >/dev/null; fi
-cmake --build "$BUILD" --target tincdt terrain_tile_grids >/dev/null
+build_test_targets tincdt terrain_tile_grids
 
 work=$(mktemp -d /tmp/compare_martini.XXXXXX)
 trap 'rm -rf "$work"' EXIT

@@ -14,19 +14,14 @@
 # KEEP (0).
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/bench_env.sh"
-BUILD="${TINCDT_BENCH_BUILD:-$ROOT/build/test}"  # make_big_las is a test-tree target
-TINCDT="${TINCDT:-$ROOT/build/release/tincdt}"
-N="${N:-20000000}"
-ROUNDS="${ROUNDS:-2}"
-BIG_DIR="${BIG_DIR:-/tmp/tincdt_terrain_bench}"
-KEEP="${KEEP:-0}"
+bench_defaults TINCDT="$ROOT/build/release/tincdt" N=20000000 ROUNDS=2 \
+  BIG_DIR=/tmp/tincdt_terrain_bench KEEP=0
 
 if [[ ! -x $TINCDT ]]; then
   echo "no $TINCDT: cmake --preset release && cmake --build build/release" >&2
   exit 1
 fi
-if [[ ! -f $BUILD/build.ninja ]]; then cmake --preset test -S "$ROOT" >/dev/null; fi
-cmake --build "$BUILD" --target make_big_las >/dev/null
+build_test_targets make_big_las
 
 mkdir -p "$BIG_DIR"
 [[ $KEEP == 1 ]] || trap 'rm -rf "$BIG_DIR"' EXIT

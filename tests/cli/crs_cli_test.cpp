@@ -149,13 +149,23 @@ std::vector<std::pair<std::string, std::string>> output_crs(const std::string& s
   return out;
 }
 
+// A run in a fresh scratch folder on the shared file INPUT with ARGS and --stats; STATS is the
+// document's path.
+struct StatsRun {
+  ShellRun run;
+  std::string stats;
+};
+StatsRun run_with_stats(const std::string& input, const std::string& args) {
+  const std::string dir = scratch_dir("crs_cli");
+  return {run_tincdt(dir, shared(input) + " " + args + " --stats s.json"), dir + "/s.json"};
+}
+
 // Outputs without a CRS: one warning for all of them.
 TEST(CrsCli, OutputsWithoutCrsAreWarnedAboutOnce) {
   TINCDT_REQUIRE_SHARED_DATA("las");
-  const std::string dir = scratch_dir("crs_cli");
-  const ShellRun r = run_tincdt(dir, shared("las/simple.las") +
-                                         " -o t.ply --dem d.tif --resolution 50 --contour-lines "
-                                         "c.gpkg --interval 20 --stats s.json");
+  const auto [r, stats] =
+      run_with_stats("las/simple.las",
+                     "-o t.ply --dem d.tif --resolution 50 --contour-lines c.gpkg --interval 20");
   ASSERT_EQ(r.exit_code, 0) << r;
   std::size_t warnings = 0;
   for (std::size_t at = r.messages.find("no input has a CRS"); at != std::string::npos;
@@ -163,26 +173,26 @@ TEST(CrsCli, OutputsWithoutCrsAreWarnedAboutOnce) {
     ++warnings;
   EXPECT_EQ(warnings, 1u) << r;
   EXPECT_TRUE(has(r, "the outputs have none (give the inputs' CRS with --a-srs)")) << r;
-  for (const auto& [kind, crs] : output_crs(dir + "/s.json")) EXPECT_EQ(crs, "") << kind;
+  for (const auto& [kind, crs] : output_crs(stats)) EXPECT_EQ(crs, "") << kind;
 }
 
 // A GeoJSON TIN built with --t-srs is in the target CRS, in the log and in --stats, and so are
 // the other outputs.
 TEST(CrsCli, EachOutputIsReportedInItsOwnCrs) {
   TINCDT_REQUIRE_SHARED_DATA("las");
-  const std::string dir = scratch_dir("crs_cli");
-  const ShellRun r = run_tincdt(dir, shared("las/Topography.las") +
-                                         " -o t.geojson --t-srs EPSG:4326 --allow-geographic "
-                                         "--dem d.tif --resolution 0.0001 --stats s.json");
+  const auto [r, stats] =
+      run_with_stats("las/Topography.las",
+                     "-o t.geojson --t-srs EPSG:4326 --allow-geographic --dem d.tif "
+                     "--resolution 0.0001");
   ASSERT_EQ(r.exit_code, 0) << r;
   EXPECT_TRUE(has(r, "wrote t.geojson (GeoJSON")) << r;
   EXPECT_TRUE(has(r, "CRS EPSG:4326)")) << r;
   EXPECT_FALSE(has(r, "no input has a CRS")) << r;
-  const auto outputs = output_crs(dir + "/s.json");
+  const auto outputs = output_crs(stats);
   ASSERT_EQ(outputs.size(), 2u);
   EXPECT_EQ(outputs[0], (std::pair<std::string, std::string>{"tin", "EPSG:4326"}));
   EXPECT_EQ(outputs[1], (std::pair<std::string, std::string>{"dem", "EPSG:4326"}));
-  EXPECT_EQ(stats_crs(dir + "/s.json"), "EPSG:4326");  // the TIN's
+  EXPECT_EQ(stats_crs(stats), "EPSG:4326");  // the TIN's
 }
 
 }  // namespace

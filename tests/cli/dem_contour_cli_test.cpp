@@ -57,6 +57,19 @@ bool has(const std::string& text, const std::string& part) {
   return text.find(part) != std::string::npos;
 }
 
+// tincdt ARGS in a fresh scratch folder, refused: exit 1 with every one of PARTS in the
+// messages, and nothing left in the folder. Returns the outcome.
+Outcome expect_refused_leaving_nothing(const std::string& args,
+                                       const std::vector<std::string>& parts) {
+  const std::string dir = tincdt::test::scratch_dir("dem_contour_cli");
+  const Outcome r = run(dir, args);
+  EXPECT_EQ(r.exit_code, 1) << r.messages;
+  for (const std::string& part : parts)
+    EXPECT_TRUE(has(r.messages, part)) << part << " in " << r.messages;
+  EXPECT_TRUE(tincdt::test::names_in(dir).empty());
+  return r;
+}
+
 GDALDatasetUniquePtr open_dataset(const std::string& path, unsigned kind) {
   GDALAllRegister();
   return GDALDatasetUniquePtr(GDALDataset::Open(path.c_str(), kind | GDAL_OF_READONLY));
@@ -205,38 +218,27 @@ TEST(DemResolution, RealGeographicFileInMetresIsRefused) {
 }
 
 TEST(DemResolution, GridLargerThanMemoryIsRefusedWithTheEstimate) {
-  const std::string dir = tincdt::test::scratch_dir("dem_contour_cli");
   // 160 m x 120 m at 0.1 mm: 1.6 million x 1.2 million cells, 7 TiB of Float32.
-  const Outcome r = run(dir, sample_with("--dem d.tif --resolution 0.0001"));
-  EXPECT_EQ(r.exit_code, 1) << r.messages;
-  EXPECT_TRUE(has(r.messages, "1,600,000 x 1,200,000 cells")) << r.messages;
-  EXPECT_TRUE(has(r.messages, "GiB")) << r.messages;
-  EXPECT_TRUE(tincdt::test::names_in(dir).empty());
+  expect_refused_leaving_nothing(sample_with("--dem d.tif --resolution 0.0001"),
+                                 {"1,600,000 x 1,200,000 cells", "GiB"});
 }
 
 // ---- 4. contours that would fill the disk
 // --------------------------------------------------------
 
 TEST(ContourGuard, RefusedByTheEstimatedOutputBeforeTracing) {
-  const std::string dir = tincdt::test::scratch_dir("dem_contour_cli");
   // 36 m of relief at 0.1 mm: some 10^8 segments.
-  const Outcome r = run(dir, sample_with("--contour-lines c.gpkg --interval 1e-4"));
-  EXPECT_EQ(r.exit_code, 1) << r.messages;
+  const Outcome r = expect_refused_leaving_nothing(
+      sample_with("--contour-lines c.gpkg --interval 1e-4"),
+      {"c.gpkg", "interval of 0.0001", "segments", "GB", "20,000,000"});
   EXPECT_LT(r.seconds, 30);
-  for (const std::string part : {"c.gpkg", "interval of 0.0001", "segments", "GB", "20,000,000"})
-    EXPECT_TRUE(has(r.messages, part)) << part << " in " << r.messages;
-  EXPECT_TRUE(tincdt::test::names_in(dir).empty());
 }
 
 TEST(ContourGuard, TheThousandPointHillAtAMillimetre) {
   TINCDT_REQUIRE_SHARED_DATA("las");
-  const std::string dir = tincdt::test::scratch_dir("dem_contour_cli");
   const std::string input = tincdt::test::shared_data() + "/las/simple.las";
-  const Outcome r = run(dir, "'" + input + "' -o t.ply --contour-lines c.gpkg --interval 1e-3");
-  EXPECT_EQ(r.exit_code, 1) << r.messages;
-  EXPECT_TRUE(has(r.messages, "interval of 0.001")) << r.messages;
-  EXPECT_TRUE(has(r.messages, "segments")) << r.messages;
-  EXPECT_TRUE(tincdt::test::names_in(dir).empty());
+  expect_refused_leaving_nothing("'" + input + "' -o t.ply --contour-lines c.gpkg --interval 1e-3",
+                                 {"interval of 0.001", "segments"});
 }
 
 // Ctrl-C as the contour stage starts: heard before the tracing (at its first progress report),

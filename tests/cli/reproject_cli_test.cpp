@@ -169,6 +169,28 @@ struct LineCase {
   double z;  // every vertex's, in metres
 };
 
+// DIR/line.gpkg: a layer "line" in EPSG:EPSG of one feature, WKT, its ELEV attribute ELEV.
+void write_line_gpkg(const std::string& dir, const std::string& wkt, double elev, int epsg) {
+  write_vector(fs::path(dir) / "line.gpkg",
+               std::vector<VectorLayer>{{"line", {{.wkt = wkt, .elev = elev}}, epsg}}, "GPKG",
+               "NAME");
+}
+
+// tincdt in a fresh scratch folder on the points XYZ (points.xyz) and the hard line of
+// write_line_gpkg, with the CRS options CRS, into the ASCII PLY t.ply: the folder and the run.
+struct PointsAndLineRun {
+  std::string dir;
+  ShellRun run;
+};
+PointsAndLineRun run_points_and_line(const std::string& xyz, const std::string& wkt, double elev,
+                                     int epsg, const std::string& crs) {
+  const std::string dir = scratch_dir("reproject_cli");
+  spit(fs::path(dir) / "points.xyz", xyz);
+  write_line_gpkg(dir, wkt, elev, epsg);
+  return {dir,
+          run_tincdt(dir, "points.xyz " + crs + " --hard-lines line.gpkg -o t.ply --ply-ascii")};
+}
+
 // The line of CASE in a GeoPackage in EPSG:4326 and a grid of points in the case's CRS (their
 // CRS given with --a-srs) around where the line goes in it; returns the line in that CRS.
 std::vector<std::array<double, 2>> write_line_case(const std::string& dir, const LineCase& c) {
@@ -180,9 +202,7 @@ std::vector<std::array<double, 2>> write_line_case(const std::string& dir, const
     wkt += v;
   }
   wkt += ")";
-  write_vector(fs::path(dir) / "line.gpkg",
-               std::vector<VectorLayer>{{"line", {{.wkt = wkt, .elev = c.z}}, 4326}}, "GPKG",
-               "NAME");
+  write_line_gpkg(dir, wkt, c.z, 4326);
   const auto expected = proj_transform(4326, c.points_epsg, c.lon_lat);
   double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
   for (const auto& p : expected) {
@@ -242,15 +262,9 @@ TEST(ReprojectCli, HeightsAreConvertedBetweenUnits) {
 
 // EPSG:9518 is WGS 84 + EGM2008 height: its heights are not moved to EGM96, and a warning says so.
 TEST(ReprojectCli, HeightsAreNotMovedBetweenVerticalDatums) {
-  const std::string dir = scratch_dir("reproject_cli");
-  spit(fs::path(dir) / "points.xyz", "500000 4983000 1\n501000 4983000 3\n500500 4984000 4\n");
-  write_vector(
-      fs::path(dir) / "line.gpkg",
-      std::vector<VectorLayer>{
-          {"line", {{.wkt = "LINESTRING Z (9.001 45.002 2, 9.005 45.003 2)", .elev = 2}}, 9518}},
-      "GPKG", "NAME");
-  const ShellRun r = run_tincdt(
-      dir, "points.xyz --a-srs EPSG:32632+5773 --hard-lines line.gpkg -o t.ply --ply-ascii");
+  const auto [dir, r] = run_points_and_line(
+      "500000 4983000 1\n501000 4983000 3\n500500 4984000 4\n",
+      "LINESTRING Z (9.001 45.002 2, 9.005 45.003 2)", 2, 9518, "--a-srs EPSG:32632+5773");
   ASSERT_EQ(r.exit_code, 0) << r;
   EXPECT_TRUE(has(r,
                   "line.gpkg: heights are not transformed between the vertical CRSs (EGM2008 "
@@ -317,14 +331,9 @@ TEST(ReprojectCli, PointsTransformedOnSeveralThreadsGiveTheSameTin) {
 
 // --override-srs takes every input as its CRS: the line's degrees stay numbers, untransformed.
 TEST(ReprojectCli, OverrideSrsDoesNotTransform) {
-  const std::string dir = scratch_dir("reproject_cli");
-  spit(fs::path(dir) / "points.xyz", "8 44 1\n10 44 2\n9 46 3\n");
-  write_vector(fs::path(dir) / "line.gpkg",
-               std::vector<VectorLayer>{
-                   {"line", {{.wkt = "LINESTRING Z (9 44.5 5, 9.2 45 6)", .elev = 5}}, 4326}},
-               "GPKG", "NAME");
-  const ShellRun r = run_tincdt(
-      dir, "points.xyz --override-srs EPSG:32632 --hard-lines line.gpkg -o t.ply --ply-ascii");
+  const auto [dir, r] =
+      run_points_and_line("8 44 1\n10 44 2\n9 46 3\n", "LINESTRING Z (9 44.5 5, 9.2 45 6)", 5, 4326,
+                          "--override-srs EPSG:32632");
   ASSERT_EQ(r.exit_code, 0) << r;
   EXPECT_FALSE(has(r, "transformed")) << r;
   const MeshFile tin = read_ply_ascii(dir + "/t.ply");

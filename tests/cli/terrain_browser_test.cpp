@@ -187,6 +187,17 @@ void expect_picture(const std::string& path) {
   EXPECT_LT(most, rgb.size() / 3 / 2);
 }
 
+// Cesium on the pyramid built in a fresh scratch folder, sample_in_browser's OPTIONS: its heights
+// checked against the TIN's (expect_heights_of_tin); its answer.
+json::Value sample_new_pyramid(const std::string& options) {
+  const std::string dir = scratch_dir("terrain_browser");
+  const int max = build_pyramid(dir);
+  const auto points = probes(dir);
+  const json::Value answer = sample_in_browser(dir, points, options);
+  expect_heights_of_tin(answer, points, max);
+  return answer;
+}
+
 TEST(TerrainBrowser, CesiumSamplesTheTinsHeightsAndDrawsIt) {
   TINCDT_REQUIRE_BROWSER();
   const std::string dir = scratch_dir("terrain_browser");
@@ -223,20 +234,12 @@ TEST(TerrainBrowser, CesiumSamplesTheTinsHeightsAndDrawsIt) {
 // tiles below each from its metadata (layer.json's metadataAvailability 1) down to the finest.
 TEST(TerrainBrowser, CesiumsDefaultOptionsReadTheMetadata) {
   TINCDT_REQUIRE_BROWSER();
-  const std::string dir = scratch_dir("terrain_browser");
-  const int max = build_pyramid(dir);
-  const auto points = probes(dir);
-  const json::Value answer = sample_in_browser(dir, points, "");
-  expect_heights_of_tin(answer, points, max);
+  sample_new_pyramid("");
 }
 
 TEST(TerrainBrowser, GzippedTilesSampleTheSame) {
   TINCDT_REQUIRE_BROWSER();
-  const std::string dir = scratch_dir("terrain_browser");
-  const int max = build_pyramid(dir);
-  const auto points = probes(dir);
-  const json::Value answer = sample_in_browser(dir, points, "--gzip");
-  expect_heights_of_tin(answer, points, max);
+  const json::Value answer = sample_new_pyramid("--gzip");
   EXPECT_EQ(at(answer, "gzipped").number(), at(answer, "tiles").number());
 }
 

@@ -102,16 +102,25 @@ INSTANTIATE_TEST_SUITE_P(Path, Delaunay,
 
 // ---- random and large ----
 
-TEST_P(Delaunay, RandomUniformManySeeds) {
-  for (unsigned seed = 0; seed < 400; ++seed) {
+// Calls F(rng, seed) for the seeds 0..COUNT-1, each with its own generator and the seed in the
+// trace of a failure.
+template <class F>
+void for_each_seed(unsigned count, F&& f) {
+  for (unsigned seed = 0; seed < count; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
     std::mt19937_64 rng(seed);
+    f(rng, seed);
+  }
+}
+
+TEST_P(Delaunay, RandomUniformManySeeds) {
+  for_each_seed(400, [&](std::mt19937_64& rng, unsigned) {
     const std::size_t n = 4 + rng() % 400;  // from 4: fewer cannot be split in two
     std::uniform_real_distribution<double> u(0, 100);
     std::vector<Point3> pts;
     for (std::size_t i = 0; i < n; ++i) pts.push_back({u(rng), u(rng), u(rng)});
-    SCOPED_TRACE("seed " + std::to_string(seed));
     expect_valid(pts, n < 150);
-  }
+  });
 }
 
 TEST_P(Delaunay, UtmOffsetsAndLargeRandom) {
@@ -165,8 +174,7 @@ TEST_P(Delaunay, TallLatticesSplitInsideAColumn) {
 }
 
 TEST_P(Delaunay, CollinearRunsAndHullCollinearPoints) {
-  for (unsigned seed = 0; seed < 100; ++seed) {
-    std::mt19937_64 rng(seed);
+  for_each_seed(100, [&](std::mt19937_64& rng, unsigned) {
     std::vector<Point3> pts;
     // The border of a square, densely sampled (collinear hull points), plus lines inside.
     const int m = 2 + static_cast<int>(rng() % 20);
@@ -181,9 +189,8 @@ TEST_P(Delaunay, CollinearRunsAndHullCollinearPoints) {
       pts.push_back({s, 5 + 1e-9 * i, 0});  // a nearly straight run
     }
     std::shuffle(pts.begin(), pts.end(), rng);
-    SCOPED_TRACE("seed " + std::to_string(seed));
     expect_valid(pts, true);
-  }
+  });
 }
 
 TEST_P(Delaunay, StartsWithCollinearPrefix) {
@@ -228,18 +235,15 @@ TEST_P(Delaunay, CocircularPointsAndCentre) {
 }
 
 TEST_P(Delaunay, OneUlpPerturbationsAtUtmMagnitude) {
-  for (unsigned seed = 0; seed < 50; ++seed) {
-    std::mt19937_64 rng(seed);
+  for_each_seed(50, [&](std::mt19937_64& rng, unsigned) {
     std::vector<Point3> pts;
     for (const Point2 p : test::one_ulp_lattice(12, rng)) pts.push_back({p.x, p.y, 0});
-    SCOPED_TRACE("seed " + std::to_string(seed));
     expect_valid(pts, true);
-  }
+  });
 }
 
 TEST_P(Delaunay, HalvesOfDifferentShapes) {
-  for (unsigned seed = 0; seed < 60; ++seed) {
-    std::mt19937_64 rng(seed);
+  for_each_seed(60, [&](std::mt19937_64& rng, unsigned seed) {
     std::uniform_real_distribution<double> u(0, 1);
     std::vector<Point3> pts;
     const int n = 50 + static_cast<int>(rng() % 300);
@@ -248,9 +252,8 @@ TEST_P(Delaunay, HalvesOfDifferentShapes) {
       pts.push_back({1e-3 * u(rng), 100 * u(rng), 0});               // thin vertical sliver
       pts.push_back({10 + 1000 * u(rng), lift + 1000 * u(rng), 0});  // a wide blob, higher or lower
     }
-    SCOPED_TRACE("seed " + std::to_string(seed));
     expect_valid(pts, n < 70);
-  }
+  });
 }
 
 // ---- duplicates ----
@@ -288,8 +291,7 @@ TEST_P(Delaunay, ManyDuplicatesInRandomOrder) {
 
 TEST_P(Delaunay, HalvesOfDifferentSizesThroughDuplicates) {
   // The pivot splits the points, not the distinct ones: a few heavily repeated points on one side.
-  for (unsigned seed = 0; seed < 40; ++seed) {
-    std::mt19937_64 rng(seed);
+  for_each_seed(40, [&](std::mt19937_64& rng, unsigned seed) {
     std::uniform_real_distribution<double> u(0, 1);
     std::vector<Point3> pts;
     const int few = 2 + static_cast<int>(seed % 4);
@@ -299,25 +301,22 @@ TEST_P(Delaunay, HalvesOfDifferentSizesThroughDuplicates) {
     }
     for (int i = 0; i < 300; ++i) pts.push_back({2 + u(rng), 10 * u(rng) - 5, u(rng)});
     std::shuffle(pts.begin(), pts.end(), rng);
-    SCOPED_TRACE("seed " + std::to_string(seed));
     for (DuplicatePolicy policy : {DuplicatePolicy::first, DuplicatePolicy::min,
                                    DuplicatePolicy::max, DuplicatePolicy::mean})
       expect_valid(pts, false, policy);
-  }
+  });
 }
 
 TEST_P(Delaunay, KeepDuplicatesListsEachMergedVertex) {
   // One group in each half (the pivot splits near x = 50), so on the parallel path the right
   // one's vertex is offset by the left half's vertex count.
-  for (unsigned seed = 0; seed < 20; ++seed) {
-    std::mt19937_64 rng(seed);
+  for_each_seed(20, [&](std::mt19937_64& rng, unsigned) {
     std::uniform_real_distribution<double> u(0, 100);
     std::vector<Point3> pts;
     for (int i = 0; i < 300; ++i) pts.push_back({u(rng), u(rng), 0});
     for (double z : {5.0, 1.0, 9.0}) pts.push_back({10.5, 20.25, z});
     for (double z : {-3.0, 4.0}) pts.push_back({90.5, 70.25, z});
     std::shuffle(pts.begin(), pts.end(), rng);
-    SCOPED_TRACE("seed " + std::to_string(seed));
     if (parallel()) {
       ASSERT_TRUE(takes_parallel_path(pts));
     }
@@ -356,7 +355,7 @@ TEST_P(Delaunay, KeepDuplicatesListsEachMergedVertex) {
         }
       }
     }
-  }
+  });
 }
 
 // ---- refusals and cancelling ----

@@ -28,7 +28,6 @@ using test::put;
 using ::testing::AllOf;
 using ::testing::HasSubstr;
 
-const std::filesystem::path kData = test::shared_data();
 const test::ScratchFolder scratch("number_messages");
 
 // A message part with no run of 4 or more digits: every number of 1,000 or more is grouped.
@@ -94,7 +93,7 @@ TEST(NumberMessages, APlyElementCountAboveTheFile) {
 // chunk table contradicts it.
 TEST(NumberMessages, ALazCountAboveItsChunkTable) {
   TINCDT_REQUIRE_SHARED_DATA("laz");
-  std::string b = test::slurp(kData / "laz" / "Topography.laz");
+  std::string b = test::slurp(test::shared_file("laz/Topography.laz"));
   put<std::uint32_t>(b, 107, 12345678);
   const auto e = input_error(scratch("count.laz", b));
   ASSERT_TRUE(e);
@@ -106,7 +105,7 @@ TEST(NumberMessages, ALazCountAboveItsChunkTable) {
 // The chunk table's offset beyond the file: a warning, and the chunks read one after the other.
 TEST(NumberMessages, ALazChunkTableOffsetBeyondTheFile) {
   TINCDT_REQUIRE_SHARED_DATA("laz");
-  std::string b = test::slurp(kData / "laz" / "Topography.laz");
+  std::string b = test::slurp(test::shared_file("laz/Topography.laz"));
   put<std::int64_t>(b, test::get<std::uint32_t>(b, 96), 9876543210);  // at the point data
   PointReadStats stats;
   EXPECT_EQ(test::points_of(scratch("table.laz", b), {}, &stats).size(), 73403u);

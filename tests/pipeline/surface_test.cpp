@@ -41,6 +41,13 @@ double plane(double x, double y) {
   return kA * x + kB * y + kC;
 }
 
+// Appends the XYZ text line of point (X, Y, Z), every digit of its doubles kept.
+void add_xyz_line(std::string& xyz, double x, double y, double z) {
+  char line[128];
+  std::snprintf(line, sizeof line, "%.17g %.17g %.17g\n", x, y, z);
+  xyz += line;
+}
+
 // A jittered (n+1) x (n+1) grid on [0, size]^2 (the border unjittered, so the hull is the
 // square), z = z_of(x, y).
 std::string grid_xyz(int n, double size, const std::function<double(double, double)>& z_of) {
@@ -52,14 +59,12 @@ std::string grid_xyz(int n, double size, const std::function<double(double, doub
     return (static_cast<double>(state % 10000) / 10000.0 - 0.5) * 0.6 * size / n;
   };
   std::string s;
-  char line[128];
   for (int i = 0; i <= n; ++i)
     for (int j = 0; j <= n; ++j) {
       double x = size * i / n, y = size * j / n;
       if (i > 0 && i < n) x += jitter();
       if (j > 0 && j < n) y += jitter();
-      std::snprintf(line, sizeof line, "%.17g %.17g %.17g\n", x, y, z_of(x, y));
-      s += line;
+      add_xyz_line(s, x, y, z_of(x, y));
     }
   return s;
 }
@@ -162,13 +167,18 @@ class Surface : public ::testing::Test {
     return path(name);
   }
 
-  // Points on the plane over [0, 100]^2, output OBJ.
-  pipeline::BuildOptions plane_job(const std::string& out = "tin.obj", int n = 20) {
+  // A validated build of the points XYZ, written to NAME, into OUT.
+  pipeline::BuildOptions points_job(const std::string& name, const std::string& xyz,
+                                    const std::string& out) {
     pipeline::BuildOptions o;
-    o.inputs = {write("plane.xyz", grid_xyz(n, 100, plane))};
+    o.inputs = {write(name, xyz)};
     o.output = path(out);
     o.validate = true;
     return o;
+  }
+  // Points on the plane over [0, 100]^2, output OBJ.
+  pipeline::BuildOptions plane_job(const std::string& out = "tin.obj", int n = 20) {
+    return points_job("plane.xyz", grid_xyz(n, 100, plane), out);
   }
 
   fs::path dir_;
@@ -408,21 +418,16 @@ TEST_F(Surface, ClipLeavingNothingIsAnError) {
 TEST_F(Surface, MaxEdgeTrimsACShapedCloud) {
   // Points on a C: an annulus sector around (50, 50), radii 30..50, from 45 to 315 degrees.
   std::string xyz;
-  char text[128];
   for (int i = 0; i <= 5; ++i) {
     const double radius = 30 + 4.0 * i;
     const int steps = static_cast<int>(radius * 1.5 * std::numbers::pi / 3.0);
     for (int k = 0; k <= steps; ++k) {
       const double a = (45 + 270.0 * k / steps) * std::numbers::pi / 180;
       const double x = 50 + radius * std::cos(a), y = 50 + radius * std::sin(a);
-      std::snprintf(text, sizeof text, "%.17g %.17g %.17g\n", x, y, plane(x, y));
-      xyz += text;
+      add_xyz_line(xyz, x, y, plane(x, y));
     }
   }
-  pipeline::BuildOptions o;
-  o.inputs = {write("c.xyz", xyz)};
-  o.output = path("hull.obj");
-  o.validate = true;
+  pipeline::BuildOptions o = points_job("c.xyz", xyz, "hull.obj");
   const auto hull = pipeline::build(o);
   EXPECT_EQ(hull.trimmed_triangles, 0u);
   const double hull_area = read_obj(o.output).area();
@@ -533,20 +538,15 @@ TEST_F(Surface, FixFlatsRunsBeforeReplace) {
 // or erase, it would have eaten into the gap from their rings).
 TEST_F(Surface, MaxEdgeTrimsFromTheHullOnlyBeforeClipAndErase) {
   std::string xyz;
-  char text[128];
   for (int i = 0; i <= 20; ++i)
     for (int j = 0; j <= 20; ++j) {
       const bool border = i == 0 || i == 20 || j == 0 || j == 20;  // the hull stays a square
       const double x = 5.0 * i + (i % 2 && !border ? 0.01 * j : 0),
                    y = 5.0 * j + (j % 3 && !border ? 0.013 * i : 0);
       if (x > 30 && x < 70 && y > 30 && y < 70) continue;  // the gap
-      std::snprintf(text, sizeof text, "%.17g %.17g %.17g\n", x, y, plane(x, y));
-      xyz += text;
+      add_xyz_line(xyz, x, y, plane(x, y));
     }
-  pipeline::BuildOptions o;
-  o.inputs = {write("gap.xyz", xyz)};
-  o.output = path("tin.obj");
-  o.validate = true;
+  pipeline::BuildOptions o = points_job("gap.xyz", xyz, "tin.obj");
   o.max_edge = 12;  // the grid's edges are ~5-7 m; the gap's triangles have ~40 m edges
   // Through the gap; densified, so that its long sides near the hull make no long triangles.
   Ring clip;

@@ -18,6 +18,11 @@ inline std::string shared_data() {
                                         : std::string(TINCDT_SHARED_DATA_DEFAULT);
 }
 
+// The path of RELATIVE (e.g. "laz/simple.laz") in the shared data.
+inline std::string shared_file(const std::string& relative) {
+  return (std::filesystem::path(shared_data()) / relative).string();
+}
+
 }  // namespace tincdt::test
 
 // Skips the current test unless the shared data's folder SUBFOLDER is there.

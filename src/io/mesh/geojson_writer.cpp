@@ -183,11 +183,10 @@ Point3 GeoJsonPositions::operator()(VertexId v) const {
 TinWriteStats write_geojson(OutputFile& out, const mesh::Triangulation& tin,
                             const TinWriteOptions& options) {
   const std::string& path = out.path();
-  const TriangleCounts counts = count_triangles(tin, options.threads);
-  const std::uint64_t nt = counts.kept;
   // With removed triangles, only the vertices of kept triangles are reprojected (and counted):
   // one outside the kept part may lie where the target CRS has no valid coordinates.
-  const VertexNumbering used(tin, counts.removed > 0);
+  const WrittenTin written(tin, options.threads);
+  const VertexNumbering& used = written.number;
   // Position of vertex v as written: reprojected, or shifted by the offset (write_tin() refuses
   // the two together).
   const GeoJsonPositions position(path, tin, options,
@@ -210,7 +209,7 @@ TinWriteStats write_geojson(OutputFile& out, const mesh::Triangulation& tin,
   w.put(std::string_view("\n]\n}\n"));
   w.flush();
   progress.finish();
-  return {used.count(), nt, 0};
+  return {used.count(), written.triangles, 0};
 }
 
 }  // namespace tincdt::io::detail

@@ -36,13 +36,12 @@ void write_faces(BlockWriter& w, const mesh::Triangulation& tin, const VertexNum
 TinWriteStats write_obj(OutputFile& out, const mesh::Triangulation& tin,
                         const TinWriteOptions& options) {
   const std::string& path = out.path();
-  const TriangleCounts counts = count_triangles(tin, options.threads);
-  const std::uint64_t nt = counts.kept;
-  const VertexNumbering number(tin, counts.removed > 0);
+  const WrittenTin written(tin, options.threads);
+  const VertexNumbering& number = written.number;
   const std::size_t nv = number.count();
 
-  std::string header =
-      "# tincdt\n# vertices " + std::to_string(nv) + "\n# faces " + std::to_string(nt) + "\n";
+  std::string header = "# tincdt\n# vertices " + std::to_string(nv) + "\n# faces " +
+                       std::to_string(written.triangles) + "\n";
   if (!is_zero(options.offset))
     header += "# offset " + format_point(options.offset) +
               " (subtracted from every vertex: add it back for the original coordinates)\n";
@@ -65,7 +64,7 @@ TinWriteStats write_obj(OutputFile& out, const mesh::Triangulation& tin,
     write_faces<false>(w, tin, number, options, progress, nv);
   w.flush();
   progress.finish();
-  return {nv, nt, 0};
+  return {nv, written.triangles, 0};
 }
 
 }  // namespace tincdt::io::detail

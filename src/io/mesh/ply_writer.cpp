@@ -74,18 +74,16 @@ TinWriteStats write_ply(OutputFile& out, const mesh::Triangulation& tin,
                         const TinWriteOptions& options) {
   const std::string& path = out.path();
   const bool ascii = options.ply_ascii;
-  const TriangleCounts counts = count_triangles(tin, options.threads);
-  const std::uint64_t nt = counts.kept;
   // With removed triangles: only the vertices of kept faces, renumbered, and only the constrained
   // edges with a kept face on a side.
-  const bool compact = counts.removed > 0;
-  const VertexNumbering number(tin, compact);
+  const WrittenTin written(tin, options.threads);
+  const VertexNumbering& number = written.number;
   const std::size_t nv = number.count();
-  const std::uint64_t ne = count_constrained_segments(tin, compact);
+  const std::uint64_t ne = count_constrained_segments(tin, written.compact);
 
   BlockWriter w(out);
   Progress progress(options.progress, "write", nv + tin.triangle_slots());
-  w.put(ply_header(ascii, nv, nt, ne, options));
+  w.put(ply_header(ascii, nv, written.triangles, ne, options));
 
   write_blocks(w, options.threads, nv, ascii ? kAsciiVertexBytes : kBinaryVertexBytes, progress, 0,
                [&](BlockWriter& b, std::size_t begin, std::size_t end) {
@@ -111,21 +109,21 @@ TinWriteStats write_ply(OutputFile& out, const mesh::Triangulation& tin,
     write_faces<false, false>(w, tin, number, options, progress, nv);
 
   if (ascii) {
-    for_each_constrained_segment(tin, compact, [&w, &number](VertexId a, VertexId b) {
+    for_each_constrained_segment(tin, written.compact, [&w, &number](VertexId a, VertexId b) {
       w.put_uint(number(a));
       w.put(' ');
       w.put_uint(number(b));
       w.put('\n');
     });
   } else {
-    for_each_constrained_segment(tin, compact, [&w, &number](VertexId a, VertexId b) {
+    for_each_constrained_segment(tin, written.compact, [&w, &number](VertexId a, VertexId b) {
       w.put_le(number(a));
       w.put_le(number(b));
     });
   }
   w.flush();
   progress.finish();
-  return {nv, nt, 0};
+  return {nv, written.triangles, 0};
 }
 
 }  // namespace tincdt::io::detail

@@ -323,6 +323,21 @@ class VertexNumbering {
   std::vector<VertexId> old_id_;  // written number -> vertex
 };
 
+// What a mesh writer writes of TIN: the kept triangles, and the vertices numbered for them
+// (compacted when some triangles are removed). Counted in THREADS threads.
+struct WrittenTin {
+  WrittenTin(const mesh::Triangulation& tin, unsigned threads)
+      : WrittenTin(tin, count_triangles(tin, threads)) {}
+
+  std::uint64_t triangles;  // kept
+  bool compact;             // some removed: only the kept triangles' vertices, renumbered
+  VertexNumbering number;
+
+ private:
+  WrittenTin(const mesh::Triangulation& tin, const TriangleCounts& counts)
+      : triangles(counts.kept), compact(counts.removed > 0), number(tin, compact) {}
+};
+
 // Calls f(origin, dest) once per constrained edge between two real vertices; with `kept_only`,
 // only for edges with a kept triangle on at least one side (the edges of the written TIN).
 template <class F>

@@ -26,6 +26,7 @@
 #include "support/errors.hpp"
 #include "support/files.hpp"
 #include "support/meshes.hpp"
+#include "support/reprojection.hpp"
 #include "support/vector_files.hpp"
 
 namespace tincdt::io {
@@ -242,9 +243,7 @@ TEST(ConstraintWriter, OffsetIsRecordedAndSubtractedButZPropertiesStayElevations
 TEST(ConstraintWriter, PositionsMatchTheTinGeoJsonBitForBitWhenReprojected) {
   const std::string dir = scratch();
   const Triangulation tin = unit_square();
-  TinWriteOptions o;
-  o.crs_wkt = crs_from_user("EPSG:32633");
-  o.target_crs_wkt = crs_from_user("EPSG:4326");
+  TinWriteOptions o = test::utm33_to_wgs84();
   write_constraint_lines(dir + "/c.geojson", tin, square_edges(), square_features(), o);
   write_tin(dir + "/tin.geojson", tin, o);
   EXPECT_EQ(slurp(dir + "/c.geojson").find("\"crs\""), std::string::npos);  // WGS 84
@@ -289,9 +288,7 @@ TEST(ConstraintWriter, OnlyTheEdgesVerticesAreReprojected) {
   const std::string dir = scratch();
   Triangulation tin = unit_square();
   tin.add_vertex({1e30, 1e30}, 0);
-  TinWriteOptions o;
-  o.crs_wkt = crs_from_user("EPSG:32633");
-  o.target_crs_wkt = crs_from_user("EPSG:4326");
+  TinWriteOptions o = test::utm33_to_wgs84();
   EXPECT_THROW(write_tin(dir + "/tin.geojson", tin, o), OutputError);
   const TinWriteStats stats =
       write_constraint_lines(dir + "/c.geojson", tin, square_edges(), square_features(), o);
@@ -392,9 +389,7 @@ TEST(ConstraintWriter, BadEdgesAreRefusedBeforeAnythingIsCreated) {
     EXPECT_EQ(e->where(), "constraint edge 0");
     EXPECT_NE(e->detail().find("feature index 2"), std::string::npos) << e->what();
   }
-  TinWriteOptions o;
-  o.crs_wkt = crs_from_user("EPSG:32633");
-  o.target_crs_wkt = crs_from_user("EPSG:4326");
+  TinWriteOptions o = test::utm33_to_wgs84();
   o.offset = {500000, 0, 0};
   EXPECT_THROW(
       write_constraint_lines(dir + "/c.geojson", tin, square_edges(), square_features(), o),

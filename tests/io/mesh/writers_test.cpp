@@ -33,6 +33,7 @@
 #include "support/files.hpp"
 #include "support/mesh_files.hpp"
 #include "support/meshes.hpp"
+#include "support/reprojection.hpp"
 #include "support/vector_files.hpp"
 
 namespace tincdt::io {
@@ -674,9 +675,7 @@ TEST(GeoJsonWriter, NoCrsMemberForWgs84OrUnknownCrs) {
 TEST(GeoJsonWriter, ReprojectsToWgs84InLonLatOrder) {
   const std::string dir = scratch();
   const Triangulation tin = unit_square();
-  TinWriteOptions o;
-  o.crs_wkt = wkt_of("EPSG:32633");
-  o.target_crs_wkt = wkt_of("EPSG:4326");
+  TinWriteOptions o = test::utm33_to_wgs84();
   write_tin(dir + "/tin.geojson", tin, o);
   EXPECT_EQ(slurp(dir + "/tin.geojson").find("\"crs\""), std::string::npos);
 
@@ -731,9 +730,7 @@ TEST(GeoJsonWriter, ReprojectingFromAnUnknownCrsFailsAndLeavesNothing) {
 
 TEST(GeoJsonWriter, ReprojectionRefusesAnOffsetAndOtherFormats) {
   const std::string dir = scratch();
-  TinWriteOptions o;
-  o.crs_wkt = wkt_of("EPSG:32633");
-  o.target_crs_wkt = wkt_of("EPSG:4326");
+  TinWriteOptions o = test::utm33_to_wgs84();
   o.offset = {500000, 4000000, 0};
   EXPECT_THROW(write_tin(dir + "/tin.geojson", unit_square(), o), OutputError);
   o.offset = {0, 0, 0};

@@ -24,7 +24,6 @@ namespace {
 using ::testing::HasSubstr;
 using ::testing::Not;
 
-const std::filesystem::path kData = ::tincdt::test::shared_data();
 using test::input_error;
 using test::points_of;
 
@@ -49,12 +48,12 @@ TEST(InputKinds, RastersAndVectorFilesAreNamed) {
     Remedy remedy;
   };
   const Case cases[] = {
-      {(kData / "dem" / "elev_lux.tif").string(), "TIFF", Remedy::none},
-      {(kData / "contours" / "elev_lux_contours_25m.shp").string(), "shapefile",
+      {test::shared_file("dem/elev_lux.tif"), "TIFF", Remedy::none},
+      {test::shared_file("contours/elev_lux_contours_25m.shp"), "shapefile",
        Remedy::vector_as_points},
-      {(kData / "contours" / "elev_lux_contours_25m.dbf").string(), "shapefile",
+      {test::shared_file("contours/elev_lux_contours_25m.dbf"), "shapefile",
        Remedy::vector_as_points},
-      {(kData / "contours" / "elev_vinschgau_contours_100m.gpkg").string(), "GeoPackage",
+      {test::shared_file("contours/elev_vinschgau_contours_100m.gpkg"), "GeoPackage",
        Remedy::vector_as_points},
       {scratch("lines.geojson",
                R"({"type": "FeatureCollection", "features": [{"type": "Feature", )"

@@ -210,24 +210,26 @@ TEST(LazBadInput, VariableChunksOfFormats0To3ReadWithTheirTableOnly) {
 // ---------------------------------------------------------------------------------------------
 // The LASzip VLR and the header
 
+// The error that reading a scratch copy NAME of B raises, its T at AT set to VALUE.
+template <class T>
+std::string error_with(const std::string& b, std::size_t at, T value, const std::string& name) {
+  std::string d = b;
+  put<T>(d, at, value);
+  return read_error(scratch(name, d));
+}
+
 TEST(LazBadInput, UnknownCompressorCoderOrItemVersion) {
   TINCDT_REQUIRE_SHARED_DATA("laz");
   const std::string b = original("autzen_trim");
   const std::size_t vlr = laszip_payload(b);
-  std::string d = b;
-  put<std::uint16_t>(d, vlr, 9);
-  EXPECT_THAT(read_error(scratch("compressor.laz", d)),
+  EXPECT_THAT(error_with<std::uint16_t>(b, vlr, 9, "compressor.laz"),
               AllOf(HasSubstr("LASzip VLR"), HasSubstr("unknown compressor 9")));
-  d = b;
-  put<std::uint16_t>(d, vlr + 2, 1);
-  EXPECT_THAT(read_error(scratch("coder.laz", d)), HasSubstr("unknown coder 1"));
-  d = b;
-  put<std::uint16_t>(d, vlr + 34 + 4, 1);  // POINT10 version 1 (LASzip 1.x)
-  EXPECT_THAT(read_error(scratch("version1.laz", d)),
+  EXPECT_THAT(error_with<std::uint16_t>(b, vlr + 2, 1, "coder.laz"), HasSubstr("unknown coder 1"));
+  // POINT10 version 1 (LASzip 1.x).
+  EXPECT_THAT(error_with<std::uint16_t>(b, vlr + 34 + 4, 1, "version1.laz"),
               HasSubstr("POINT10 version 1 is not supported"));
-  std::string p14 = original("las14_pdrf6");
-  put<std::uint16_t>(p14, laszip_payload(p14) + 34 + 4, 7);
-  EXPECT_THAT(read_error(scratch("version7.laz", p14)),
+  const std::string p14 = original("las14_pdrf6");
+  EXPECT_THAT(error_with<std::uint16_t>(p14, laszip_payload(p14) + 34 + 4, 7, "version7.laz"),
               HasSubstr("POINT14 version 7 is not supported"));
 }
 
@@ -235,21 +237,21 @@ TEST(LazBadInput, LaszipVlrThatLies) {
   TINCDT_REQUIRE_SHARED_DATA("laz");
   const std::string b = original("autzen_trim");
   const std::size_t vlr = laszip_payload(b);
-  std::string d = b;
-  put<std::uint16_t>(d, vlr + 34 + 2, 22);  // POINT10 is 20 bytes
-  EXPECT_THAT(read_error(scratch("item_size.laz", d)),
+  // POINT10 is 20 bytes.
+  EXPECT_THAT(error_with<std::uint16_t>(b, vlr + 34 + 2, 22, "item_size.laz"),
               AllOf(HasSubstr("do not describe point format 3"), HasSubstr("POINT10 has 20")));
-  d = b;
-  put<std::uint16_t>(d, vlr + 34 + 6 * 2, 14);  // RGB12 -> BYTE14
-  EXPECT_THAT(read_error(scratch("item_type.laz", d)), HasSubstr("should be RGB12"));
-  d = b;
-  put<std::uint16_t>(d, vlr + 32, 200);  // more items than the VLR holds
-  EXPECT_THAT(read_error(scratch("item_count.laz", d)), HasSubstr("lists 200 items"));
-  d = b;
-  put<std::uint32_t>(d, vlr + 12, 1000);  // chunk size: the table lists 3 chunks, not 110
-  EXPECT_THAT(read_error(scratch("chunk_size.laz", d)),
+  // RGB12 -> BYTE14.
+  EXPECT_THAT(error_with<std::uint16_t>(b, vlr + 34 + 6 * 2, 14, "item_type.laz"),
+              HasSubstr("should be RGB12"));
+  // More items than the VLR holds.
+  EXPECT_THAT(error_with<std::uint16_t>(b, vlr + 32, 200, "item_count.laz"),
+              HasSubstr("lists 200 items"));
+  // Chunk size: the table lists 3 chunks, not 110.
+  EXPECT_THAT(error_with<std::uint32_t>(b, vlr + 12, 1000, "chunk_size.laz"),
               AllOf(HasSubstr("chunk table"), HasSubstr("need 110")));
   // The same lie with an unreadable table: the chunks read in order cannot end at the table.
+  std::string d = b;
+  put<std::uint32_t>(d, vlr + 12, 1000);
   put<std::uint32_t>(d, chunk_table_offset(d), 3);
   EXPECT_THAT(read_error(scratch("chunk_size_no_table.laz", d)), HasSubstr("chunk"));
   // Compressed records with no VLR saying how: its user id no longer matches.
@@ -283,13 +285,11 @@ TEST(LazBadInput, Point14ChunkHeadersThatLie) {
   const std::vector<Point3> expected = good_points("simple.copc");
   EXPECT_EQ(read_ok(scratch("copc_walk.laz", b)), expected);
   const std::size_t first = offset_to_points(b) + 8;
-  std::string d = b;
-  put<std::uint32_t>(d, first + 36, 0);  // chunk 0 holds no points
-  EXPECT_THAT(read_error(scratch("copc_zero.laz", d)),
+  // Chunk 0 holds no points.
+  EXPECT_THAT(error_with<std::uint32_t>(b, first + 36, 0, "copc_zero.laz"),
               AllOf(HasSubstr("chunk 0"), HasSubstr("holds no points")));
-  d = b;
-  put<std::uint32_t>(d, first + 40, 0x7FFFFFFF);  // a layer past the data
-  EXPECT_THAT(read_error(scratch("copc_layer.laz", d)),
+  // A layer past the data.
+  EXPECT_THAT(error_with<std::uint32_t>(b, first + 40, 0x7FFFFFFF, "copc_layer.laz"),
               AllOf(HasSubstr("chunk 0"), HasSubstr("past the point data")));
 }
 

@@ -30,13 +30,11 @@ namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 using ::testing::StartsWith;
 
-const fs::path kData = ::tincdt::test::shared_data();
-
 std::string laz_path(const std::string& name) {
-  return (kData / "laz" / (name + ".laz")).string();
+  return test::shared_file("laz/" + name + ".laz");
 }
 std::string las_path(const std::string& name) {
-  return (kData / "las" / (name + ".las")).string();
+  return test::shared_file("las/" + name + ".las");
 }
 
 // The LAZ decoder's view of a file held in memory.
@@ -142,7 +140,7 @@ TEST(LazFiles, EveryFileInTheFolderIsCovered) {
   TINCDT_REQUIRE_SHARED_DATA("laz");
   std::set<std::string> listed;
   for (const LazFact& f : kFacts) listed.insert(std::string(f.name) + ".laz");
-  EXPECT_EQ(test::names_in(kData / "laz"), listed);
+  EXPECT_EQ(test::names_in(test::shared_file("laz")), listed);
 }
 
 // ---------------------------------------------------------------------------------------------

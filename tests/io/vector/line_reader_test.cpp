@@ -27,13 +27,7 @@ namespace fs = std::filesystem;
 using ::testing::AllOf;
 using ::testing::HasSubstr;
 
-const fs::path kData = ::tincdt::test::shared_data();
-
 const fs::path kTmp = fs::path(TINCDT_TEST_TMP) / "line_reader";
-
-std::string data(const char* relative) {
-  return (kData / relative).string();
-}
 
 // DROP is feature FID's, dropped for REASON, at AT (none: the drop has no place).
 void expect_drop(const LineDrop& drop, std::int64_t fid,
@@ -130,7 +124,8 @@ void expect_well_formed(const LineData& d) {
 
 TEST(LineReaderReal, Vinschgau2dNeedsAZField) {
   TINCDT_REQUIRE_SHARED_DATA("contours");
-  const std::string msg = read_error(data("contours/elev_vinschgau_contours_100m.shp"));
+  const std::string msg =
+      read_error(test::shared_file("contours/elev_vinschgau_contours_100m.shp"));
   EXPECT_THAT(msg, AllOf(HasSubstr("elev_vinschgau_contours_100m.shp: "),
                          HasSubstr("layer elev_vinschgau_contours_100m, feature 0"),
                          HasSubstr("2D geometry has no elevation"), HasSubstr("ELEV")));
@@ -140,7 +135,7 @@ TEST(LineReaderReal, Vinschgau2dNeedsAZField) {
 TEST(LineReaderReal, Vinschgau2dWithZField) {
   TINCDT_REQUIRE_SHARED_DATA("contours");
   LineData d;
-  const std::string path = data("contours/elev_vinschgau_contours_100m.shp");
+  const std::string path = test::shared_file("contours/elev_vinschgau_contours_100m.shp");
   const LineReadStats s = read(path, d, "ELEV");
   expect_well_formed(d);
   EXPECT_EQ(s.layer, "elev_vinschgau_contours_100m");
@@ -176,23 +171,36 @@ TEST(LineReaderReal, Vinschgau2dWithZField) {
   EXPECT_EQ(parts_of(d).size(), 1036u);
 }
 
+// The Vinschgau contours of the 2D shapefile, their z from ELEV: what the other files of these
+// lines must read as.
+LineData vinschgau_from_shapefile() {
+  LineData d;
+  read(test::shared_file("contours/elev_vinschgau_contours_100m.shp"), d, "ELEV");
+  return d;
+}
+
+// GOT has the vertices and segments of EXPECTED, in the same order.
+void expect_same_lines(const LineData& got, const LineData& expected) {
+  ASSERT_EQ(got.vertices.size(), expected.vertices.size());
+  for (std::size_t i = 0; i < got.vertices.size(); ++i) {
+    ASSERT_EQ(got.vertices[i], expected.vertices[i]) << "vertex " << i;
+  }
+  ASSERT_EQ(got.segments.size(), expected.segments.size());
+  for (std::size_t i = 0; i < got.segments.size(); ++i) {
+    ASSERT_EQ(got.segments[i].a, expected.segments[i].a) << "segment " << i;
+    ASSERT_EQ(got.segments[i].b, expected.segments[i].b) << "segment " << i;
+  }
+}
+
 TEST(LineReaderReal, Vinschgau3dMatches2dWithZField) {
   TINCDT_REQUIRE_SHARED_DATA("contours");
-  LineData flat;
+  const LineData flat = vinschgau_from_shapefile();
   LineData solid;
-  read(data("contours/elev_vinschgau_contours_100m.shp"), flat, "ELEV");
-  const LineReadStats s = read(data("contours/elev_vinschgau_contours_100m_3d.shp"), solid);
+  const LineReadStats s =
+      read(test::shared_file("contours/elev_vinschgau_contours_100m_3d.shp"), solid);
   expect_well_formed(solid);
   EXPECT_EQ(s.segments, flat.segments.size());
-  ASSERT_EQ(solid.vertices.size(), flat.vertices.size());
-  for (std::size_t i = 0; i < solid.vertices.size(); ++i) {
-    ASSERT_EQ(solid.vertices[i], flat.vertices[i]) << "vertex " << i;
-  }
-  ASSERT_EQ(solid.segments.size(), flat.segments.size());
-  for (std::size_t i = 0; i < solid.segments.size(); ++i) {
-    ASSERT_EQ(solid.segments[i].a, flat.segments[i].a);
-    ASSERT_EQ(solid.segments[i].b, flat.segments[i].b);
-  }
+  expect_same_lines(solid, flat);
   ASSERT_FALSE(solid.features.empty());
   EXPECT_TRUE(std::isnan(solid.features[0].z)) << "z from the geometry: no feature level";
   EXPECT_FALSE(std::isnan(flat.features[0].z));
@@ -200,14 +208,13 @@ TEST(LineReaderReal, Vinschgau3dMatches2dWithZField) {
 
 TEST(LineReaderReal, GeoPackageReadsLikeTheShapefile) {
   TINCDT_REQUIRE_SHARED_DATA("contours");
-  LineData shp;
+  const LineData shp = vinschgau_from_shapefile();
   LineData gpkg;
-  read(data("contours/elev_vinschgau_contours_100m.shp"), shp, "ELEV");
-  const LineReadStats s = read(data("contours/elev_vinschgau_contours_100m.gpkg"), gpkg, "ELEV");
+  const LineReadStats s =
+      read(test::shared_file("contours/elev_vinschgau_contours_100m.gpkg"), gpkg, "ELEV");
   EXPECT_EQ(s.layer, "contour");
   EXPECT_EQ(crs_label(s.crs_wkt), "EPSG:32632");
-  EXPECT_EQ(gpkg.vertices, shp.vertices);
-  ASSERT_EQ(gpkg.segments.size(), shp.segments.size());
+  expect_same_lines(gpkg, shp);
   ASSERT_EQ(gpkg.features.size(), shp.features.size());
   for (std::size_t i = 0; i < gpkg.features.size(); ++i) {
     ASSERT_EQ(gpkg.features[i].z, shp.features[i].z);
@@ -217,7 +224,8 @@ TEST(LineReaderReal, GeoPackageReadsLikeTheShapefile) {
 TEST(LineReaderReal, TopographyClosedRingsStayClosed) {
   TINCDT_REQUIRE_SHARED_DATA("contours");
   LineData d;
-  const LineReadStats s = read(data("pair_topography/Topography_contours_1m_3d.shp"), d);
+  const LineReadStats s =
+      read(test::shared_file("pair_topography/Topography_contours_1m_3d.shp"), d);
   expect_well_formed(d);
   EXPECT_EQ(s.features, 120u);
   EXPECT_EQ(d.features.size(), 120u);
@@ -251,14 +259,16 @@ TEST(LineReaderReal, TopographyClosedRingsStayClosed) {
 TEST(LineReaderReal, CrsOfLuxembourgAndOfAFileWithoutPrj) {
   TINCDT_REQUIRE_SHARED_DATA("contours");
   LineData d;
-  const LineReadStats lux = read(data("contours/elev_lux_contours_25m.shp"), d, "ELEV");
+  const LineReadStats lux =
+      read(test::shared_file("contours/elev_lux_contours_25m.shp"), d, "ELEV");
   EXPECT_EQ(crs_label(lux.crs_wkt), "EPSG:4326");
   EXPECT_EQ(lux.features, 416u);
   for (const Point3& v : d.vertices) {
     ASSERT_GT(v.x, 5.0);  // degrees of longitude, not metres
     ASSERT_LT(v.x, 7.0);
   }
-  const LineReadStats none = read(data("contours/Topography_lidR2016_contours_2m_3d.shp"), d);
+  const LineReadStats none =
+      read(test::shared_file("contours/Topography_lidR2016_contours_2m_3d.shp"), d);
   EXPECT_TRUE(none.crs_wkt.empty());
   EXPECT_EQ(none.features, 69u);
   EXPECT_EQ(none.closed_parts, 16u);
@@ -268,19 +278,29 @@ TEST(LineReaderReal, CrsOfLuxembourgAndOfAFileWithoutPrj) {
 TEST(LineReaderReal, MissingZFieldListsTheFields) {
   TINCDT_REQUIRE_SHARED_DATA("contours");
   const std::string msg =
-      read_error(data("contours/elev_vinschgau_contours_100m.shp"), z_field("HEIGHT"));
+      read_error(test::shared_file("contours/elev_vinschgau_contours_100m.shp"), z_field("HEIGHT"));
   EXPECT_THAT(msg, AllOf(HasSubstr("layer elev_vinschgau_contours_100m"), HasSubstr("HEIGHT"),
                          HasSubstr("fields: ID, ELEV")));
 }
 
 // ---- synthetic sources ----
 
+// What a source read with the default options holds, checked well formed, and its counts.
+struct ReadLines {
+  LineData d;
+  LineReadStats s;
+};
+ReadLines read_well_formed(const std::string& path) {
+  ReadLines r;
+  r.s = read(path, r.d);
+  expect_well_formed(r.d);
+  return r;
+}
+
 TEST(LineReader, RepeatedVerticesAreCollapsed) {
   const std::string path = write_lines(
       "repeats.gpkg", {{"LINESTRING Z (0 0 1, 0 0 1, 1 0 2, 1 0 5, 1 0 2, 2 0 3, 2 0 3)", 1.0, 1}});
-  LineData d;
-  const LineReadStats s = read(path, d);
-  expect_well_formed(d);
+  const auto [d, s] = read_well_formed(path);
   EXPECT_EQ(s.repeated_vertices, 4u);
   EXPECT_EQ(s.zero_length_segments, 4u);
   // Each collapsed vertex where it was, with its own z, for the diagnostics.
@@ -311,9 +331,7 @@ TEST(LineReader, ZeroLengthPartsAddNothing) {
                               {"LINESTRING Z (7 7 1, 7 7 2)", 1.0, 2},
                               {"LINESTRING Z (3 3 3, 4 3 3, 3 3 3)", 1.0, 3},
                           });
-  LineData d;
-  const LineReadStats s = read(path, d);
-  expect_well_formed(d);
+  const auto [d, s] = read_well_formed(path);
   EXPECT_EQ(s.features, 3u);
   EXPECT_EQ(s.degenerate_parts, 2u);
   EXPECT_EQ(s.empty_features, 1u);  // feature 2 is a single point
@@ -347,9 +365,7 @@ TEST(LineReader, MultiLineStringsAndPolygonRings) {
            "1)))",
            1.0, 3},
       });
-  LineData d;
-  const LineReadStats s = read(path, d);
-  expect_well_formed(d);
+  const auto [d, s] = read_well_formed(path);
   EXPECT_EQ(s.vertices, 5u + 7u + 6u);
   EXPECT_EQ(s.segments, 3u + 7u + 6u);
   EXPECT_EQ(s.closed_parts, 4u);
@@ -531,9 +547,7 @@ TEST(LineReader, EveryDroppedFeatureHasItsReason) {
           {"LINESTRING Z (0 0 1, 1 1 1)", 1.0, 5},
       });
   CPLPopErrorHandler();
-  LineData d;
-  const LineReadStats s = read(path, d);
-  expect_well_formed(d);
+  const auto [d, s] = read_well_formed(path);
   EXPECT_EQ(s.features, 5u);
   EXPECT_EQ(s.empty_features, 4u);
   ASSERT_EQ(d.dropped.size(), 4u);
@@ -575,9 +589,7 @@ TEST(LineReader, DiagnosticsIndexTheFileTheyCameFrom) {
 TEST(LineReader, CurvesAreApproximatedWithAWarning) {
   const std::string path =
       write_lines("curve.gpkg", {{"CIRCULARSTRING Z (0 0 1, 1 1 1, 2 0 1)", 1.0, 1}});
-  LineData d;
-  const LineReadStats s = read(path, d);
-  expect_well_formed(d);
+  const auto [d, s] = read_well_formed(path);
   EXPECT_GT(s.segments, 4u);
   for (const Point3& v : d.vertices) ASSERT_LE(std::hypot(v.x - 1.0, v.y), 1.0 + 1e-9);
   ASSERT_FALSE(s.warnings.empty());

@@ -58,12 +58,25 @@ std::string one_layer(const std::string& name, const std::vector<Feat>& features
   return write_gpkg(name, {{"shapes", features, epsg}});
 }
 
-TEST(PolygonReader, RingsOfAPolygonWithAHole) {
-  const std::string path = one_layer(
-      "hole.gpkg",
-      {{"POLYGON ((0 0, 10 0, 10 0, 10 10, 0 10, 0 0), (2 2, 2 4, 4 4, 4 2, 2 2))", 3.0}}, 32632);
+// What READ (read_polygons or read_shape_lines) makes, with the default options, of the
+// one-layer GeoPackage NAME of FEATURES (in EPSG:EPSG) at PATH.
+struct ReadLayer {
+  std::string path;
   ShapeData data;
-  const ShapeReadStats s = read_polygons(path, {}, data);
+  ShapeReadStats s;
+};
+template <class Reader>
+ReadLayer read_layer(Reader read, const std::string& name, const std::vector<Feat>& features,
+                     int epsg = 0) {
+  ReadLayer r{one_layer(name, features, epsg), {}, {}};
+  r.s = read(r.path, {}, r.data);
+  return r;
+}
+
+TEST(PolygonReader, RingsOfAPolygonWithAHole) {
+  const auto [path, data, s] = read_layer(
+      read_polygons, "hole.gpkg",
+      {{"POLYGON ((0 0, 10 0, 10 0, 10 10, 0 10, 0 0), (2 2, 2 4, 4 4, 4 2, 2 2))", 3.0}}, 32632);
   EXPECT_EQ(s.features, 1u);
   EXPECT_EQ(s.parts, 2u);
   EXPECT_EQ(s.vertices, 8u);  // closing points dropped, the repeated (10, 0) collapsed
@@ -90,13 +103,12 @@ TEST(PolygonReader, RingsOfAPolygonWithAHole) {
 }
 
 TEST(PolygonReader, MultiPolygonIsOneFeatureAndLinesAreDropped) {
-  const std::string path =
-      one_layer("multi.gpkg", {{"MULTIPOLYGON (((0 0, 1 0, 1 1, 0 0)), ((5 5, 6 5, 6 6, 5 5)))"},
-                               {"LINESTRING (0 0, 3 3)"},
-                               {""},
-                               {"POLYGON ((0 0, 1 1, 0 0))"}});
-  ShapeData data;
-  const ShapeReadStats s = read_polygons(path, {}, data);
+  const auto [path, data, s] =
+      read_layer(read_polygons, "multi.gpkg",
+                 {{"MULTIPOLYGON (((0 0, 1 0, 1 1, 0 0)), ((5 5, 6 5, 6 6, 5 5)))"},
+                  {"LINESTRING (0 0, 3 3)"},
+                  {""},
+                  {"POLYGON ((0 0, 1 1, 0 0))"}});
   EXPECT_EQ(s.features, 4u);
   EXPECT_EQ(s.empty_features, 3u);
   EXPECT_EQ(s.degenerate_parts, 1u);
@@ -160,14 +172,12 @@ TEST(PolygonReader, ReplaceZMustBeOneLevel) {
 }
 
 TEST(PolygonReader, LinesKeepTheirOrderAndRingsAreClosed) {
-  const std::string path =
-      one_layer("lines.gpkg", {{"LINESTRING (0 0, 1 0, 1 0, 2 1)"},
-                               {"MULTILINESTRING ((0 5, 1 5), (3 3, 4 4, 3 5, 3 3))"},
-                               {"POLYGON ((0 0, 1 0, 1 1, 0 0))"},
-                               {"LINESTRING (7 7, 7 7)"},
-                               {"POINT (1 1)"}});
-  ShapeData data;
-  const ShapeReadStats s = read_shape_lines(path, {}, data);
+  const auto [path, data, s] = read_layer(read_shape_lines, "lines.gpkg",
+                                          {{"LINESTRING (0 0, 1 0, 1 0, 2 1)"},
+                                           {"MULTILINESTRING ((0 5, 1 5), (3 3, 4 4, 3 5, 3 3))"},
+                                           {"POLYGON ((0 0, 1 0, 1 1, 0 0))"},
+                                           {"LINESTRING (7 7, 7 7)"},
+                                           {"POINT (1 1)"}});
   EXPECT_EQ(s.features, 5u);
   EXPECT_EQ(s.empty_features, 2u);
   EXPECT_EQ(s.parts, 4u);
