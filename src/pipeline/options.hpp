@@ -127,6 +127,7 @@ struct BuildOptions {
     std::optional<int> max_level;  // default: from the data's point spacing
     // --terrain-fill-height: the surface beyond the data, metres; default the TIN's lowest
     std::optional<double> fill_height;
+    std::uint64_t max_tiles = 2'000'000;  // --terrain-max-tiles: a larger pyramid is refused
   } terrain;
 };
 

@@ -1,8 +1,8 @@
 // web_terrain: --terrain DIR, the final TIN as a Cesium quantized-mesh-1.0 pyramid: DIR/layer.json
 // and DIR/{z}/{x}/{y}.terrain in the geographic TMS tiling (EPSG:4326, two root tiles), each tile
 // within its level's geometric error of the full TIN (web_terrain/tile.hpp), neighbours sharing
-// their border vertices. Every tile is an output of the job: written to a temporary beside it and
-// moved into place with the other outputs, or not at all.
+// their border vertices. The pyramid is one output of the job: written in a temporary folder
+// beside DIR and moved into place with the other outputs, or not at all.
 //
 // web_terrain_crs runs right after read: a pyramid needs the data's CRS, so none stops the job
 // before any work.
@@ -18,8 +18,10 @@
 #include "core/number_text.hpp"
 #include "io/terrain/geographic_tiling.hpp"
 #include "io/terrain/layer_json.hpp"
+#include "io/terrain/lon_lat.hpp"
 #include "io/terrain/quantized_mesh.hpp"
 #include "io/terrain/wgs84.hpp"
+#include "io/whole_file.hpp"
 #include "pipeline/stage.hpp"
 #include "products/short_number.hpp"
 #include "web_terrain/source.hpp"
@@ -49,9 +51,9 @@ int level_for_spacing(double spacing) {
   return static_cast<int>(std::clamp(level, 0.0, static_cast<double>(kDeepestDefaultLevel)));
 }
 
-std::string tile_path(const std::string& dir, const qm::TileKey& key) {
-  return dir + "/" + std::to_string(key.level) + "/" + std::to_string(key.x) + "/" +
-         std::to_string(key.y) + ".terrain";
+std::string tile_name(const qm::TileKey& key) {
+  return std::to_string(key.level) + "/" + std::to_string(key.x) + "/" + std::to_string(key.y) +
+         ".terrain";
 }
 
 // The tiles of LEVEL the pyramid has: those over the data, and at level 0 both roots, which
@@ -71,11 +73,53 @@ std::vector<std::vector<qm::TileRange>> children(const qm::TileKey& key, int max
   return {{r}};
 }
 
-void write_file(Job& job, const std::string& path, const std::string& bytes) {
-  job.outputs.make_folders(std::filesystem::path(path).parent_path().string());
-  io::OutputFile& out = job.add_output(path, "terrain");
-  out.write(bytes);
-  job.finish_output(out);
+std::uint64_t tile_count(const qm::TileRange& r) {
+  return std::uint64_t{r.end_x - r.start_x + 1} * (r.end_y - r.start_y + 1);
+}
+
+// The tiles of the pyramid's levels 0 to MAX_LEVEL over BOUNDS.
+std::uint64_t pyramid_tiles(const qm::GeoRectangle& bounds, int max_level) {
+  std::uint64_t total = 0;
+  for (int level = 0; level <= max_level; ++level) total += tile_count(level_tiles(bounds, level));
+  return total;
+}
+
+// Refuses a pyramid of more than LIMIT tiles over BOUNDS (which would fill a disk before it
+// ends), naming the deepest level that keeps within it; logs the count otherwise. LEVELS_TEXT
+// says where the levels come from, for the message.
+void check_tile_count(Job& job, const qm::GeoRectangle& bounds, int max_level, std::uint64_t limit,
+                      const std::string& levels_text) {
+  const std::uint64_t total = pyramid_tiles(bounds, max_level);
+  const std::string box = short_number(bounds.east - bounds.west) + " x " +
+                          short_number(bounds.north - bounds.south) + " degrees";
+  if (total <= limit) {
+    job.info("terrain: " + count_text(total) + " tiles over the data's " + box + " (at most " +
+             count_text(limit) + ")");
+    return;
+  }
+  int fits = max_level;
+  while (fits > 0 && pyramid_tiles(bounds, fits) > limit) --fits;
+  throw UsageError(levels_text + ": the pyramid would have " + count_text(total) +
+                   " tiles over the data's " + box + ", more than the limit of " +
+                   count_text(limit) + " (--terrain-max-tiles): give --terrain-levels 0-" +
+                   count_text(fits) + " (" + count_text(pyramid_tiles(bounds, fits)) +
+                   " tiles), or a higher --terrain-max-tiles");
+}
+
+// The pyramid is one output: its files go into a temporary folder (FOLDER, of the outputs
+// added to the job) that the commit moves to the folder asked for, so that a failure or a
+// Ctrl-C, even a second one, leaves no tile behind and any folder there as it was. Each file is
+// in the run's report under its final path.
+struct Pyramid {
+  std::string path;    // the folder asked for
+  std::string folder;  // where its files are written until the commit
+};
+
+void write_file(Job& job, const Pyramid& pyramid, const std::string& name,
+                const std::string& bytes) {
+  io::write_whole_file(pyramid.folder + "/" + name, bytes);
+  job.report.outputs.push_back({pyramid.path + "/" + name, "terrain", bytes.size(),
+                                job.crs_names.label(job.crs_of_output("terrain"))});
 }
 
 struct LevelStats {
@@ -86,12 +130,11 @@ struct LevelStats {
   TileError error;
 };
 
-LevelStats write_level(Job& job, const TerrainSource& source, int level, int max_level, double done,
-                       double share) {
+LevelStats write_level(Job& job, const Pyramid& pyramid, const TerrainSource& source, int level,
+                       int max_level, double done, double share) {
   const qm::TileRange range = level_tiles(source.bounds(), level);
   const double error = qm::geometric_error_at_level(level);
-  const std::uint64_t count =
-      std::uint64_t{range.end_x - range.start_x + 1} * (range.end_y - range.start_y + 1);
+  const std::uint64_t count = tile_count(range);
   LevelStats stats;
   for (std::uint32_t x = range.start_x; x <= range.end_x; ++x)
     for (std::uint32_t y = range.start_y; y <= range.end_y; ++y) {
@@ -99,8 +142,7 @@ LevelStats write_level(Job& job, const TerrainSource& source, int level, int max
       const web_terrain::BuiltTile tile = web_terrain::build_tile(source, key, error);
       qm::QuantizedMeshOptions options;
       options.available = children(key, max_level, source.bounds());
-      write_file(job, tile_path(job.options.terrain.path, key),
-                 qm::encode_quantized_mesh(tile.mesh, options));
+      write_file(job, pyramid, tile_name(key), qm::encode_quantized_mesh(tile.mesh, options));
       ++stats.tiles;
       stats.vertices += tile.mesh.vertices.size();
       stats.line_segments += tile.line_segments;
@@ -109,6 +151,25 @@ LevelStats write_level(Job& job, const TerrainSource& source, int level, int max
       job.progress(done + share * static_cast<double>(stats.tiles) / static_cast<double>(count));
     }
   return stats;
+}
+
+// Each level's share of the stage's progress, in proportion to its work: every tile's fixed
+// cost (its sides, its encoding, its file), counted as kTileWork vertices, and the measure of
+// every vertex of the TIN against the tile that holds it, once per level.
+constexpr double kTileWork = 1000;
+
+std::vector<double> level_shares(const TerrainSource& source, int min_level, int max_level) {
+  std::vector<double> shares;
+  double total = 0;
+  for (int level = min_level; level <= max_level; ++level) {
+    const double work =
+        kTileWork * static_cast<double>(tile_count(level_tiles(source.bounds(), level))) +
+        static_cast<double>(source.vertices().size());
+    shares.push_back(work);
+    total += work;
+  }
+  for (double& share : shares) share /= total;
+  return shares;
 }
 
 void log_units(Job& job, const TerrainSource& source) {
@@ -134,17 +195,24 @@ void run(Job& job) {
       o.max_level ? *o.max_level : std::max(o.min_level, level_for_spacing(spacing));
   job.info("terrain: levels " + count_text(o.min_level) + "-" + count_text(max_level) +
            (o.max_level ? "" : " (point spacing " + short_number(spacing) + " m)"));
+  check_tile_count(job, source.bounds(), max_level, o.max_tiles,
+                   o.max_level ? "levels 0-" + count_text(max_level)
+                               : "the default levels 0-" + count_text(max_level) +
+                                     " (the data's point spacing)");
+  const Pyramid pyramid{o.path, job.outputs.add_folder(o.path, "layer.json")};
   qm::TerrainLayer layer;
   layer.bounds = source.bounds();
   layer.min_zoom = o.min_level;
   layer.extensions = {"octvertexnormals", "metadata"};
   layer.metadata_availability = 1;  // every tile's metadata lists its children
   layer.available.resize(static_cast<std::size_t>(max_level) + 1);
-  const double share = 1.0 / (max_level - o.min_level + 1);
+  const std::vector<double> shares = level_shares(source, o.min_level, max_level);
+  double done = 0;
   for (int level = o.min_level; level <= max_level; ++level) {
     layer.available[level] = {level_tiles(source.bounds(), level)};
-    const LevelStats s =
-        write_level(job, source, level, max_level, (level - o.min_level) * share, share);
+    const double share = shares[static_cast<std::size_t>(level - o.min_level)];
+    const LevelStats s = write_level(job, pyramid, source, level, max_level, done, share);
+    done += share;
     const double rmse =
         s.error.count ? std::sqrt(s.error.sum_squares / static_cast<double>(s.error.count)) : 0;
     job.info("terrain level " + count_text(level) + ": " + count_text(s.tiles) + " tiles, " +
@@ -163,12 +231,12 @@ void run(Job& job) {
                "closer than a tile's quantization step (1/32767 of its width) differ more in " +
                "height (walls, trees; ground points alone make a smoother terrain)");
   }
-  write_file(job, o.path + "/layer.json", qm::layer_json(layer));
+  write_file(job, pyramid, "layer.json", qm::layer_json(layer));
 }
 
-// The folder is made when the tiles are written: until then, a new one is checked as a file
-// would be (its parent folder exists and is writable), and in one that exists layer.json must
-// not (without --overwrite).
+// The pyramid replaces its folder as a whole: a new one is checked as a file would be (its
+// parent folder exists and is writable); one that exists must be empty, or hold a pyramid
+// (layer.json), replaced only with --overwrite.
 void plan(const BuildOptions& o, FilePlan& files) {
   std::error_code ec;
   if (std::filesystem::exists(o.terrain.path, ec))
@@ -180,11 +248,48 @@ void plan(const BuildOptions& o, FilePlan& files) {
 
 // ---- terrain_crs -------------------------------------------------------------------------------
 
+// The longitude/latitude box of the read points' extent, its sides sampled (a projected
+// rectangle's sides curve on the globe): the pyramid's bounds before there is a TIN.
+qm::GeoRectangle points_lon_lat_box(const Job& job) {
+  double west = job.points[0].x, east = west, south = job.points[0].y, north = south;
+  for (const Point3& p : job.points) {
+    west = std::min(west, p.x);
+    east = std::max(east, p.x);
+    south = std::min(south, p.y);
+    north = std::max(north, p.y);
+  }
+  constexpr int kSteps = 16;
+  std::vector<Point3> sides;
+  for (int i = 0; i <= kSteps; ++i) {
+    const double t = static_cast<double>(i) / kSteps;
+    const double x = west + t * (east - west), y = south + t * (north - south);
+    sides.insert(sides.end(), {{x, south, 0}, {x, north, 0}, {west, y, 0}, {east, y, 0}});
+  }
+  qm::to_lon_lat_metres(job.crs_wkt, sides, job.describe_inputs());
+  qm::GeoRectangle box{sides[0].x, sides[0].y, sides[0].x, sides[0].y};
+  for (const Point3& p : sides)
+    box = {std::min(box.west, p.x), std::min(box.south, p.y), std::max(box.east, p.x),
+           std::max(box.north, p.y)};
+  return box;
+}
+
+// Right after read: the CRS, and with the levels given, the pyramid's size from the points'
+// extent, so that neither stops the job after the TIN is made.
 void check_crs(Job& job) {
   if (job.crs_wkt.empty())
     throw InputError(job.describe_inputs(), "",
                      "web terrain (--terrain) needs the data's CRS to place it on the globe, and "
                      "the input has none: assign one with --a-srs");
+  const BuildOptions::Terrain& o = job.options.terrain;
+  std::error_code ec;
+  if (std::filesystem::is_directory(o.path, ec) && !std::filesystem::is_empty(o.path, ec) &&
+      !std::filesystem::exists(o.path + "/layer.json", ec))
+    throw OutputError(o.path, "",
+                      "is a folder without layer.json, which is not replaced: give a new or "
+                      "empty folder");
+  if (o.max_level && !job.points.empty())
+    check_tile_count(job, points_lon_lat_box(job), *o.max_level, o.max_tiles,
+                     "levels 0-" + count_text(*o.max_level));
 }
 
 // ---- options -----------------------------------------------------------------------------------
@@ -201,11 +306,18 @@ bool parse_levels(std::string_view text, int& min, int& max) {
          min <= max && max <= qm::kMaxTileLevel;
 }
 
+// A pyramid starts at level 0: CesiumJS (and the other clients) load a terrain from its two
+// level-0 root tiles down, level by level, so a pyramid without them shows nothing.
 std::string check_levels(std::string_view text) {
   int min = 0, max = 0;
-  if (parse_levels(text, min, max)) return {};
-  return in_quotes(text) +
-         " is not MIN-MAX, two levels 0 <= MIN <= MAX <= " + count_text(qm::kMaxTileLevel);
+  if (!parse_levels(text, min, max))
+    return in_quotes(text) +
+           " is not MIN-MAX, two levels 0 <= MIN <= MAX <= " + count_text(qm::kMaxTileLevel);
+  if (min != 0)
+    return in_quotes(text) + ": MIN must be 0: CesiumJS loads a terrain from its two level-0 " +
+           "tiles down through every level, and finds nothing without them (give 0-" +
+           count_text(max) + ")";
+  return {};
 }
 
 void set_levels(BuildOptions& o, std::string_view text) {
@@ -213,6 +325,16 @@ void set_levels(BuildOptions& o, std::string_view text) {
   parse_levels(text, min, max);
   o.terrain.min_level = min;
   o.terrain.max_level = max;
+}
+
+std::string check_max_tiles(std::string_view text) {
+  const auto n = parse_count(text);
+  return n && *n >= 2 ? std::string()
+                      : in_quotes(text) + " is not a whole number of tiles of at least 2";
+}
+
+void set_max_tiles(BuildOptions& o, std::string_view text) {
+  o.terrain.max_tiles = *parse_count(text);
 }
 
 using Terrain = BuildOptions::Terrain;
@@ -224,12 +346,18 @@ constexpr OptionSpec kOptions[] = {
                 "DIR/{z}/{x}/{y}.terrain, each level within Cesium's geometric error\n"
                 "(needs a CRS)"),
     checked_option("--terrain-levels", "MIN-MAX", option_groups::products, check_levels, set_levels,
-                   "The pyramid's levels (default: 0 to the level of the data's point\n"
-                   "spacing)"),
+                   "The pyramid's levels, MIN 0 (clients start from level 0; default: 0\n"
+                   "to the level of the data's point spacing)"),
     checked_option("--terrain-fill-height", "H", option_groups::products, check_number,
                    set_number<&BuildOptions::terrain, &Terrain::fill_height>,
                    "Height (metres) of the tiles' surface beyond the data (default: the\n"
                    "TIN's lowest height)"),
+    with_default(
+        checked_option("--terrain-max-tiles", "N", option_groups::products, check_max_tiles,
+                       set_max_tiles,
+                       "The most tiles a pyramid may have: a larger one, which could fill\n"
+                       "the disk, is refused before any tile is made"),
+        "2000000", [](const BuildOptions& o) { return std::to_string(o.terrain.max_tiles); }),
 };
 
 }  // namespace

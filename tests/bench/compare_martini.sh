@@ -3,7 +3,7 @@
 # grid's RTIN) on the same surface at the same maximum error, by vertex count.
 #
 # tincdt builds the pyramid of pair_topography (Topography.las ground + the 1 m 3D contours, the
-# run of terrain_cli_test's PairTopographyLevels14To19) with --terrain-levels LEVELS and writes
+# run of terrain_cli_test's PairTopographyLevels0To19) with --terrain-levels LEVELS and writes
 # the full TIN beside it. Every tile of the finest level is decoded by
 # @here/quantized-mesh-decoder (tests/cli/decode_pyramid.mjs) for its vertex count; the full TIN
 # is sampled on the tile's rectangle as a SIZE x SIZE grid (terrain_tile_grids: the TIN's linear
@@ -20,12 +20,12 @@
 #
 # Environment: TINCDT_SHARED (default ../shared beside the repo: data/las/Topography.las,
 # data/pair_topography, bench/node), TINCDT_BENCH_BUILD (build/test: tincdt and
-# terrain_tile_grids), LEVELS (14-19), SIZE (257), CONTOURS (1; 0 builds from the ground points
+# terrain_tile_grids), LEVELS (0-19), SIZE (257), CONTOURS (1; 0 builds from the ground points
 # alone, to see what the contours cost the tiles). Needs node; the npm peers are installed into
 # $TINCDT_SHARED/bench/node when missing.
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/bench_env.sh"
-bench_defaults LEVELS=14-19 SIZE=257 CONTOURS=1
+bench_defaults LEVELS=0-19 SIZE=257 CONTOURS=1
 NODE_MODULES="$SHARED/bench/node/node_modules"
 level=${LEVELS#*-}
 

@@ -201,10 +201,10 @@ TEST(TerrainCli, SamplePyramidWithinErrorsWithoutCracks) {
 
 TEST(TerrainCli, LevelsChosenAndNoTinFileNeeded) {
   const std::string dir = scratch_dir("terrain_cli");
-  const ShellRun r = terrain_of_sample(dir, "--terrain-levels 12-14");
+  const ShellRun r = terrain_of_sample(dir, "--terrain-levels 0-3");
   ASSERT_EQ(r.exit_code, 0) << r.messages;
   EXPECT_EQ(names_in(dir), std::set<std::string>{"t"});
-  EXPECT_EQ(names_in(dir + "/t"), (std::set<std::string>{"12", "13", "14", "layer.json"}));
+  EXPECT_EQ(names_in(dir + "/t"), (std::set<std::string>{"0", "1", "2", "3", "layer.json"}));
 }
 
 TEST(TerrainCli, SameBytesFromTwoRuns) {
@@ -302,6 +302,11 @@ TEST(TerrainCli, UsesRefused) {
       {"--terrain t --terrain-levels a-b", "MIN-MAX"},
       {"--terrain t --terrain-levels 0-31", "MIN-MAX"},
       {"--terrain t --terrain-levels -1-3", "MIN-MAX"},
+      {"--terrain t --terrain-levels 3-10",
+       "MIN must be 0: CesiumJS loads a terrain from its two "
+       "level-0 tiles down"},
+      {"--terrain t --terrain-max-tiles 1", "at least 2"},
+      {"--terrain t --terrain-max-tiles x", "at least 2"},
       {"-o x.ply --terrain-levels 0-3", "need --terrain"},
       {"-o x.ply --terrain-fill-height 3", "need --terrain"},
       {"--ply-ascii", "no output"},
@@ -318,6 +323,37 @@ TEST(TerrainCli, NoCrsStopsBeforeAnyWork) {
   EXPECT_NE(r.messages.find("--a-srs"), std::string::npos) << r.messages;
   EXPECT_EQ(r.messages.find("triangulat"), std::string::npos) << r.messages;
   EXPECT_EQ(names_in(dir), std::set<std::string>{"p.xyz"});
+}
+
+// Levels 0-30 over the sample would be 111 million tiles: refused right after read, naming the
+// levels, the count, the limit and the deepest level that fits.
+TEST(TerrainCli, TooManyTilesRefusedBeforeAnyWork) {
+  const std::string dir = scratch_dir("terrain_cli");
+  const ShellRun r = terrain_of_sample(dir, "--terrain-levels 0-30");
+  EXPECT_EQ(r.exit_code, 2) << r.messages;
+  EXPECT_NE(r.messages.find("levels 0-30: the pyramid would have 111,310,668 tiles over the "
+                            "data's 0.00212487 x 0.00110371 degrees, more than the limit of "
+                            "2,000,000 (--terrain-max-tiles): give --terrain-levels 0-27 "
+                            "(1,743,891 tiles), or a higher --terrain-max-tiles"),
+            std::string::npos)
+      << r.messages;
+  EXPECT_EQ(r.messages.find("triangulat"), std::string::npos) << r.messages;
+  EXPECT_EQ(names_in(dir), std::set<std::string>{});
+}
+
+// The default levels, known once the TIN gives the point spacing, are counted too; a pyramid
+// within the limit logs its count.
+TEST(TerrainCli, TileLimitAppliesToTheDefaultLevelsAndIsLogged) {
+  const std::string dir = scratch_dir("terrain_cli");
+  const ShellRun refused = terrain_of_sample(dir, "--terrain-max-tiles 20");
+  EXPECT_EQ(refused.exit_code, 2) << refused.messages;
+  EXPECT_NE(refused.messages.find("the default levels 0-"), std::string::npos) << refused.messages;
+  EXPECT_NE(refused.messages.find("more than the limit of 20"), std::string::npos)
+      << refused.messages;
+  EXPECT_EQ(names_in(dir), std::set<std::string>{});
+  const ShellRun r = terrain_of_sample(dir, "--terrain-levels 0-12 --terrain-max-tiles 14");
+  ASSERT_EQ(r.exit_code, 0) << r.messages;
+  EXPECT_NE(r.messages.find("terrain: 14 tiles over the data's"), std::string::npos) << r.messages;
 }
 
 TEST(TerrainCli, ExistingLayerKeptWithoutOverwrite) {
@@ -341,7 +377,7 @@ TEST(TerrainCli, ErasedAreaIsAHoleAtEveryLevel) {
        R"("coordinates":[[[600250,5190340],[600290,5190340],[600290,5190380],)"
        R"([600250,5190380],[600250,5190340]]]}}]})");
   const ShellRun r =
-      run_tincdt(dir, "'" + kSample + "' --erase erase.geojson --terrain t --terrain-levels 14-18");
+      run_tincdt(dir, "'" + kSample + "' --erase erase.geojson --terrain t --terrain-levels 0-18");
   ASSERT_EQ(r.exit_code, 0) << r.messages;
   OGRSpatialReference utm, geographic;
   utm.importFromEPSG(32632);
@@ -376,7 +412,8 @@ TEST(TerrainCli, ErasedAreaIsAHoleAtEveryLevel) {
               (static_cast<double>(tile.v[b]) - tile.v[a]) *
                   (static_cast<double>(tile.u[c]) - tile.u[a]);
     }
-    missing[key.z] += 1 - area / 2 / (kQ * kQ);
+    // Coarser tiles hold the 40 m square in less than their quantization step.
+    if (key.z >= 14) missing[key.z] += 1 - area / 2 / (kQ * kQ);
   }
   ASSERT_EQ(missing.size(), 5u);
   for (const auto& [z, m] : missing) EXPECT_GT(m, 0) << "level " << z;
@@ -386,23 +423,23 @@ TEST(TerrainCli, FailedJobLeavesNoTileNorFolder) {
   const std::string dir = scratch_dir("terrain_cli");
   // The contour lines, after the pyramid, are refused: too many for the interval.
   const ShellRun r =
-      terrain_of_sample(dir, "--terrain-levels 10-12 --contour-lines l.geojson --interval 0.0001");
+      terrain_of_sample(dir, "--terrain-levels 0-12 --contour-lines l.geojson --interval 0.0001");
   EXPECT_EQ(r.exit_code, 1) << r.messages;
   EXPECT_EQ(names_in(dir), std::set<std::string>{});
 }
 
 // ---- the shared data ------------------------------------------------------------------------
 
-TEST(TerrainCli, PairTopographyLevels14To19) {
+TEST(TerrainCli, PairTopographyLevels0To19) {
   TINCDT_REQUIRE_SHARED_DATA("pair_topography");
   const std::string data = shared_data();
   const std::string dir = scratch_dir("terrain_cli");
   const ShellRun r =
       run_tincdt(dir, "'" + data + "/las/Topography.las' --keep-class 2 --contours '" + data +
                           "/pair_topography/Topography_contours_1m_3d.shp' -o full.ply --ply-ascii "
-                          "--terrain t --terrain-levels 14-19");
+                          "--terrain t --terrain-levels 0-19");
   ASSERT_EQ(r.exit_code, 0) << r.messages;
-  expect_pyramid(dir, 14, 19, "pair_topography");
+  expect_pyramid(dir, 0, 19, "pair_topography");
   expect_lines_are_edges(dir, 19);
 }
 
