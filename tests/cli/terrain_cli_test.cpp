@@ -309,6 +309,7 @@ TEST(TerrainCli, UsesRefused) {
       {"--terrain t --terrain-max-tiles x", "at least 2"},
       {"-o x.ply --terrain-levels 0-3", "need --terrain"},
       {"-o x.ply --terrain-fill-height 3", "need --terrain"},
+      {"-o x.ply --terrain-max-tiles 100", "need --terrain"},
       {"--ply-ascii", "no output"},
   };
   expect_usage_errors(dir, "'" + kSample + "'", cases);
