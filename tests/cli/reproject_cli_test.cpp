@@ -19,6 +19,7 @@
 
 #include "support/files.hpp"
 #include "support/mesh_files.hpp"
+#include "support/proj_transform.hpp"
 #include "support/shared_data.hpp"
 #include "support/tincdt_run.hpp"
 #include "support/vector_files.hpp"
@@ -43,23 +44,6 @@ void ogr2ogr_to_wgs84(const std::string& src, const std::string& dst) {
   EXPECT_NE(out, nullptr) << CPLGetLastErrorMsg();
   if (out != nullptr) GDALClose(out);
   GDALClose(in);
-}
-
-// POINTS (x, y) from EPSG:FROM to EPSG:TO by PROJ in x = easting / longitude order, computed here
-// independently of tincdt.
-std::vector<std::array<double, 2>> proj_transform(int from, int to,
-                                                  std::vector<std::array<double, 2>> points) {
-  OGRSpatialReference a, b;
-  a.importFromEPSG(from);
-  b.importFromEPSG(to);
-  a.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
-  b.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
-  OGRCoordinateTransformation* ct = OGRCreateCoordinateTransformation(&a, &b);
-  EXPECT_NE(ct, nullptr);
-  if (ct == nullptr) return {};
-  for (auto& p : points) EXPECT_TRUE(ct->Transform(1, &p[0], &p[1])) << p[0] << " " << p[1];
-  OGRCoordinateTransformation::DestroyCT(ct);
-  return points;
 }
 
 // The vertices of A matched to B's: for each vertex of A the nearest of B within 1 cm in x, y,

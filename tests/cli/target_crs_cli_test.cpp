@@ -22,6 +22,7 @@
 
 #include "support/files.hpp"
 #include "support/mesh_files.hpp"
+#include "support/proj_transform.hpp"
 #include "support/stats_json.hpp"
 #include "support/tincdt_run.hpp"
 #include "support/vector_files.hpp"
@@ -36,21 +37,6 @@ const std::string kSample = quoted(kData / "sample.las");
 const std::string kContours = quoted(kData / "sample_contours.shp");
 
 using XY = std::array<double, 2>;
-
-// P from EPSG:FROM to EPSG:TO by PROJ, in x = easting / longitude order.
-XY proj_transform(int from, int to, XY p) {
-  OGRSpatialReference a, b;
-  a.importFromEPSG(from);
-  b.importFromEPSG(to);
-  a.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
-  b.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
-  OGRCoordinateTransformation* ct = OGRCreateCoordinateTransformation(&a, &b);
-  EXPECT_NE(ct, nullptr);
-  if (ct == nullptr) return {NAN, NAN};
-  EXPECT_TRUE(ct->Transform(1, &p[0], &p[1])) << p[0] << " " << p[1];
-  OGRCoordinateTransformation::DestroyCT(ct);
-  return p;
-}
 
 struct Box {
   double min_x = INFINITY, min_y = INFINITY, max_x = -INFINITY, max_y = -INFINITY;
