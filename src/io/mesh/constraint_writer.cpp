@@ -51,35 +51,14 @@ std::uint64_t check_edges(const std::string& path, const mesh::Triangulation& ti
   return distinct;
 }
 
-// Everything write_constraint_lines() refuses before writing; returns the distinct vertices.
-std::uint64_t check_lines(const std::string& path, const mesh::Triangulation& tin,
-                          const std::vector<ConstraintEdge>& edges,
-                          const std::vector<ConstraintFeatureInfo>& features,
-                          const TinWriteOptions& options) {
-  // The offset is in the units of the TIN's CRS; after reprojection it would mean nothing.
-  if (!options.target_crs_wkt.empty() && !detail::is_zero(options.offset))
-    throw OutputError(path, "", "an offset cannot be combined with reprojection");
-  return check_edges(path, tin, edges, features);
-}
-
-// The GeoJSON document into OUT (checked by check_lines()), not committed.
+// The GeoJSON document into OUT (checked by check_edges()), not committed.
 void write_lines(OutputFile& out, const mesh::Triangulation& tin,
                  const std::vector<ConstraintEdge>& edges,
                  const std::vector<ConstraintFeatureInfo>& features,
                  const TinWriteOptions& options) {
   using detail::BlockWriter;
   const std::string& path = out.path();
-  const bool reprojecting = !options.target_crs_wkt.empty();
-  std::vector<VertexId> ends;
-  if (reprojecting) {
-    ends.reserve(2 * edges.size());
-    for (const ConstraintEdge& e : edges) {
-      ends.push_back(e.a);
-      ends.push_back(e.b);
-    }
-  }
-  const detail::GeoJsonPositions position(path, tin, options, reprojecting ? &ends : nullptr);
-  release(ends);
+  const detail::GeoJsonPositions position(path, tin, options);
 
   BlockWriter w(out);
   detail::put_feature_collection_start(w, path, options);
@@ -130,7 +109,7 @@ TinWriteStats write_constraint_lines(OutputFile& out, const mesh::Triangulation&
                                      const std::vector<ConstraintEdge>& edges,
                                      const std::vector<ConstraintFeatureInfo>& features,
                                      const TinWriteOptions& options) {
-  const std::uint64_t distinct = check_lines(out.path(), tin, edges, features, options);
+  const std::uint64_t distinct = check_edges(out.path(), tin, edges, features);
   write_lines(out, tin, edges, features, options);
   return {distinct, 0, out.bytes_written()};
 }
@@ -139,7 +118,7 @@ TinWriteStats write_constraint_lines(const std::string& path, const mesh::Triang
                                      const std::vector<ConstraintEdge>& edges,
                                      const std::vector<ConstraintFeatureInfo>& features,
                                      const TinWriteOptions& options) {
-  const std::uint64_t distinct = check_lines(path, tin, edges, features, options);
+  const std::uint64_t distinct = check_edges(path, tin, edges, features);
   OutputFile out(path, options.overwrite);
   write_lines(out, tin, edges, features, options);
   out.commit();

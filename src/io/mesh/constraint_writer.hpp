@@ -1,8 +1,7 @@
 // The constrained edges of a TIN as a GeoJSON FeatureCollection of 3D LineStrings, one per edge,
 // each with the input feature it came from (`--constraints-out FILE`). Same file conventions as
 // the TIN's GeoJSON (tin_writer.hpp): the CRS member the way GDAL writes it, the offset as a
-// foreign member, reprojection to a target CRS, and a temporary renamed over the target only
-// when complete.
+// foreign member, and a temporary renamed over the target only when complete.
 #pragma once
 
 #include <cstdint>
@@ -31,13 +30,12 @@ struct ConstraintFeatureInfo {
 // Writes every edge, in order, as a Feature with a LineString [[x, y, z], [x, y, z]] (vertex a,
 // then b) and the properties
 //   source_file (string), source_fid (integer), z_start, z_end (the heights of a and b as in the
-//   TIN: true elevations, before any offset or reprojection).
-// Honours options.offset, options.overwrite, options.crs_wkt and options.target_crs_wkt (only
-// the vertices of the edges are reprojected); options.format and options.ply_ascii are ignored.
-// Throws OutputError, before creating anything, for an edge with a vertex that is not in the TIN
-// or a feature index out of range, and for an offset combined with reprojection; and for
-// anything write_tin() would refuse (existing output without overwrite, unwritable folder,
-// non-finite coordinate, unknown CRS when reprojecting). A failed call leaves no file behind.
+//   TIN: true elevations, before any offset).
+// Honours options.offset, options.overwrite and options.crs_wkt; options.format and
+// options.ply_ascii are ignored. Throws OutputError, before creating anything, for an edge with
+// a vertex that is not in the TIN or a feature index out of range; and for anything write_tin()
+// would refuse (existing output without overwrite, unwritable folder, non-finite coordinate).
+// A failed call leaves no file behind.
 // Returns vertices = distinct vertices of the edges, triangles = 0, bytes = the file's size.
 TinWriteStats write_constraint_lines(const std::string& path, const mesh::Triangulation& tin,
                                      const std::vector<ConstraintEdge>& edges,

@@ -1,7 +1,7 @@
 // GeoJSON: a FeatureCollection of one 3D Polygon per triangle (closed ring, counter-clockwise,
 // as RFC 7946 asks), written directly with to_chars (building it through OGR is far too slow for
-// millions of triangles). The CRS member, vertex positions and reprojection defined here are
-// shared with the constraint-line writer (constraint_writer.cpp). The CRS is written the way GDAL's
+// millions of triangles). The CRS member and vertex positions defined here are shared with the
+// constraint-line writer (constraint_writer.cpp). The CRS is written the way GDAL's
 // GeoJSON driver writes it:
 //   "crs": { "type": "name", "properties": { "name": "urn:ogc:def:crs:EPSG::2949" } }
 // and left out for WGS 84 (EPSG:4326 / CRS84), RFC 7946's only CRS. A CRS without an EPSG code,
@@ -95,8 +95,7 @@ void put_position(BlockWriter& w, const Point3& p) {
 
 void put_feature_collection_start(BlockWriter& w, const std::string& path,
                                   const TinWriteOptions& options) {
-  const bool reprojecting = !options.target_crs_wkt.empty();
-  const std::string crs = crs_member(path, reprojecting ? options.target_crs_wkt : options.crs_wkt);
+  const std::string crs = crs_member(path, options.crs_wkt);
   w.put(std::string_view("{\n\"type\": \"FeatureCollection\",\n"));
   w.put(crs);
   // A foreign member (RFC 7946 section 6.1): the offset subtracted from every position. GDAL
@@ -109,88 +108,15 @@ void put_feature_collection_start(BlockWriter& w, const std::string& path,
   w.put(std::string_view("\"features\": [\n"));
 }
 
-GeoJsonPositions::GeoJsonPositions(const std::string& path, const mesh::Triangulation& tin,
-                                   const TinWriteOptions& options,
-                                   const std::vector<VertexId>* only)
-    : path_(path), tin_(tin), offset_(options.offset) {
-  if (options.target_crs_wkt.empty()) return;
-  const std::string& target_wkt = options.target_crs_wkt;
-  std::string target_name = crs_label(target_wkt);
-  if (target_name.empty()) target_name = "the target CRS";
-  if (options.crs_wkt.empty())
-    throw OutputError(path, "",
-                      "cannot reproject to " + target_name + ": the CRS of the TIN is unknown");
-  const GdalQuiet quiet;
-  const OGRSpatialReference source = parse_crs(path, options.crs_wkt, "the CRS of the TIN");
-  const OGRSpatialReference target = parse_crs(path, target_wkt, "the target CRS");
-  if (source.IsSame(&target)) return;
-  CPLErrorReset();
-  const OgrTransform ct(OGRCreateCoordinateTransformation(&source, &target));
-  if (!ct)
-    throw OutputError(
-        path, "",
-        "no transformation to " + target_name + ": " + last_gdal_message("unknown reason"));
-
-  // The vertices to transform, in separate x, y, z arrays as OSR wants them; ids[i] is the
-  // vertex of entry i.
-  std::vector<VertexId> ids;
-  if (only != nullptr) {
-    slot_.assign(tin.vertex_count(), kNoId);
-    for (const VertexId v : *only) {
-      if (slot_[v] != kNoId) continue;
-      slot_[v] = static_cast<VertexId>(ids.size());
-      ids.push_back(v);
-    }
-  }
-  const std::size_t n = only != nullptr ? ids.size() : tin.vertex_count();
-  const auto vertex = [&](std::size_t i) {
-    return only != nullptr ? ids[i] : static_cast<VertexId>(i);
-  };
-  x_.resize(n);
-  y_.resize(n);
-  z_.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const VertexId v = vertex(i);
-    const Point2 p = tin.point(v);
-    x_[i] = p.x;
-    y_[i] = p.y;
-    z_[i] = tin.z(v);
-  }
-  constexpr std::size_t kChunk = 1 << 16;
-  std::vector<int> ok(kChunk);
-  for (std::size_t first = 0; first < n; first += kChunk) {
-    const std::size_t count = std::min(kChunk, n - first);
-    std::fill(ok.begin(), ok.end(), 0);
-    ct->Transform(static_cast<int>(count), x_.data() + first, y_.data() + first, z_.data() + first,
-                  nullptr, ok.data());
-    for (std::size_t i = 0; i < count; ++i)
-      if (!ok[i])
-        throw OutputError(path, "vertex " + std::to_string(vertex(first + i)),
-                          "cannot be reprojected to " + target_name);
-  }
-  reprojected_ = true;
-}
-
 Point3 GeoJsonPositions::operator()(VertexId v) const {
-  if (!reprojected_) return shifted_vertex(path_, tin_, v, offset_);
-  const VertexId i = slot_.empty() ? v : slot_[v];
-  const Point3 q{x_[i], y_[i], z_[i]};
-  if (!std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z))
-    throw OutputError(path_, "vertex " + std::to_string(v), "coordinate is not a finite number");
-  return q;
+  return shifted_vertex(path_, tin_, v, offset_);
 }
 
 TinWriteStats write_geojson(OutputFile& out, const mesh::Triangulation& tin,
                             const TinWriteOptions& options) {
   const std::string& path = out.path();
-  // With removed triangles, only the vertices of kept triangles are reprojected (and counted):
-  // one outside the kept part may lie where the target CRS has no valid coordinates.
   const WrittenTin written(tin, options.threads);
-  const VertexNumbering& used = written.number;
-  // Position of vertex v as written: reprojected, or shifted by the offset (write_tin() refuses
-  // the two together).
-  const GeoJsonPositions position(path, tin, options,
-                                  used.compacted() ? &used.vertices() : nullptr);
+  const GeoJsonPositions position(path, tin, options);
 
   BlockWriter w(out);
   const std::size_t slots = tin.triangle_slots();
@@ -209,7 +135,7 @@ TinWriteStats write_geojson(OutputFile& out, const mesh::Triangulation& tin,
   w.put(std::string_view("\n]\n}\n"));
   w.flush();
   progress.finish();
-  return {used.count(), written.triangles, 0};
+  return {written.number.count(), written.triangles, 0};
 }
 
 }  // namespace tincdt::io::detail

@@ -155,16 +155,10 @@ TinFormat format_from_path(const std::string& path) {
 
 namespace {
 
-void check_reprojection(const std::string& path, TinFormat format, const TinWriteOptions& options) {
+void check_offset(const std::string& path, TinFormat format, const TinWriteOptions& options) {
   if (!format_takes_offset(format) && !detail::is_zero(options.offset))
     throw OutputError(path, "",
                       "LandXML and GeoPackage keep real coordinates: an offset cannot be applied");
-  if (options.target_crs_wkt.empty()) return;
-  if (format != TinFormat::geojson)
-    throw OutputError(path, "", "reprojection is only supported for GeoJSON output");
-  // The offset is in the units of the TIN's CRS; after reprojection it would mean nothing.
-  if (!detail::is_zero(options.offset))
-    throw OutputError(path, "", "an offset cannot be combined with reprojection");
 }
 
 }  // namespace
@@ -176,14 +170,14 @@ std::string_view format_name(TinFormat format) {
 TinWriteStats write_tin(OutputFile& out, const mesh::Triangulation& tin,
                         const TinWriteOptions& options) {
   const TinFormat format = options.format ? *options.format : format_from_path(out.path());
-  check_reprojection(out.path(), format, options);
+  check_offset(out.path(), format, options);
   return kWriters[index_of(format)](out, tin, options);
 }
 
 TinWriteStats write_tin(const std::string& path, const mesh::Triangulation& tin,
                         const TinWriteOptions& options) {
   const TinFormat format = options.format ? *options.format : format_from_path(path);
-  check_reprojection(path, format, options);
+  check_offset(path, format, options);
   // Both outputs are opened (so both overwrite checks fail) before any work, both temporaries
   // are complete on disk before the first rename.
   OutputFile out(path, options.overwrite);

@@ -40,12 +40,11 @@ struct TinWriteOptions {
   // Default: from the extension (.obj .ply .geojson/.json .xml/.landxml .gpkg .stl .glb).
   std::optional<TinFormat> format;
   bool ply_ascii = false;
-  bool ogr_tin = false;        // GeoPackage: TIN Z features instead of POLYGON Z
-  bool overwrite = false;      // replace an existing output
-  Point3 offset{0, 0, 0};      // subtracted from every coordinate (recorded in the file);
-                               // refused by LandXML and GeoPackage (format_takes_offset)
-  std::string crs_wkt;         // CRS of the vertices; empty = unknown
-  std::string target_crs_wkt;  // GeoJSON only: reproject to this CRS (e.g. EPSG:4326)
+  bool ogr_tin = false;    // GeoPackage: TIN Z features instead of POLYGON Z
+  bool overwrite = false;  // replace an existing output
+  Point3 offset{0, 0, 0};  // subtracted from every coordinate (recorded in the file);
+                           // refused by LandXML and GeoPackage (format_takes_offset)
+  std::string crs_wkt;     // CRS of the vertices; empty = unknown
   // Threads that format the records of OBJ, PLY, STL and GeoJSON (0 = one per core); the bytes
   // written are the same for any count.
   unsigned threads = 1;

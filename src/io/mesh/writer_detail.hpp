@@ -1,7 +1,6 @@
 // Private to the writers (src/io/*_writer.cpp): a block buffer that formats numbers without
 // losing precision, the per-format entry points that write_tin() dispatches to, and the GeoJSON
-// pieces (CRS member, vertex positions, reprojection) that the TIN and constraint-line writers
-// share.
+// pieces (CRS member, vertex positions) that the TIN and constraint-line writers share.
 #pragma once
 
 #include <algorithm>
@@ -372,30 +371,24 @@ OGRSpatialReference parse_crs(const std::string& path, const std::string& wkt, c
 // "[x,y,z]" in shortest round-trip form.
 void put_position(BlockWriter& w, const Point3& p);
 // The opening of a GeoJSON FeatureCollection, up to and including "\"features\": [\n": the
-// "crs" member the way GDAL writes it (the target CRS when reprojecting; none for WGS 84 or an
-// unknown CRS) and the "tincdt_offset" foreign member when there is an offset.
+// "crs" member the way GDAL writes it (none for WGS 84 or an unknown CRS) and the "tincdt_offset"
+// foreign member when there is an offset.
 void put_feature_collection_start(BlockWriter& w, const std::string& path,
                                   const TinWriteOptions& options);
 
-// Where a GeoJSON writer puts a vertex: shifted by options.offset, or, with a target CRS,
-// reprojected into it (lon, lat order for geographic CRSs). Throws OutputError for a vertex that
-// is not finite or cannot be reprojected, and when the TIN's CRS is unknown or there is no
-// transformation. The caller refuses an offset together with a target CRS.
+// Where a GeoJSON writer puts a vertex: shifted by options.offset. Throws OutputError for a
+// vertex that is not finite.
 class GeoJsonPositions {
  public:
-  // Reprojects the vertices listed in ONLY (any order, repeats allowed), or all when it is null;
-  // operator() may then be asked only for those.
   GeoJsonPositions(const std::string& path, const mesh::Triangulation& tin,
-                   const TinWriteOptions& options, const std::vector<VertexId>* only = nullptr);
+                   const TinWriteOptions& options)
+      : path_(path), tin_(tin), offset_(options.offset) {}
   Point3 operator()(VertexId v) const;
 
  private:
   const std::string& path_;
   const mesh::Triangulation& tin_;
   Point3 offset_;
-  bool reprojected_ = false;
-  std::vector<VertexId> slot_;  // vertex -> index into x_, y_, z_ (empty: the vertex id itself)
-  std::vector<double> x_, y_, z_;
 };
 
 // A format writer: writes the whole file through `out` (not committed) and returns the vertex

@@ -26,7 +26,6 @@
 #include "support/errors.hpp"
 #include "support/files.hpp"
 #include "support/meshes.hpp"
-#include "support/reprojection.hpp"
 #include "support/vector_files.hpp"
 
 namespace tincdt::io {
@@ -240,72 +239,6 @@ TEST(ConstraintWriter, OffsetIsRecordedAndSubtractedButZPropertiesStayElevations
   }
 }
 
-TEST(ConstraintWriter, PositionsMatchTheTinGeoJsonBitForBitWhenReprojected) {
-  const std::string dir = scratch();
-  const Triangulation tin = unit_square();
-  TinWriteOptions o = test::utm33_to_wgs84();
-  write_constraint_lines(dir + "/c.geojson", tin, square_edges(), square_features(), o);
-  write_tin(dir + "/tin.geojson", tin, o);
-  EXPECT_EQ(slurp(dir + "/c.geojson").find("\"crs\""), std::string::npos);  // WGS 84
-
-  // Each vertex as the TIN GeoJSON wrote it (triangle corners: 0 1 2 and 0 2 3).
-  std::vector<Point3> tin_position(4);
-  {
-    const GeoJson t(dir + "/tin.geojson");
-    ASSERT_NE(t.ds, nullptr);
-    OGR_L_ResetReading(t.layer());
-    const VertexId corners[2][3] = {{0, 1, 2}, {0, 2, 3}};
-    for (int k = 0; k < 2; ++k) {
-      OGRFeatureH f = OGR_L_GetNextFeature(t.layer());
-      ASSERT_NE(f, nullptr);
-      OGRGeometryH ring = OGR_G_GetGeometryRef(OGR_F_GetGeometryRef(f), 0);
-      for (int c = 0; c < 3; ++c) {
-        Point3& p = tin_position[corners[k][c]];
-        OGR_G_GetPoint(ring, c, &p.x, &p.y, &p.z);
-      }
-      OGR_F_Destroy(f);
-    }
-  }
-  // Sanity: UTM 33N's central meridian is 15 E; 4000 km north is about 36.1 N.
-  EXPECT_NEAR(tin_position[0].x, 15.0, 1e-3);
-  EXPECT_NEAR(tin_position[0].y, 36.14, 0.01);
-
-  const GeoJson g(dir + "/c.geojson");
-  ASSERT_NE(g.ds, nullptr);
-  const std::vector<Line> lines = read_lines_back(g);
-  ASSERT_EQ(lines.size(), 3u);
-  for (std::size_t i = 0; i < lines.size(); ++i) {
-    SCOPED_TRACE(i);
-    expect_bits(lines[i].points[0], tin_position[square_edges()[i].a]);
-    expect_bits(lines[i].points[1], tin_position[square_edges()[i].b]);
-    EXPECT_EQ(bits(lines[i].z_start), bits(tin.z(square_edges()[i].a)));
-  }
-}
-
-TEST(ConstraintWriter, OnlyTheEdgesVerticesAreReprojected) {
-  // A vertex no edge uses, far outside what UTM 33N can map to WGS 84, makes the TIN's
-  // reprojection fail but not the constraint lines'.
-  const std::string dir = scratch();
-  Triangulation tin = unit_square();
-  tin.add_vertex({1e30, 1e30}, 0);
-  TinWriteOptions o = test::utm33_to_wgs84();
-  EXPECT_THROW(write_tin(dir + "/tin.geojson", tin, o), OutputError);
-  const TinWriteStats stats =
-      write_constraint_lines(dir + "/c.geojson", tin, square_edges(), square_features(), o);
-  EXPECT_EQ(stats.vertices, 4u);
-  const GeoJson g(dir + "/c.geojson");
-  ASSERT_NE(g.ds, nullptr);
-  EXPECT_EQ(OGR_L_GetFeatureCount(g.layer(), TRUE), 3);
-  // An edge that does use it fails and names the vertex.
-  o.overwrite = true;
-  if (const auto e = test::thrown<OutputError>([&] {
-        write_constraint_lines(dir + "/c.geojson", tin, {{0, 4, 0}}, square_features(), o);
-      })) {
-    EXPECT_EQ(e->where(), "vertex 4") << e->what();
-  }
-  EXPECT_EQ(names_in(dir), (std::set<std::string>{"c.geojson"}));
-}
-
 TEST(ConstraintWriter, CrsWithoutEpsgCodeSurvivesAsWkt) {
   const std::string dir = scratch();
   TinWriteOptions o;
@@ -389,11 +322,6 @@ TEST(ConstraintWriter, BadEdgesAreRefusedBeforeAnythingIsCreated) {
     EXPECT_EQ(e->where(), "constraint edge 0");
     EXPECT_NE(e->detail().find("feature index 2"), std::string::npos) << e->what();
   }
-  TinWriteOptions o = test::utm33_to_wgs84();
-  o.offset = {500000, 0, 0};
-  EXPECT_THROW(
-      write_constraint_lines(dir + "/c.geojson", tin, square_edges(), square_features(), o),
-      OutputError);
   EXPECT_TRUE(names_in(dir).empty());
 }
 

@@ -33,7 +33,6 @@
 #include "support/files.hpp"
 #include "support/mesh_files.hpp"
 #include "support/meshes.hpp"
-#include "support/reprojection.hpp"
 #include "support/vector_files.hpp"
 
 namespace tincdt::io {
@@ -670,72 +669,6 @@ TEST(GeoJsonWriter, NoCrsMemberForWgs84OrUnknownCrs) {
     ASSERT_NE(v.ds, nullptr);
     EXPECT_EQ(OGR_L_GetFeatureCount(v.layer(), TRUE), 1);
   }
-}
-
-TEST(GeoJsonWriter, ReprojectsToWgs84InLonLatOrder) {
-  const std::string dir = scratch();
-  const Triangulation tin = unit_square();
-  TinWriteOptions o = test::utm33_to_wgs84();
-  write_tin(dir + "/tin.geojson", tin, o);
-  EXPECT_EQ(slurp(dir + "/tin.geojson").find("\"crs\""), std::string::npos);
-
-  // The expectation, computed independently through OSR's C API.
-  OGRSpatialReferenceH src = OSRNewSpatialReference(nullptr);
-  OGRSpatialReferenceH dst = OSRNewSpatialReference(nullptr);
-  ASSERT_EQ(OSRImportFromEPSG(src, 32633), OGRERR_NONE);
-  ASSERT_EQ(OSRImportFromEPSG(dst, 4326), OGRERR_NONE);
-  OSRSetAxisMappingStrategy(src, OAMS_TRADITIONAL_GIS_ORDER);
-  OSRSetAxisMappingStrategy(dst, OAMS_TRADITIONAL_GIS_ORDER);
-  OGRCoordinateTransformationH ct = OCTNewCoordinateTransformation(src, dst);
-  ASSERT_NE(ct, nullptr);
-  std::vector<Point3> expected;
-  for (VertexId vid = 0; vid < tin.vertex_count(); ++vid) {
-    Point3 p{tin.point(vid).x, tin.point(vid).y, tin.z(vid)};
-    ASSERT_TRUE(OCTTransform(ct, 1, &p.x, &p.y, &p.z));
-    expected.push_back(p);
-  }
-  OCTDestroyCoordinateTransformation(ct);
-  OSRRelease(src);
-  OSRRelease(dst);
-  // Sanity: UTM 33N's central meridian is 15 E; 4000 km north is about 36.1 N.
-  EXPECT_NEAR(expected[0].x, 15.0, 1e-3);
-  EXPECT_NEAR(expected[0].y, 36.14, 0.01);
-
-  const GdalVector v(dir + "/tin.geojson");
-  ASSERT_NE(v.ds, nullptr);
-  const auto triangles = read_geojson_triangles(v);
-  const auto faces = faces_of(tin);
-  ASSERT_EQ(triangles.size(), faces.size());
-  for (std::size_t i = 0; i < faces.size(); ++i) {
-    for (int k = 0; k < 3; ++k) {
-      const Point3& want = expected[faces[i][k]];
-      EXPECT_NEAR(triangles[i].ring[k].x, want.x, 1e-9);
-      EXPECT_NEAR(triangles[i].ring[k].y, want.y, 1e-9);
-      EXPECT_NEAR(triangles[i].ring[k].z, want.z, 1e-9);
-    }
-    EXPECT_GT(signed_area(triangles[i].ring[0], triangles[i].ring[1], triangles[i].ring[2]), 0);
-  }
-}
-
-TEST(GeoJsonWriter, ReprojectingFromAnUnknownCrsFailsAndLeavesNothing) {
-  const std::string dir = scratch();
-  TinWriteOptions o;
-  o.target_crs_wkt = wkt_of("EPSG:4326");
-  if (const auto e =
-          test::thrown<OutputError>([&] { write_tin(dir + "/tin.geojson", unit_square(), o); })) {
-    EXPECT_NE(e->detail().find("unknown"), std::string::npos) << e->what();
-  }
-  EXPECT_TRUE(names_in(dir).empty());
-}
-
-TEST(GeoJsonWriter, ReprojectionRefusesAnOffsetAndOtherFormats) {
-  const std::string dir = scratch();
-  TinWriteOptions o = test::utm33_to_wgs84();
-  o.offset = {500000, 4000000, 0};
-  EXPECT_THROW(write_tin(dir + "/tin.geojson", unit_square(), o), OutputError);
-  o.offset = {0, 0, 0};
-  EXPECT_THROW(write_tin(dir + "/tin.ply", unit_square(), o), OutputError);
-  EXPECT_TRUE(names_in(dir).empty());
 }
 
 TEST(GeoJsonWriter, OffsetIsRecordedAndSubtracted) {
