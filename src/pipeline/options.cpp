@@ -205,9 +205,10 @@ void check_contour_lines(const BuildOptions::ContourLines& c) {
 }
 
 void check_terrain_output(const BuildOptions::Terrain& t) {
-  if (t.path.empty() && (t.max_level || t.fill_height ||
-                         t.max_tiles != BuildOptions::Terrain{}.max_tiles))
-    throw UsageError("--terrain-levels, --terrain-fill-height and --terrain-max-tiles need --terrain");
+  if (t.path.empty() &&
+      (t.max_level || t.fill_height || t.max_tiles != BuildOptions::Terrain{}.max_tiles))
+    throw UsageError(
+        "--terrain-levels, --terrain-fill-height and --terrain-max-tiles need --terrain");
 }
 
 // --dem, --contour-lines and --terrain: their settings only with them, and the ones each needs.
