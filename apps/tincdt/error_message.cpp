@@ -25,12 +25,15 @@ constexpr std::pair<Remedy, std::string_view> kHints[] = {
     {Remedy::override_crs,
      "; if the coordinates are in another CRS, give it with --override-srs SRS"},
     {Remedy::assign_crs, "; give the CRS of the inputs that have none with --a-srs SRS"},
+    {Remedy::target_after_merge,
+     "; merge the tiles, then transform the merged TIN into the target CRS with --t-srs in a job "
+     "of its own"},
 };
 
 constexpr bool one_row_per_remedy() {
   for (std::size_t i = 0; i < std::size(kHints); ++i)
     if (static_cast<std::size_t>(kHints[i].first) != i) return false;
-  return static_cast<std::size_t>(Remedy::assign_crs) + 1 == std::size(kHints);  // the last
+  return static_cast<std::size_t>(Remedy::target_after_merge) + 1 == std::size(kHints);  // the last
 }
 static_assert(one_row_per_remedy(), "kHints: one row per Remedy, in order");
 

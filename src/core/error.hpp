@@ -10,16 +10,18 @@ namespace tincdt {
 // in its own terms (the command line names its option).
 enum class Remedy {
   none,
-  overwrite,         // the output exists: allow replacing it
-  choose_layer,      // the vector source has several layers: name one
-  z_field,           // a feature has no usable z of its own: take z from an attribute
-  vector_as_points,  // a vector file given as points: give it as lines or polygons instead
-  class_filter,      // a class filter on points without classes: leave it out for them
-  return_filter,     // a return filter on points without return numbers: leave it out for them
-  larger_buffer,     // a tile job's buffer is too small: allow it a larger one
-  override_crs,      // an input's own CRS is unusable or wrong: replace it with the right one
-  assign_crs,        // an input has no CRS while others have one: say which CRS it is in
-  // (apps/tincdt/error_message.cpp has a hint for each, in this order; assign_crs is its last)
+  overwrite,           // the output exists: allow replacing it
+  choose_layer,        // the vector source has several layers: name one
+  z_field,             // a feature has no usable z of its own: take z from an attribute
+  vector_as_points,    // a vector file given as points: give it as lines or polygons instead
+  class_filter,        // a class filter on points without classes: leave it out for them
+  return_filter,       // a return filter on points without return numbers: leave it out for them
+  larger_buffer,       // a tile job's buffer is too small: allow it a larger one
+  override_crs,        // an input's own CRS is unusable or wrong: replace it with the right one
+  assign_crs,          // an input has no CRS while others have one: say which CRS it is in
+  target_after_merge,  // a job that reads by box cannot take another CRS: transform the result
+  // (apps/tincdt/error_message.cpp has a hint for each, in this order; target_after_merge is its
+  // last)
 };
 
 // what() is a single line: "FILE: WHERE: DETAIL", leaving out the parts that are empty.

@@ -48,9 +48,9 @@ void InputCrs::add(const std::string& path, const std::string& own, bool implied
     throw InputError(path, "",
                      "CRS " + mine + " differs from the target CRS " + theirs +
                          (mine == theirs ? " (same name, different definition)" : "") +
-                         ": a job that reads its points by a box, as a tile of a plan does, reads "
-                         "them in the box's CRS, its inputs'; merge the tiles, then transform the "
-                         "merged TIN into the target CRS in a job of its own");
+                         ": a job that reads its points by a box reads them in the box's CRS, "
+                         "its inputs'",
+                     Remedy::target_after_merge);
   }
   if (job_.options.filter.box && !crs_.empty() && !io::same_crs(crs_, taken)) {
     const std::string mine = names.name(taken), theirs = names.name(crs_);
