@@ -1,9 +1,7 @@
 #include "io/output_file.hpp"
 
-#include <dirent.h>
 #include <fcntl.h>
 #include <sys/stat.h>
-#include <sys/syscall.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -71,48 +69,12 @@ constexpr std::size_t kMaxPath = 4096;
 struct Slot {
   std::atomic<std::uint32_t> seq{0};
   std::atomic<bool> used{false};
-  std::atomic<bool> folder{false};
   char path[kMaxPath];
 };
 
 Slot g_slots[kSlots];
 std::atomic_flag g_writer = ATOMIC_FLAG_INIT;
 std::atomic<bool> g_committing{false};
-
-// The folders below a temporary folder that remove_tree() goes into: a web-terrain pyramid's
-// level/column/tile is three.
-constexpr int kTreeDepth = 6;
-
-bool is_dot_or_dot_dot(const char* name) {
-  return name[0] == '.' && (name[1] == '\0' || (name[1] == '.' && name[2] == '\0'));
-}
-
-// NAME in the folder DIR_FD, and, a folder, everything in it DEPTH levels down: open, getdents64,
-// unlinkat and close only, which are async-signal-safe. Entries are read again from the start
-// until the folder is empty, as removing entries while reading may skip some.
-bool remove_tree_at(int dir_fd, const char* name, int depth) noexcept {
-  if (::unlinkat(dir_fd, name, 0) == 0 || errno == ENOENT) return true;
-  if (errno != EISDIR && errno != EPERM) return false;
-  if (depth < 0) return false;
-  const int fd = ::openat(dir_fd, name, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
-  if (fd < 0) return false;
-  alignas(struct dirent64) char buffer[2048];
-  for (int pass = 0; pass < 4; ++pass) {
-    bool removed_any = false;
-    (void)::lseek(fd, 0, SEEK_SET);
-    for (long n; (n = ::syscall(SYS_getdents64, fd, buffer, sizeof buffer)) > 0;) {
-      for (long at = 0; at < n;) {
-        const auto* entry = reinterpret_cast<const struct dirent64*>(buffer + at);
-        at += entry->d_reclen;
-        if (!is_dot_or_dot_dot(entry->d_name))
-          removed_any |= remove_tree_at(fd, entry->d_name, depth - 1);
-      }
-    }
-    if (!removed_any) break;
-  }
-  (void)::close(fd);
-  return ::unlinkat(dir_fd, name, AT_REMOVEDIR) == 0;
-}
 
 class WriterLock {
  public:
@@ -129,7 +91,7 @@ class WriterLock {
 
 namespace detail {
 
-int track_temporary(const std::string& path, bool folder) noexcept {
+int track_temporary(const std::string& path) noexcept {
   if (path.empty() || path.size() >= kMaxPath) return -1;
   const WriterLock lock;
   for (int i = 0; i < kSlots; ++i) {
@@ -137,7 +99,6 @@ int track_temporary(const std::string& path, bool folder) noexcept {
     if (s.used.load(std::memory_order_relaxed)) continue;
     s.seq.fetch_add(1, std::memory_order_acq_rel);
     std::memcpy(s.path, path.c_str(), path.size() + 1);
-    s.folder.store(folder, std::memory_order_relaxed);
     s.used.store(true, std::memory_order_relaxed);
     s.seq.fetch_add(1, std::memory_order_acq_rel);
     return i;
@@ -165,10 +126,6 @@ int move_without_replacing(const std::string& from, const std::string& to) noexc
   return 0;
 }
 
-bool remove_tree(const char* path) noexcept {
-  return remove_tree_at(AT_FDCWD, path, kTreeDepth);
-}
-
 void sync_folder_of(const std::string& path) noexcept {
   sync_folder(folder_of(path));
 }
@@ -192,12 +149,8 @@ bool remove_temporaries_for_exit() noexcept {
     }
     name[n] = '\0';
     std::atomic_thread_fence(std::memory_order_acquire);
-    const bool folder = s.folder.load(std::memory_order_relaxed);
     if (s.seq.load(std::memory_order_relaxed) != before) continue;
-    if (folder)
-      (void)detail::remove_tree(name);
-    else
-      (void)::unlink(name);
+    (void)::unlink(name);
   }
   return true;
 }

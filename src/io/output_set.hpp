@@ -38,25 +38,17 @@ class OutputSet {
   // output of the set.
   OutputFile& add(const std::string& path, std::string kind);
 
-  // A new output folder at PATH, written as a whole: its files go into the temporary folder
-  // returned, beside PATH (tracked once for remove_temporaries_for_exit(), removed with
-  // everything in it when the set is not committed), and commit() moves it to PATH with the
-  // other outputs. An empty folder at PATH is replaced; another one only with overwrite, when
-  // REPLACEABLE (a file in it that marks it as this kind of output) is in it, and is then removed
-  // after the commit. Throws OutputError when PATH cannot be replaced or the folder not made.
-  const std::string& add_folder(const std::string& path, const std::string& replaceable);
-
   const std::vector<Entry>& entries() const { return entries_; }
   // The entry of FILE, an output of the set (null for another file).
   const Entry* entry_of(const OutputFile& file) const;
   bool overwrite() const { return overwrite_; }
 
-  // Closes every file (flushed to disk), and syncs the added folders. Then, with SIGINT, SIGTERM
-  // and SIGHUP blocked on this thread, removes every temporary and throws Cancelled when one of
-  // those signals is pending or `proceed` (the caller's last check) returns false; otherwise moves
-  // the files into place in the order added. When one cannot be moved, those already moved are put
-  // back (a replaced target gets its old content again, a new one is removed) and the OutputError
-  // is thrown. An empty set commits nothing.
+  // Closes every file (flushed to disk). Then, with SIGINT, SIGTERM and SIGHUP blocked on this
+  // thread, removes every temporary and throws Cancelled when one of those signals is pending
+  // or `proceed` (the caller's last check) returns false; otherwise moves the files into place
+  // in the order added. When one cannot be moved, those already moved are put back (a replaced
+  // target gets its old content again, a new one is removed) and the OutputError is thrown. An
+  // empty set commits nothing.
   void commit(const std::function<bool()>& proceed = {});
   bool committed() const { return committed_; }
 
@@ -65,15 +57,7 @@ class OutputSet {
   // Lookups by path and by file, so that a pyramid's many outputs cost constant time each.
   std::unordered_map<std::string, std::size_t> by_path_;
   std::unordered_map<const OutputFile*, std::size_t> by_file_;
-  struct Folder {
-    std::string path;
-    std::string temp_path;
-    int temp_slot = -1;
-  };
-  void remove_folder_temporaries() noexcept;
-
   std::vector<std::string> made_folders_;  // in the order made, parents first
-  std::vector<Folder> folders_;            // add_folder()
   bool overwrite_;
   bool committed_ = false;
 };

@@ -7,14 +7,9 @@
 
 namespace tincdt::io::detail {
 
-// Records PATH, a file, or with FOLDER a folder removed with everything in it; returns its slot,
-// or -1 when every slot is taken or the name is too long (the file is then only removed by its
-// owner, which is what happens on every ordinary exit).
-int track_temporary(const std::string& path, bool folder = false) noexcept;
-
-// Removes the folder PATH and everything in it, a few levels deep, with system calls only (a
-// signal handler may call it). Returns whether PATH is gone.
-bool remove_tree(const char* path) noexcept;
+// Records PATH; returns its slot, or -1 when every slot is taken or the name is too long (the
+// file is then only removed by its owner, which is what happens on every ordinary exit).
+int track_temporary(const std::string& path) noexcept;
 void untrack_temporary(int& slot) noexcept;  // sets slot to -1
 
 // Renames FROM to TO unless TO exists; 0 or the errno (EEXIST when TO exists).

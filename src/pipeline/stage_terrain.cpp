@@ -1,8 +1,8 @@
 // web_terrain: --terrain DIR, the final TIN as a Cesium quantized-mesh-1.0 pyramid: DIR/layer.json
 // and DIR/{z}/{x}/{y}.terrain in the geographic TMS tiling (EPSG:4326, two root tiles), each tile
 // within its level's geometric error of the full TIN (web_terrain/tile.hpp), neighbours sharing
-// their border vertices. The pyramid is one output of the job: written in a temporary folder
-// beside DIR and moved into place with the other outputs, or not at all.
+// their border vertices. Every tile is an output of the job: written to a temporary beside it and
+// moved into place with the other outputs, or not at all.
 //
 // web_terrain_crs runs right after read: a pyramid needs the data's CRS, so none stops the job
 // before any work.
@@ -21,7 +21,6 @@
 #include "io/terrain/lon_lat.hpp"
 #include "io/terrain/quantized_mesh.hpp"
 #include "io/terrain/wgs84.hpp"
-#include "io/whole_file.hpp"
 #include "pipeline/stage.hpp"
 #include "products/short_number.hpp"
 #include "web_terrain/source.hpp"
@@ -51,9 +50,9 @@ int level_for_spacing(double spacing) {
   return static_cast<int>(std::clamp(level, 0.0, static_cast<double>(kDeepestDefaultLevel)));
 }
 
-std::string tile_name(const qm::TileKey& key) {
-  return std::to_string(key.level) + "/" + std::to_string(key.x) + "/" + std::to_string(key.y) +
-         ".terrain";
+std::string tile_path(const std::string& dir, const qm::TileKey& key) {
+  return dir + "/" + std::to_string(key.level) + "/" + std::to_string(key.x) + "/" +
+         std::to_string(key.y) + ".terrain";
 }
 
 // The tiles of LEVEL the pyramid has: those over the data, and at level 0 both roots, which
@@ -106,20 +105,11 @@ void check_tile_count(Job& job, const qm::GeoRectangle& bounds, int max_level, s
                    " tiles), or a higher --terrain-max-tiles");
 }
 
-// The pyramid is one output: its files go into a temporary folder (FOLDER, of the outputs
-// added to the job) that the commit moves to the folder asked for, so that a failure or a
-// Ctrl-C, even a second one, leaves no tile behind and any folder there as it was. Each file is
-// in the run's report under its final path.
-struct Pyramid {
-  std::string path;    // the folder asked for
-  std::string folder;  // where its files are written until the commit
-};
-
-void write_file(Job& job, const Pyramid& pyramid, const std::string& name,
-                const std::string& bytes) {
-  io::write_whole_file(pyramid.folder + "/" + name, bytes);
-  job.report.outputs.push_back({pyramid.path + "/" + name, "terrain", bytes.size(),
-                                job.crs_names.label(job.crs_of_output("terrain"))});
+void write_file(Job& job, const std::string& path, const std::string& bytes) {
+  job.outputs.make_folders(std::filesystem::path(path).parent_path().string());
+  io::OutputFile& out = job.add_output(path, "terrain");
+  out.write(bytes);
+  job.finish_output(out);
 }
 
 struct LevelStats {
@@ -130,8 +120,8 @@ struct LevelStats {
   TileError error;
 };
 
-LevelStats write_level(Job& job, const Pyramid& pyramid, const TerrainSource& source, int level,
-                       int max_level, double done, double share) {
+LevelStats write_level(Job& job, const TerrainSource& source, int level, int max_level, double done,
+                       double share) {
   const qm::TileRange range = level_tiles(source.bounds(), level);
   const double error = qm::geometric_error_at_level(level);
   const std::uint64_t count = tile_count(range);
@@ -142,7 +132,8 @@ LevelStats write_level(Job& job, const Pyramid& pyramid, const TerrainSource& so
       const web_terrain::BuiltTile tile = web_terrain::build_tile(source, key, error);
       qm::QuantizedMeshOptions options;
       options.available = children(key, max_level, source.bounds());
-      write_file(job, pyramid, tile_name(key), qm::encode_quantized_mesh(tile.mesh, options));
+      write_file(job, tile_path(job.options.terrain.path, key),
+                 qm::encode_quantized_mesh(tile.mesh, options));
       ++stats.tiles;
       stats.vertices += tile.mesh.vertices.size();
       stats.line_segments += tile.line_segments;
@@ -199,7 +190,6 @@ void run(Job& job) {
                    o.max_level ? "levels 0-" + count_text(max_level)
                                : "the default levels 0-" + count_text(max_level) +
                                      " (the data's point spacing)");
-  const Pyramid pyramid{o.path, job.outputs.add_folder(o.path, "layer.json")};
   qm::TerrainLayer layer;
   layer.bounds = source.bounds();
   layer.min_zoom = o.min_level;
@@ -211,7 +201,7 @@ void run(Job& job) {
   for (int level = o.min_level; level <= max_level; ++level) {
     layer.available[level] = {level_tiles(source.bounds(), level)};
     const double share = shares[static_cast<std::size_t>(level - o.min_level)];
-    const LevelStats s = write_level(job, pyramid, source, level, max_level, done, share);
+    const LevelStats s = write_level(job, source, level, max_level, done, share);
     done += share;
     const double rmse =
         s.error.count ? std::sqrt(s.error.sum_squares / static_cast<double>(s.error.count)) : 0;
@@ -231,12 +221,12 @@ void run(Job& job) {
                "closer than a tile's quantization step (1/32767 of its width) differ more in " +
                "height (walls, trees; ground points alone make a smoother terrain)");
   }
-  write_file(job, pyramid, "layer.json", qm::layer_json(layer));
+  write_file(job, o.path + "/layer.json", qm::layer_json(layer));
 }
 
-// The pyramid replaces its folder as a whole: a new one is checked as a file would be (its
-// parent folder exists and is writable); one that exists must be empty, or hold a pyramid
-// (layer.json), replaced only with --overwrite.
+// The folder is made when the tiles are written: until then, a new one is checked as a file
+// would be (its parent folder exists and is writable), and in one that exists layer.json must
+// not (without --overwrite).
 void plan(const BuildOptions& o, FilePlan& files) {
   std::error_code ec;
   if (std::filesystem::exists(o.terrain.path, ec))
@@ -281,12 +271,6 @@ void check_crs(Job& job) {
                      "web terrain (--terrain) needs the data's CRS to place it on the globe, and "
                      "the input has none: assign one with --a-srs");
   const BuildOptions::Terrain& o = job.options.terrain;
-  std::error_code ec;
-  if (std::filesystem::is_directory(o.path, ec) && !std::filesystem::is_empty(o.path, ec) &&
-      !std::filesystem::exists(o.path + "/layer.json", ec))
-    throw OutputError(o.path, "",
-                      "is a folder without layer.json, which is not replaced: give a new or "
-                      "empty folder");
   if (o.max_level && !job.points.empty())
     check_tile_count(job, points_lon_lat_box(job), *o.max_level, o.max_tiles,
                      "levels 0-" + count_text(*o.max_level));
