@@ -27,7 +27,7 @@ constexpr std::pair<Remedy, std::string_view> kHints[] = {
     {Remedy::assign_crs, "; give the CRS of the inputs that have none with --a-srs SRS"},
     {Remedy::target_after_merge,
      "; merge the tiles, then transform the merged TIN into the target CRS with --t-srs in a job "
-     "of its own"},
+     "of its own, giving it the lines again (a PLY's points carry no constrained edges)"},
 };
 
 constexpr bool one_row_per_remedy() {
