@@ -16,6 +16,7 @@
 #include "core/json.hpp"
 #include "core/number_text.hpp"
 #include "core/parallel.hpp"
+#include "core/quoted_text.hpp"
 #include "io/output_set.hpp"
 #include "io/points/point_summary.hpp"
 #include "io/vector/line_reader.hpp"
@@ -607,7 +608,7 @@ void read_inputs(const JsonValue& doc, const PlanReader& r, TilePlan& plan) {
     PlanInput input = read_input(v, r, "input " + std::to_string(plan.inputs.size()));
     if (input.kind != "points" && input.kind != "contours" && input.kind != "breaklines")
       r.fail("input " + std::to_string(plan.inputs.size()),
-             "kind '" + input.kind + "' (points, contours or breaklines)");
+             "kind " + quoted_text(input.kind) + " (points, contours or breaklines)");
     plan.inputs.push_back(std::move(input));
   }
 }

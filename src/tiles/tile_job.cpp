@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/quoted_text.hpp"
 #include "pipeline/stage.hpp"
 #include "tiles/plan.hpp"
 
@@ -49,12 +50,13 @@ void check_unchanged(const PlanInput& in, const std::string& path, const std::st
   const bool regular = fs::is_regular_file(file, ec);
   if (in.fingerprint.empty()) return;  // not a plain file (a database, a URL): nothing to compare
   if (!regular)
-    throw InputError(plan_path, where,
-                     "input " + path + " is missing: the plan was made from other inputs");
+    throw InputError(
+        plan_path, where,
+        "input " + name_text(path) + " is missing: the plan was made from other inputs");
   const auto bytes = static_cast<std::uint64_t>(fs::file_size(file, ec));
   if (bytes != in.bytes || file_fingerprint(file) != in.fingerprint)
     throw InputError(plan_path, where,
-                     "input " + path + " has changed since the plan was made (" +
+                     "input " + name_text(path) + " has changed since the plan was made (" +
                          (bytes != in.bytes ? std::to_string(in.bytes) + " bytes then, " +
                                                   std::to_string(bytes) + " now"
                                             : std::string("same size, other content")) +
