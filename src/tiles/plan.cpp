@@ -409,10 +409,13 @@ std::vector<Point2> data_outline(const TilePlan& plan) {
 void check_tile_count(const tiles::TileGrid& grid, const BBox& all) {
   const double cols_f = std::floor(all.max_x / grid.size) - std::floor(all.min_x / grid.size) + 1;
   const double rows_f = std::floor(all.max_y / grid.size) - std::floor(all.min_y / grid.size) + 1;
-  if (!(cols_f * rows_f <= static_cast<double>(kMaxTiles)))
-    throw UsageError("--tile-size " + json_number(grid.size) + " makes about " +
-                     json_number(std::round(cols_f * rows_f)) + " tiles over the data (at most " +
-                     std::to_string(kMaxTiles) + "): choose a larger tile size");
+  if (!(cols_f * rows_f <= static_cast<double>(kMaxTiles))) {
+    const double count = std::round(cols_f * rows_f);
+    throw UsageError(
+        "--tile-size " + json_number(grid.size) + " makes about " +
+        (count < 1e15 ? count_text(static_cast<std::uint64_t>(count)) : number_text(count)) +
+        " tiles over the data (at most " + count_text(kMaxTiles) + "): choose a larger tile size");
+  }
 }
 
 // The tiles of the grid over ALL that meet OUTLINE, north to south, each row west to east, each
