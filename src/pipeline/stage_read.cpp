@@ -22,6 +22,7 @@
 #include "io/points/point_reader.hpp"
 #include "io/vector/line_reader.hpp"
 #include "io/vector/polygon_reader.hpp"
+#include "pipeline/dem_grid.hpp"
 #include "pipeline/file_checks.hpp"
 #include "pipeline/input_crs.hpp"
 #include "pipeline/stage.hpp"
@@ -257,6 +258,7 @@ void run(Job& job) {
       {&job.replace, &job.options.replace}};
   for (const auto& [input, paths] : kinds) read_surface_kind(job, crs, *input, *paths);
   settle_crs(job, crs);
+  check_dem_grid_early(job);  // the extent is known: an impossible DEM stops here
 }
 
 void plan(const BuildOptions& o, FilePlan& files) {
