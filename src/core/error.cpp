@@ -2,6 +2,8 @@
 
 #include <utility>
 
+#include "core/quoted_text.hpp"
+
 namespace tincdt {
 namespace {
 
@@ -10,7 +12,7 @@ std::string compose(const std::string& file, const std::string& where, const std
   for (const std::string* part : {&file, &where, &detail}) {
     if (part->empty()) continue;
     if (!s.empty()) s += ": ";
-    s += *part;
+    s += part == &file ? name_text(file) : *part;
   }
   return s;
 }

@@ -15,6 +15,7 @@
 #include "core/error.hpp"
 #include "core/number_text.hpp"
 #include "io/raster/dem_writer.hpp"
+#include "pipeline/dem_grid.hpp"
 #include "pipeline/stage.hpp"
 #include "products/rasterize.hpp"
 #include "products/short_number.hpp"
@@ -82,6 +83,20 @@ void check_fits_in_memory(const BuildOptions::Dem& o, const products::Grid& grid
                         " GiB): give a coarser resolution or a smaller extent");
 }
 
+// The grid over EXTENT, with the checks every DEM gets: a resolution fine enough for distinct
+// cell centres and at most 2^31 - 1 columns and rows (grid_over), at least 2 x 2 cells.
+products::Grid checked_grid(const BuildOptions::Dem& o, const BBox& extent,
+                            const std::string& crs_wkt) {
+  products::Grid grid;
+  try {
+    grid = products::grid_over(extent, o.resolution, o.target_aligned);
+  } catch (const Error& e) {
+    throw OutputError(o.path, "", e.detail());
+  }
+  check_enough_cells(o, grid, extent, crs_wkt);
+  return grid;
+}
+
 template <class T>
 void rasterize_and_write(Job& job, const products::Grid& grid, io::OutputFile& out) {
   const BuildOptions::Dem& o = job.options.dem;
@@ -124,13 +139,7 @@ void run(Job& job) {
   if (job.dem_grid) {
     grid = *job.dem_grid;
   } else {
-    const BBox extent = o.extent ? *o.extent : products::kept_extent(job.tin());
-    try {
-      grid = products::grid_over(extent, o.resolution, o.target_aligned);
-    } catch (const Error& e) {
-      throw OutputError(o.path, "", e.detail());
-    }
-    check_enough_cells(o, grid, extent, job.crs_wkt);
+    grid = checked_grid(o, o.extent ? *o.extent : products::kept_extent(job.tin()), job.crs_wkt);
   }
   check_fits_in_memory(o, grid, o.float64 ? sizeof(double) : sizeof(float));
   BuildReport::Dem& r = job.report.dem;
@@ -149,6 +158,39 @@ void run(Job& job) {
   job.info("DEM: " + count_text(grid.width) + " x " + count_text(grid.height) + " cells, " +
            count_text(r.cells_with_value) + " with a value");
 }
+
+}  // namespace
+
+// Without --dem-extent the DEM covers the kept triangles, whose extent is the points' unless
+// clip, erase or trim remove some. The grid over the points' extent is then the DEM's, and one
+// too fine, too large or too coarse is refused before the Delaunay stage. When triangles may be
+// removed only a grid too coarse there is sure to be one at the end; the rest waits for the TIN.
+void check_dem_grid_early(const Job& job) {
+  const BuildOptions::Dem& o = job.options.dem;
+  if (o.path.empty() || job.dem_grid) return;
+  BBox extent;
+  if (o.extent) {
+    extent = *o.extent;
+  } else {
+    for (const Point3& p : job.points) extent.add(p.x, p.y);
+    if (!(extent.min_x <= extent.max_x)) return;  // no points: the Delaunay stage says so
+  }
+  const BuildOptions& options = job.options;
+  if (!o.extent && (!options.clip.empty() || !options.erase.empty() || options.max_edge > 0)) {
+    products::Grid largest;
+    try {
+      largest = products::grid_over(extent, o.resolution, o.target_aligned);
+    } catch (const Error&) {
+      return;
+    }
+    check_enough_cells(o, largest, extent, job.crs_wkt);
+    return;
+  }
+  const products::Grid grid = checked_grid(o, extent, job.crs_wkt);
+  check_fits_in_memory(o, grid, o.float64 ? sizeof(double) : sizeof(float));
+}
+
+namespace {
 
 // The further files of the format (an ASCII grid's .prj) are planned with it, so that an
 // existing one stops the job before any work.

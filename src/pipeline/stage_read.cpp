@@ -16,11 +16,13 @@
 
 #include "core/error.hpp"
 #include "core/memory.hpp"
+#include "core/number_text.hpp"
 #include "io/crs.hpp"
 #include "io/crs_probe.hpp"
 #include "io/points/point_reader.hpp"
 #include "io/vector/line_reader.hpp"
 #include "io/vector/polygon_reader.hpp"
+#include "pipeline/dem_grid.hpp"
 #include "pipeline/file_checks.hpp"
 #include "pipeline/input_crs.hpp"
 #include "pipeline/stage.hpp"
@@ -87,8 +89,8 @@ void read_point_files(Job& job, detail::InputCrs& crs) {
     job.report.points_read += s.points_read;
     job.report.points_kept += s.points_kept;
     job.debug(path + ": " + (s.format.empty() ? std::string("points") : s.format) + ", " +
-              std::to_string(s.points_read) + " points, " + std::to_string(s.points_kept) +
-              " kept, " + job.crs_names.name(s.crs_wkt));
+              count_text(s.points_read) + " points, " + count_text(s.points_kept) + " kept, " +
+              job.crs_names.name(s.crs_wkt));
     if (inputs.size() > 1) {  // with one input, the Delaunay stage's error says it all
       if (s.points_read == 0)
         job.warn(path + ": no points in the file");
@@ -121,8 +123,8 @@ void read_line_sources(Job& job, detail::InputCrs& crs) {
     for (const std::string& w : s.warnings) job.warn(w);
     job.report.line_features += s.features;
     job.report.zero_length_segments += s.zero_length_segments;
-    job.debug(path + ": layer " + s.layer + ", " + std::to_string(s.features) + " features, " +
-              std::to_string(s.segments) + " segments, " + job.crs_names.name(s.crs_wkt));
+    job.debug(path + ": layer " + s.layer + ", " + count_text(s.features) + " features, " +
+              count_text(s.segments) + " segments, " + job.crs_names.name(s.crs_wkt));
     crs.add(path, s.crs_wkt);
     detail::InputTransform(job, crs, path).apply_to_lines(lines, before, s.layer);
     const std::uint32_t file = job.sources.add_file(lines.files.back());
@@ -167,7 +169,7 @@ void read_surface_kind(Job& job, detail::InputCrs& crs, detail::SurfaceInput& in
                                        : io::read_polygons(path, shape, input.data);
     for (const std::string& w : s.warnings) job.warn(w);
     job.debug(path + ": " + detail::kind_name(input.kind) + ", layer " + s.layer + ", " +
-              std::to_string(s.features) + " features, " + std::to_string(s.parts) +
+              count_text(s.features) + " features, " + count_text(s.parts) +
               (lines ? " lines, " : " rings, ") + job.crs_names.name(s.crs_wkt));
     crs.add(path, s.crs_wkt);
     detail::InputTransform(job, crs, path).apply_to_shapes(input.data, before, s.layer);
@@ -256,6 +258,7 @@ void run(Job& job) {
       {&job.replace, &job.options.replace}};
   for (const auto& [input, paths] : kinds) read_surface_kind(job, crs, *input, *paths);
   settle_crs(job, crs);
+  check_dem_grid_early(job);  // the extent is known: an impossible DEM stops here
 }
 
 void plan(const BuildOptions& o, FilePlan& files) {

@@ -161,8 +161,7 @@ void borders_of(const io::PlyMesh& m, std::uint32_t tile, const std::vector<std:
   std::uint32_t e = 0, f = 0;
   if (half.repeated(e, f)) {
     const Point3& p = m.vertices[m.faces[e / 3][e % 3]];
-    throw InputError(names[tile],
-                     "triangles " + std::to_string(e / 3) + " and " + std::to_string(f / 3),
+    throw InputError(names[tile], "triangles " + count_text(e / 3) + " and " + count_text(f / 3),
                      "overlap: both have the edge from " + at(xy(p)) + " on the same side");
   }
   std::vector<std::uint64_t> constrained;
@@ -249,7 +248,7 @@ void check_hull(std::vector<Border> hull, const std::vector<std::string>& names)
   }
   if (loops != 1)
     throw InputError(names.front(), "",
-                     "a crack: the outline of the tiles is " + std::to_string(loops) +
+                     "a crack: the outline of the tiles is " + count_text(loops) +
                          " loops, not one (a hole between tiles, or tiles of different runs)");
 }
 

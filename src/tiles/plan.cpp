@@ -16,6 +16,7 @@
 #include "core/json.hpp"
 #include "core/number_text.hpp"
 #include "core/parallel.hpp"
+#include "core/quoted_text.hpp"
 #include "io/output_set.hpp"
 #include "io/points/point_summary.hpp"
 #include "io/vector/line_reader.hpp"
@@ -408,10 +409,13 @@ std::vector<Point2> data_outline(const TilePlan& plan) {
 void check_tile_count(const tiles::TileGrid& grid, const BBox& all) {
   const double cols_f = std::floor(all.max_x / grid.size) - std::floor(all.min_x / grid.size) + 1;
   const double rows_f = std::floor(all.max_y / grid.size) - std::floor(all.min_y / grid.size) + 1;
-  if (!(cols_f * rows_f <= static_cast<double>(kMaxTiles)))
-    throw UsageError("--tile-size " + json_number(grid.size) + " makes about " +
-                     json_number(std::round(cols_f * rows_f)) + " tiles over the data (at most " +
-                     std::to_string(kMaxTiles) + "): choose a larger tile size");
+  if (!(cols_f * rows_f <= static_cast<double>(kMaxTiles))) {
+    const double count = std::round(cols_f * rows_f);
+    throw UsageError(
+        "--tile-size " + json_number(grid.size) + " makes about " +
+        (count < 1e15 ? count_text(static_cast<std::uint64_t>(count)) : number_text(count)) +
+        " tiles over the data (at most " + count_text(kMaxTiles) + "): choose a larger tile size");
+  }
 }
 
 // The tiles of the grid over ALL that meet OUTLINE, north to south, each row west to east, each
@@ -607,7 +611,7 @@ void read_inputs(const JsonValue& doc, const PlanReader& r, TilePlan& plan) {
     PlanInput input = read_input(v, r, "input " + std::to_string(plan.inputs.size()));
     if (input.kind != "points" && input.kind != "contours" && input.kind != "breaklines")
       r.fail("input " + std::to_string(plan.inputs.size()),
-             "kind '" + input.kind + "' (points, contours or breaklines)");
+             "kind " + quoted_text(input.kind) + " (points, contours or breaklines)");
     plan.inputs.push_back(std::move(input));
   }
 }

@@ -12,6 +12,8 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/number_text.hpp"
+#include "core/quoted_text.hpp"
 #include "pipeline/stage.hpp"
 #include "tiles/plan.hpp"
 
@@ -49,16 +51,17 @@ void check_unchanged(const PlanInput& in, const std::string& path, const std::st
   const bool regular = fs::is_regular_file(file, ec);
   if (in.fingerprint.empty()) return;  // not a plain file (a database, a URL): nothing to compare
   if (!regular)
-    throw InputError(plan_path, where,
-                     "input " + path + " is missing: the plan was made from other inputs");
+    throw InputError(
+        plan_path, where,
+        "input " + name_text(path) + " is missing: the plan was made from other inputs");
   const auto bytes = static_cast<std::uint64_t>(fs::file_size(file, ec));
   if (bytes != in.bytes || file_fingerprint(file) != in.fingerprint)
-    throw InputError(plan_path, where,
-                     "input " + path + " has changed since the plan was made (" +
-                         (bytes != in.bytes ? std::to_string(in.bytes) + " bytes then, " +
-                                                  std::to_string(bytes) + " now"
-                                            : std::string("same size, other content")) +
-                         "): make the plan again");
+    throw InputError(
+        plan_path, where,
+        "input " + name_text(path) + " has changed since the plan was made (" +
+            (bytes != in.bytes ? count_text(in.bytes) + " bytes then, " + count_text(bytes) + " now"
+                               : std::string("same size, other content")) +
+            "): make the plan again");
 }
 
 // The regions where data the tile does not hold may lie (TileSetup::missing).
@@ -450,7 +453,7 @@ void add_tile_rim(TileJob& job) {
     job.points.push_back(p);
     ++added;
   }
-  job.debug("tile " + std::to_string(tile.index) + ": " + std::to_string(added) +
+  job.debug("tile " + std::to_string(tile.index) + ": " + count_text(added) +
             " rim points outside the buffered box");
 }
 
@@ -497,8 +500,8 @@ void keep_tile_lines(TileJob& job) {
     s.b = renumber[s.b];
     lines.segments[kept++] = s;
   }
-  job.debug("tile " + std::to_string(tile.index) + ": " + std::to_string(kept) + " of " +
-            std::to_string(lines.segments.size()) + " line segments meet the buffered box");
+  job.debug("tile " + std::to_string(tile.index) + ": " + count_text(kept) + " of " +
+            count_text(lines.segments.size()) + " line segments meet the buffered box");
   lines.segments.resize(kept);
   lines.vertices = std::move(vertices);
 }

@@ -6,6 +6,8 @@
 #include <stdlib.h>
 
 #include <algorithm>
+#include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <regex>
 #include <string>
@@ -128,6 +130,40 @@ TEST_F(ProgressCli, OnATerminalOneLineRedrawnWithHumanNamesNeverGoingBack) {
   ASSERT_GE(summary, 4u);
   EXPECT_EQ(r.screen.substr(summary - 4, 4), "\r\x1b[K") << r.screen;
   EXPECT_EQ(r.screen.find('\r', summary), std::string::npos) << r.screen;
+}
+
+// N x N points, a jittered grid (a fixed sequence), as XYZ text at PATH.
+void write_jittered_grid(const std::string& path, int n) {
+  std::string text;
+  text.reserve(static_cast<std::size_t>(n) * static_cast<std::size_t>(n) * 24);
+  std::uint64_t state = 0x9E3779B97F4A7C15ULL;
+  const auto jitter = [&state] {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return static_cast<int>((state >> 33) % 500);
+  };
+  char line[64];
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      std::snprintf(line, sizeof line, "%d.%03d %d.%03d 0.%03d\n", i, jitter(), j, jitter(),
+                    jitter());
+      text += line;
+    }
+  tincdt::test::spit(path, text);
+}
+
+// A stage that runs for seconds: its line shows the rate (points a second) and the time left.
+// tincdt grid.xyz -o t.ply --threads 1      (2.56 million points; stderr a terminal)
+TEST_F(ProgressCli, OnATerminalALongStageShowsItsRateAndTimeLeft) {
+  write_jittered_grid(dir_ + "/grid.xyz", 1600);
+  const tincdt::test::TerminalRun r =
+      run_on_terminal({dir_ + "/grid.xyz", "-o", dir_ + "/t.ply", "--threads", "1"});
+  std::filesystem::remove(dir_ + "/grid.xyz");
+  std::filesystem::remove(dir_ + "/t.ply");
+  ASSERT_EQ(r.exit_code, 0) << r.screen;
+  const std::regex triangulating(
+      R"(\[2/3\] triangulating \[[#-]{20}\] +\d+%  [0-9.]+[kM]? points/s  \d+:\d\d elapsed  )"
+      R"(\d+:\d\d left)");
+  EXPECT_TRUE(std::regex_search(r.screen, triangulating)) << r.screen.substr(0, 4000);
 }
 
 // The same job with stderr a file: one GDAL line per stage, every stage in order, no '\r'.

@@ -11,6 +11,7 @@
 
 #include "core/error.hpp"
 #include "core/number_text.hpp"
+#include "core/quoted_text.hpp"
 #include "io/mapped_file.hpp"
 
 namespace tincdt::io {
@@ -129,11 +130,8 @@ class Values {
     if (start == stop) fail("the file ends inside the data");
     double v = 0;
     const auto [ptr, ec] = std::from_chars(start, stop, v);
-    if (ec != std::errc() || ptr != stop) {
-      std::string what = "'";  // appended, not concatenated: GCC 12 -Wrestrict misfires there
-      what.append(start, stop).append("' is not a number");
-      fail(what);
-    }
+    if (ec != std::errc() || ptr != stop)
+      fail(quoted_text({start, static_cast<std::size_t>(stop - start)}) + " is not a number");
     return v;
   }
 
@@ -175,7 +173,7 @@ Header read_header(const std::string& path, std::string_view text, PlyMesh& mesh
       if (f == "ascii")
         h.ascii = true;
       else if (f != "binary_little_endian")
-        bad("format '" + f + "' (ascii and binary_little_endian are read)");
+        bad("format " + quoted_text(f) + " (ascii and binary_little_endian are read)");
     } else if (word == "comment") {
       std::string key;
       ls >> key;
@@ -204,11 +202,11 @@ Header read_header(const std::string& path, std::string_view text, PlyMesh& mesh
           bad("an unknown list type");
       } else {
         ls >> p.name;
-        if (!parse_type(type, p.type)) bad("unknown property type '" + type + "'");
+        if (!parse_type(type, p.type)) bad("unknown property type " + quoted_text(type));
       }
       h.elements.back().props.push_back(std::move(p));
     } else if (word != "ply" && word != "obj_info" && !word.empty()) {
-      bad("unknown header line '" + word + "'");
+      bad("unknown header line " + quoted_text(word));
     }
   }
   return h;
@@ -228,7 +226,7 @@ Columns columns_of(Values& in, const Element& e, bool ascii) {
   for (const Property& p : e.props)
     min_bytes += ascii ? 2 : size_of(p.list ? p.count_type : p.type);
   if (min_bytes > 0 && e.count > in.remaining() / min_bytes)
-    in.fail("element '" + e.name + "' announces " + count_text(e.count) +
+    in.fail("element " + quoted_text(e.name) + " announces " + count_text(e.count) +
             " items, more than the file holds");
   Columns c{};
   c.x = e.find("x"), c.y = e.find("y"), c.z = e.find("z");

@@ -30,6 +30,7 @@
 #include "core/error.hpp"
 #include "core/number_text.hpp"
 #include "core/parallel.hpp"
+#include "core/quoted_text.hpp"
 #include "io/mapped_file.hpp"
 #include "io/points/point_reader.hpp"
 #include "io/points/point_selection.hpp"
@@ -228,41 +229,12 @@ void parse_piece(const char* b, const char* e, const Layout& layout, std::vector
   }
 }
 
-// The length of the well-formed UTF-8 sequence of 2 to 4 bytes at [p, e), 0 when there is none.
-std::size_t utf8_length(const char* p, const char* e) {
-  const auto c = static_cast<unsigned char>(*p);
-  const std::size_t n = c >= 0xC2 && c <= 0xDF   ? 2
-                        : c >= 0xE0 && c <= 0xEF ? 3
-                        : c >= 0xF0 && c <= 0xF4 ? 4
-                                                 : 0;
-  if (n == 0 || static_cast<std::size_t>(e - p) < n) return 0;
-  for (std::size_t i = 1; i < n; ++i) {
-    if ((static_cast<unsigned char>(p[i]) & 0xC0) != 0x80) return 0;
-  }
-  return n;
-}
-
-// Text of a line or field for a message: no CR, printable ASCII and well-formed UTF-8 kept, any
-// other byte as '?' (a binary file's bytes never reach the terminal), at most 60 characters.
+// A line or field for a message, quoted: without its carriage returns, any byte that is not
+// printable text escaped (a binary file's bytes never reach the terminal), at most 60 characters.
 std::string quote(const char* b, const char* e) {
-  constexpr std::size_t kMax = 60;
-  std::string s;
-  std::size_t chars = 0;
-  const char* p = b;
-  while (p < e && chars < kMax) {
-    const auto c = static_cast<unsigned char>(*p);
-    const std::size_t n = c >= 0x80 ? utf8_length(p, e) : 0;
-    if (n > 0) {
-      s.append(p, n);
-      p += n;
-    } else {
-      if (c != '\r') s.push_back(c >= 0x20 && c < 0x7F ? *p : '?');
-      ++p;
-    }
-    chars += c != '\r';
-  }
-  if (p < e) s += "...";
-  return s;
+  std::string text(b, e);
+  std::erase(text, '\r');
+  return quoted_text(text, 60);
 }
 
 // Text with carriage returns in it, not binary data (which holds other control bytes).
@@ -306,29 +278,28 @@ const char* const kCrOnlyAdvice =
       why = "field " + count_text(f.column + 1) + " is empty";
       break;
     case Problem::kNotANumber:
-      why = "'" + field + "' is not a number";
+      why = field + " is not a number";
       break;
     case Problem::kNotFinite:
-      why = "'" + field + "' is not a finite number";
+      why = field + " is not a finite number";
       break;
     case Problem::kOutOfRange:
-      why = "'" + field + "' is beyond +-" + kMaxCoordinateText +
+      why = field + " is beyond +-" + kMaxCoordinateText +
             ", the coordinate range tincdt computes with; wrong units or a corrupt value?";
       break;
     case Problem::kNoDelimiter:
-      why = std::string("no '") + delimiter + "' before '" + field + "'";
+      why = std::string("no '") + delimiter + "' before " + field;
       break;
     case Problem::kBadClass:
-      why = "'" + field + "' is not a class code (0 to 255)";
+      why = field + " is not a class code (0 to 255)";
       break;
     case Problem::kNone:
     case Problem::kBareCr:
     case Problem::kTooLong:
       break;
   }
-  throw InputError(
-      name, "line " + count_text(line_number),
-      "expected 3 numbers x y z, got '" + quote(f.line, f.line_end) + "' (" + why + ")");
+  throw InputError(name, "line " + count_text(line_number),
+                   "expected 3 numbers x y z, got " + quote(f.line, f.line_end) + " (" + why + ")");
 }
 
 std::string lower_unquoted(std::string_view s) {
