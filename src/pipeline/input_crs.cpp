@@ -112,9 +112,37 @@ void InputCrs::check_none_without() const {
                      Remedy::assign_crs);
 }
 
+void InputCrs::read_extent(const std::string& path, std::span<const Point3> points) {
+  BBox& box = extents_[path];
+  for (const Point3& p : points) box.add(p.x, p.y);
+}
+
+std::string InputCrs::implied_misfit() const {
+  if (!io::is_geographic(implied_.front().wkt)) return {};
+  for (const std::string& path : order_) {
+    const auto it = extents_.find(path);
+    if (it == extents_.end() || taken_.contains(path)) continue;
+    const BBox& b = it->second;
+    if (!(b.min_x <= b.max_x)) continue;  // nothing read
+    if (b.min_x >= -180 && b.max_x <= 360 && b.min_y >= -90 && b.max_y <= 90) continue;
+    const std::string& source = implied_.front().path;
+    return path + ": no CRS in the file, and its coordinates (x " + number_text(b.min_x) + " to " +
+           number_text(b.max_x) + ", y " + number_text(b.min_y) + " to " + number_text(b.max_y) +
+           ") are not longitudes and latitudes: " +
+           (path == source ? "its format's default " : "the default of " + source + ", ") +
+           job_.crs_names.name(implied_.front().wkt) +
+           ", is not assumed, and the TIN has no CRS (assign one with --a-srs)";
+  }
+  return {};
+}
+
 void InputCrs::finish() {
   check_none_without();
   if (!crs_.empty() || implied_.empty()) return;
+  if (const std::string misfit = implied_misfit(); !misfit.empty()) {
+    job_.warn(misfit);
+    return;
+  }
   crs_ = implied_.front().wkt;
   source_ = implied_.front().path;
   for (const Implied& other : implied_) {

@@ -41,8 +41,14 @@ class InputCrs {
   // has one.
   void check_none_without() const;
 
+  // The x, y extent of input PATH's coordinates as read (POINTS), for finish() to check against
+  // a CRS its format implies.
+  void read_extent(const std::string& path, std::span<const Point3> points);
+
   // After every input: check_none_without(); then, when no input names a CRS, the one implied
-  // (if any) is the inputs', and the inputs without a CRS take it, with a warning each.
+  // (if any) is the inputs', and the inputs without a CRS take it, with a warning each; unless
+  // the coordinates of one cannot be in it (projected metres in GeoJSON's default longitude and
+  // latitude): then the job has no CRS, with a warning naming that input.
   void finish();
 
   // The job's CRS: the target CRS, else that of the inputs added so far, "" when none has one.
@@ -64,6 +70,9 @@ class InputCrs {
   };
   // crs_ and source_ from taken_: the first input in order_ with a CRS.
   void settle_first();
+  // finish()'s warning when an input without a CRS of its own lies where the implied CRS cannot
+  // hold it, "" when none does.
+  std::string implied_misfit() const;
   // transform_from() with a target CRS: from the CRS PATH is taken in, its format's default when
   // no input names its CRS (check_none_without() throws otherwise).
   const std::string& transform_to_target_from(const std::string& path) const;
@@ -76,6 +85,7 @@ class InputCrs {
   std::map<std::string, std::string> taken_;  // path -> the CRS it is taken in, when it has one
   std::vector<std::string> without_crs_;
   std::vector<Implied> implied_;
+  std::map<std::string, BBox> extents_;  // read_extent()
 };
 
 // The transformation of one input into the job's CRS, when InputCrs takes it in another: its

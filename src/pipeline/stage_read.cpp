@@ -97,6 +97,7 @@ void read_point_files(Job& job, detail::InputCrs& crs) {
       else if (s.points_kept == 0)
         job.warn(path + ": the filters kept none of its points");
     }
+    if (s.crs_wkt.empty()) crs.read_extent(path, std::span(job.points).subspan(points_before));
     crs.add(path, s.crs_wkt);
     detail::InputTransform(job, crs, path).apply_to_points(job.points, points_before);
     job.report.inputs.push_back(std::move(in));
@@ -125,6 +126,7 @@ void read_line_sources(Job& job, detail::InputCrs& crs) {
     job.report.zero_length_segments += s.zero_length_segments;
     job.debug(path + ": layer " + s.layer + ", " + count_text(s.features) + " features, " +
               count_text(s.segments) + " segments, " + job.crs_names.name(s.crs_wkt));
+    crs.read_extent(path, std::span(lines.vertices).subspan(before.vertices));
     crs.add(path, s.crs_wkt);
     detail::InputTransform(job, crs, path).apply_to_lines(lines, before, s.layer);
     const std::uint32_t file = job.sources.add_file(lines.files.back());
@@ -171,6 +173,9 @@ void read_surface_kind(Job& job, detail::InputCrs& crs, detail::SurfaceInput& in
     job.debug(path + ": " + detail::kind_name(input.kind) + ", layer " + s.layer + ", " +
               count_text(s.features) + " features, " + count_text(s.parts) +
               (lines ? " lines, " : " rings, ") + job.crs_names.name(s.crs_wkt));
+    for (std::size_t f = features_before; f < input.data.features.size(); ++f)
+      for (const io::ShapePart& part : input.data.features[f].parts)
+        crs.read_extent(path, part.points);
     crs.add(path, s.crs_wkt);
     detail::InputTransform(job, crs, path).apply_to_shapes(input.data, before, s.layer);
     const std::uint32_t file = job.sources.add_file(input.data.files.back());

@@ -5,6 +5,7 @@
 #include <cpl_json.h>
 
 #include <filesystem>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -137,6 +138,46 @@ TEST(CrsCli, AGeoJsonNamingNoCrsBesideALasFileNeedsASrs) {
   const ShellRun given = run_tincdt(
       dir, shared("las/Topography.las") + " --hard-lines line.geojson --a-srs EPSG:2949 -o t.ply");
   EXPECT_EQ(given.exit_code, 0) << given;
+}
+
+// GeoJSON's default CRS is longitude/latitude: a GeoJSON file that names no CRS, with an XYZ file
+// that names none either, is taken in it only when the coordinates can be degrees. With projected
+// metres the default is not assumed, saying so and naming the file: the TIN has no CRS, as with
+// XYZ files alone, rather than a continent-wide one in degrees.
+TEST(CrsCli, ProjectedCoordinatesAreNotTakenInGeoJsonsDefault) {
+  const std::string dir = scratch_dir("crs_cli");
+  spit(fs::path(dir) / "points.xyz",
+       "500000 4000000 10\n500100 4000000 11\n500000 4000100 12\n500100 4000100 13\n");
+  spit(fs::path(dir) / "line.geojson",
+       R"({"type": "FeatureCollection", "features": [{"type": "Feature",)"
+       R"( "properties": {}, "geometry": {"type": "LineString", "coordinates":)"
+       R"( [[500010, 4000010, 11], [500090, 4000090, 12]]}}]})");
+  const ShellRun r =
+      run_tincdt(dir, "points.xyz --hard-lines line.geojson -o t.ply --stats s.json");
+  EXPECT_EQ(r.exit_code, 0) << r;
+  EXPECT_TRUE(has(r,
+                  "points.xyz: no CRS in the file, and its coordinates (x 500,000 to 500,100, "
+                  "y 4,000,000 to 4,000,100) are not longitudes and latitudes: the default of "))
+      << r;
+  EXPECT_TRUE(has(r, "line.geojson, EPSG:4979, is not assumed, and the TIN has no CRS")) << r;
+  EXPECT_FALSE(has(r, "assuming")) << r;
+  EXPECT_EQ(stats_crs(dir + "/s.json"), "");  // the stats name no CRS
+  EXPECT_FALSE(fs::exists(fs::path(dir) / "t.prj"));
+  // The GeoJSON file's own coordinates, beside points in degrees:
+  spit(fs::path(dir) / "lonlat.xyz", "7 45 1\n7.001 45 2\n7 45.001 3\n7.001 45.001 4\n");
+  const ShellRun own = run_tincdt(dir, "lonlat.xyz --hard-lines line.geojson -o o.ply");
+  EXPECT_TRUE(has(own, "line.geojson: no CRS in the file, and its coordinates")) << own;
+  EXPECT_TRUE(has(own, "its format's default EPSG:4979, is not assumed")) << own;
+  // Degrees in both files: GeoJSON's default is taken, with the warning for the XYZ file.
+  spit(fs::path(dir) / "deg.geojson",
+       R"({"type": "FeatureCollection", "features": [{"type": "Feature",)"
+       R"( "properties": {}, "geometry": {"type": "LineString", "coordinates":)"
+       R"( [[7.0002, 45.0002, 2], [7.0008, 45.0008, 3]]}}]})");
+  const ShellRun degrees =
+      run_tincdt(dir, "lonlat.xyz --hard-lines deg.geojson -o d.ply --stats d.json");
+  EXPECT_EQ(degrees.exit_code, 0) << degrees;
+  EXPECT_TRUE(has(degrees, "lonlat.xyz: no CRS in the file; assuming EPSG:4979")) << degrees;
+  EXPECT_EQ(stats_crs(dir + "/d.json"), "EPSG:4979");
 }
 
 // The CRS of each output of --stats, by kind: {kind, crs} in the document's order.
