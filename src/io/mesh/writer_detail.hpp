@@ -376,21 +376,6 @@ void put_position(BlockWriter& w, const Point3& p);
 void put_feature_collection_start(BlockWriter& w, const std::string& path,
                                   const TinWriteOptions& options);
 
-// Where a GeoJSON writer puts a vertex: shifted by options.offset. Throws OutputError for a
-// vertex that is not finite.
-class GeoJsonPositions {
- public:
-  GeoJsonPositions(const std::string& path, const mesh::Triangulation& tin,
-                   const TinWriteOptions& options)
-      : path_(path), tin_(tin), offset_(options.offset) {}
-  Point3 operator()(VertexId v) const;
-
- private:
-  const std::string& path_;
-  const mesh::Triangulation& tin_;
-  Point3 offset_;
-};
-
 // A format writer: writes the whole file through `out` (not committed) and returns the vertex
 // and triangle counts; write_tin() owns the OutputFile(s) and commits them.
 using FormatWriter = TinWriteStats(OutputFile& out, const mesh::Triangulation& tin,
