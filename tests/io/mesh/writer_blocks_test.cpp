@@ -187,5 +187,23 @@ TEST_F(WriterBlocks, VertexCountsAtBlockEdges) {
   }
 }
 
+// The PLY `edge` element is formatted in blocks of half-edges: several blocks of them, with and
+// without removed triangles (whose edges are left out), give the same bytes for any thread count.
+TEST_F(WriterBlocks, PlyEdgesSpanningSeveralBlocks) {
+  mesh::Triangulation tin = random_tin(200000, 5);
+  ASSERT_GT(3 * tin.triangle_slots(), 4 * detail::records_per_block(4));
+  for (EdgeId e = 0; e < 3 * tin.triangle_slots(); e += 3) tin.set_constrained(e, true);
+  for (const bool clip : {false, true}) {
+    if (clip)
+      for (TriangleId t = 0; t < tin.triangle_slots(); t += 2)
+        if (!tin.is_ghost(t)) tin.set_removed(t, true);
+    const std::string ascii = write_any_threads(tin, kFormats[1]);
+    const std::size_t edges = ascii.find("element edge ");
+    ASSERT_NE(edges, std::string::npos) << "clip " << clip;
+    EXPECT_GT(std::stoull(ascii.substr(edges + 13)), 100000u) << "clip " << clip;
+    write_any_threads(tin, kFormats[0]);
+  }
+}
+
 }  // namespace
 }  // namespace tincdt::io
