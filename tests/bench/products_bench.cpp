@@ -1,13 +1,18 @@
-// DEM rasterization and contour tracing on a random TIN (Google Benchmark): cells and contour
-// segments per second, one thread and all threads. The TIN is 1M uniform points over a 10 km
-// square with the terrain of ../shared/bench/gen.py's kind (smooth hills), built once.
+// DEM rasterization, contour tracing and the block-parallel TIN writers on a random TIN (Google
+// Benchmark): cells, contour segments and written bytes per second, one thread and all threads.
+// The TIN is 1M uniform points over a 10 km square with the terrain of ../shared/bench/gen.py's
+// kind (smooth hills), built once. The writers write into /dev/shm when there is one, so that the
+// figure is the formatting's, not the disk's.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
+#include <filesystem>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "delaunay/delaunay.hpp"
+#include "io/mesh/tin_writer.hpp"
 #include "products/contours.hpp"
 #include "products/rasterize.hpp"
 
@@ -64,6 +69,39 @@ void BM_Contours(benchmark::State& state) {
                                                   benchmark::Counter::kIsIterationInvariantRate);
 }
 BENCHMARK(BM_Contours)->Args({2, 1})->Args({2, 0})->Unit(benchmark::kMillisecond)->UseRealTime();
+
+struct WriterFormat {
+  const char* extension;
+  bool ply_ascii;
+};
+constexpr WriterFormat kWriterFormats[] = {
+    {".ply", false}, {".ply", true}, {".obj", false}, {".stl", false}, {".geojson", false}};
+
+std::filesystem::path scratch_folder() {
+  const std::filesystem::path shm = "/dev/shm";
+  return std::filesystem::is_directory(shm) ? shm : std::filesystem::temp_directory_path();
+}
+
+// Arg 0: format (PLY binary, PLY ASCII, OBJ, STL, GeoJSON); arg 1: threads.
+void BM_WriteTin(benchmark::State& state) {
+  const WriterFormat& f = kWriterFormats[state.range(0)];
+  const std::string path =
+      (scratch_folder() / (std::string("tincdt_products_bench") + f.extension)).string();
+  io::TinWriteOptions options;
+  options.ply_ascii = f.ply_ascii;
+  options.overwrite = true;
+  options.threads = static_cast<unsigned>(state.range(1));
+  std::uint64_t bytes = 0;
+  for (auto _ : state) bytes = io::write_tin(path, tin(), options).bytes;
+  std::filesystem::remove(path);
+  state.SetLabel(std::string(f.extension) + (f.ply_ascii ? " ascii" : ""));
+  state.counters["MB/s"] = benchmark::Counter(static_cast<double>(bytes) / 1e6,
+                                              benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(BM_WriteTin)
+    ->ArgsProduct({{0, 1, 2, 3, 4}, {1, 0}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 }  // namespace
 

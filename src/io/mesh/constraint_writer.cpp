@@ -3,7 +3,6 @@
 // outputs agree to the bit.
 #include "io/mesh/constraint_writer.hpp"
 
-#include <cmath>
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -58,7 +57,6 @@ void write_lines(OutputFile& out, const mesh::Triangulation& tin,
                  const TinWriteOptions& options) {
   using detail::BlockWriter;
   const std::string& path = out.path();
-  const detail::GeoJsonPositions position(path, tin, options);
 
   BlockWriter w(out);
   detail::put_feature_collection_start(w, path, options);
@@ -72,12 +70,9 @@ void write_lines(OutputFile& out, const mesh::Triangulation& tin,
       file_json = json_string(f.file);
       file_of_json = &f.file;
     }
-    const Point3 a = position(e.a);
-    const Point3 b = position(e.b);
-    const double za = tin.z(e.a);
-    const double zb = tin.z(e.b);
-    if (!std::isfinite(za) || !std::isfinite(zb))
-      throw OutputError(path, edge_where(i), "height is not a finite number");
+    // Throws for a coordinate, the height included, that is not finite.
+    const Point3 a = detail::shifted_vertex(path, tin, e.a, options.offset);
+    const Point3 b = detail::shifted_vertex(path, tin, e.b, options.offset);
 
     if (i > 0) w.put(std::string_view(",\n"));
     w.put(std::string_view("{\"type\":\"Feature\",\"properties\":{\"source_file\":"));
@@ -90,9 +85,9 @@ void write_lines(OutputFile& out, const mesh::Triangulation& tin,
       w.put_uint(static_cast<std::uint64_t>(f.fid));
     }
     w.put(std::string_view(",\"z_start\":"));
-    w.put_double(za);
+    w.put_double(tin.z(e.a));
     w.put(std::string_view(",\"z_end\":"));
-    w.put_double(zb);
+    w.put_double(tin.z(e.b));
     w.put(std::string_view("},\"geometry\":{\"type\":\"LineString\",\"coordinates\":["));
     detail::put_position(w, a);
     w.put(',');

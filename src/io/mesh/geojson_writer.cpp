@@ -57,21 +57,17 @@ std::vector<std::uint64_t> kept_before_blocks(const mesh::Triangulation& tin, st
   return first;
 }
 
-// Feature ID, the triangle with corners C: ",\n" before it but for the first.
-void put_feature(BlockWriter& w, std::uint64_t id, const std::array<VertexId, 3>& c,
-                 const GeoJsonPositions& position) {
+// Feature ID, the triangle with corners P: ",\n" before it but for the first.
+void put_feature(BlockWriter& w, std::uint64_t id, const std::array<Point3, 3>& p) {
   if (id > 0) w.put(std::string_view(",\n"));
   w.put(std::string_view("{\"type\":\"Feature\",\"properties\":{\"id\":"));
   w.put_uint(id);
   w.put(std::string_view("},\"geometry\":{\"type\":\"Polygon\",\"coordinates\":[["));
-  const Point3 a = position(c[0]);
-  put_position(w, a);
-  w.put(',');
-  put_position(w, position(c[1]));
-  w.put(',');
-  put_position(w, position(c[2]));
-  w.put(',');
-  put_position(w, a);
+  for (const Point3& q : p) {
+    put_position(w, q);
+    w.put(',');
+  }
+  put_position(w, p[0]);
   w.put(std::string_view("]]}}"));
 }
 
@@ -108,15 +104,11 @@ void put_feature_collection_start(BlockWriter& w, const std::string& path,
   w.put(std::string_view("\"features\": [\n"));
 }
 
-Point3 GeoJsonPositions::operator()(VertexId v) const {
-  return shifted_vertex(path_, tin_, v, offset_);
-}
-
 TinWriteStats write_geojson(OutputFile& out, const mesh::Triangulation& tin,
                             const TinWriteOptions& options) {
   const std::string& path = out.path();
   const WrittenTin written(tin, options.threads);
-  const GeoJsonPositions position(path, tin, options);
+  const Point3& offset = options.offset;
 
   BlockWriter w(out);
   const std::size_t slots = tin.triangle_slots();
@@ -124,14 +116,18 @@ TinWriteStats write_geojson(OutputFile& out, const mesh::Triangulation& tin,
   put_feature_collection_start(w, path, options);
   const std::vector<std::uint64_t> first_id =
       kept_before_blocks(tin, records_per_block(kFeatureBytes), options.threads);
-  write_blocks(w, options.threads, slots, kFeatureBytes, progress, 0,
-               [&](BlockWriter& b, std::size_t begin, std::size_t end) {
-                 std::uint64_t id = first_id[begin / records_per_block(kFeatureBytes)];
-                 for_each_triangle_in(tin, begin, end,
-                                      [&](TriangleId, const std::array<VertexId, 3>& c) {
-                                        put_feature(b, id++, c, position);
-                                      });
-               });
+  write_blocks(
+      w, options.threads, slots, kFeatureBytes, progress, 0,
+      [&](BlockWriter& b, std::size_t begin, std::size_t end) {
+        std::uint64_t id = first_id[begin / records_per_block(kFeatureBytes)];
+        for_each_triangle_in(tin, begin, end, [&](TriangleId, const std::array<VertexId, 3>& c) {
+          // A braced list evaluates in order: the first bad corner is the one reported.
+          put_feature(
+              b, id++,
+              {shifted_vertex(path, tin, c[0], offset), shifted_vertex(path, tin, c[1], offset),
+               shifted_vertex(path, tin, c[2], offset)});
+        });
+      });
   w.put(std::string_view("\n]\n}\n"));
   w.flush();
   progress.finish();

@@ -68,6 +68,39 @@ void write_faces(BlockWriter& w, const mesh::Triangulation& tin, const VertexNum
       });
 }
 
+// Rough bytes per half-edge of the `edge` element's blocks: most half-edges are not constrained.
+constexpr std::size_t kHalfEdgeBytes = 4;
+
+template <bool kAscii>
+void put_edge(BlockWriter& w, VertexId a, VertexId b) {
+  if constexpr (kAscii) {
+    w.put_uint(a);
+    w.put(' ');
+    w.put_uint(b);
+    w.put('\n');
+  } else {
+    w.put_le(a);
+    w.put_le(b);
+  }
+}
+
+// The `edge` element: the written TIN's constrained segments under the vertices' written numbers,
+// in blocks of half-edges on the writer's threads. Not in the progress: the records are few.
+template <bool kAscii>
+void write_edges(BlockWriter& w, const mesh::Triangulation& tin, const WrittenTin& written,
+                 unsigned threads) {
+  if (!tin.has_constraints()) return;
+  const VertexNumbering& number = written.number;
+  Progress untracked;
+  write_blocks(w, threads, 3 * tin.triangle_slots(), kHalfEdgeBytes, untracked, 0,
+               [&](BlockWriter& b, std::size_t begin, std::size_t end) {
+                 for_each_constrained_segment_in(tin, written.compact, begin, end,
+                                                 [&](VertexId v1, VertexId v2) {
+                                                   put_edge<kAscii>(b, number(v1), number(v2));
+                                                 });
+               });
+}
+
 }  // namespace
 
 TinWriteStats write_ply(OutputFile& out, const mesh::Triangulation& tin,
@@ -79,7 +112,7 @@ TinWriteStats write_ply(OutputFile& out, const mesh::Triangulation& tin,
   const WrittenTin written(tin, options.threads);
   const VertexNumbering& number = written.number;
   const std::size_t nv = number.count();
-  const std::uint64_t ne = count_constrained_segments(tin, written.compact);
+  const std::uint64_t ne = count_constrained_segments(tin, written.compact, options.threads);
 
   BlockWriter w(out);
   Progress progress(options.progress, "write", nv + tin.triangle_slots());
@@ -108,19 +141,10 @@ TinWriteStats write_ply(OutputFile& out, const mesh::Triangulation& tin,
   else
     write_faces<false, false>(w, tin, number, options, progress, nv);
 
-  if (ascii) {
-    for_each_constrained_segment(tin, written.compact, [&w, &number](VertexId a, VertexId b) {
-      w.put_uint(number(a));
-      w.put(' ');
-      w.put_uint(number(b));
-      w.put('\n');
-    });
-  } else {
-    for_each_constrained_segment(tin, written.compact, [&w, &number](VertexId a, VertexId b) {
-      w.put_le(number(a));
-      w.put_le(number(b));
-    });
-  }
+  if (ascii)
+    write_edges<true>(w, tin, written, options.threads);
+  else
+    write_edges<false>(w, tin, written, options.threads);
   w.flush();
   progress.finish();
   return {nv, written.triangles, 0};

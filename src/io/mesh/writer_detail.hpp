@@ -337,25 +337,44 @@ struct WrittenTin {
       : triangles(counts.kept), compact(counts.removed > 0), number(tin, compact) {}
 };
 
-// Calls f(origin, dest) once per constrained edge between two real vertices; with `kept_only`,
-// only for edges with a kept triangle on at least one side (the edges of the written TIN).
+// Calls f(origin, dest) once per constrained edge between two real vertices whose first
+// half-edge (Triangulation::for_each_constrained_edge()'s) is in [BEGIN, END), in the same order;
+// with `kept_only`, only for edges with a kept triangle on at least one side (the edges of the
+// written TIN).
 template <class F>
-void for_each_constrained_segment(const mesh::Triangulation& tin, bool kept_only, F&& f) {
-  tin.for_each_constrained_edge([&tin, &f, kept_only](EdgeId e) {
+void for_each_constrained_segment_in(const mesh::Triangulation& tin, bool kept_only,
+                                     std::size_t begin, std::size_t end, F&& f) {
+  if (!tin.has_constraints()) return;
+  for (std::size_t i = begin; i < end; ++i) {
+    const auto e = static_cast<EdgeId>(i);
+    if (!tin.is_constrained(e)) continue;
     const VertexId a = tin.origin(e);
     const VertexId b = tin.dest(e);
-    if (a >= mesh::kInfinite || b >= mesh::kInfinite) return;
+    if (a >= b || b >= mesh::kInfinite) continue;  // the twin's turn, or a ghost edge
     if (kept_only && !tin.is_kept(mesh::triangle_of(e)) &&
         !tin.is_kept(mesh::triangle_of(tin.twin(e))))
-      return;
+      continue;
     f(a, b);
-  });
+  }
 }
 
-inline std::uint64_t count_constrained_segments(const mesh::Triangulation& tin, bool kept_only) {
-  std::uint64_t n = 0;
-  for_each_constrained_segment(tin, kept_only, [&n](VertexId, VertexId) { ++n; });
-  return n;
+template <class F>
+void for_each_constrained_segment(const mesh::Triangulation& tin, bool kept_only, F&& f) {
+  for_each_constrained_segment_in(tin, kept_only, 0, 3 * tin.triangle_slots(), f);
+}
+
+// The constrained segments for_each_constrained_segment() visits, counted on THREADS threads
+// (0 = one per core).
+inline std::uint64_t count_constrained_segments(const mesh::Triangulation& tin, bool kept_only,
+                                                unsigned threads = 1) {
+  if (!tin.has_constraints()) return 0;
+  std::atomic<std::uint64_t> total{0};
+  parallel_chunks(threads, 3 * tin.triangle_slots(), [&](std::size_t begin, std::size_t end) {
+    std::uint64_t n = 0;
+    for_each_constrained_segment_in(tin, kept_only, begin, end, [&n](VertexId, VertexId) { ++n; });
+    total += n;
+  });
+  return total;
 }
 
 // "X Y Z" in shortest round-trip form, for the offset lines of the headers.
@@ -375,21 +394,6 @@ void put_position(BlockWriter& w, const Point3& p);
 // foreign member when there is an offset.
 void put_feature_collection_start(BlockWriter& w, const std::string& path,
                                   const TinWriteOptions& options);
-
-// Where a GeoJSON writer puts a vertex: shifted by options.offset. Throws OutputError for a
-// vertex that is not finite.
-class GeoJsonPositions {
- public:
-  GeoJsonPositions(const std::string& path, const mesh::Triangulation& tin,
-                   const TinWriteOptions& options)
-      : path_(path), tin_(tin), offset_(options.offset) {}
-  Point3 operator()(VertexId v) const;
-
- private:
-  const std::string& path_;
-  const mesh::Triangulation& tin_;
-  Point3 offset_;
-};
 
 // A format writer: writes the whole file through `out` (not committed) and returns the vertex
 // and triangle counts; write_tin() owns the OutputFile(s) and commits them.
