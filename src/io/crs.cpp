@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -286,21 +287,64 @@ CrsResult crs_from_geotiff(const GeoTiffKeys& keys) {
   return result;
 }
 
+namespace {
+
+// The top-level member names of a JSON object, fed in pieces: a lexical walk (strings, escapes,
+// nesting) that needs no parse tree, so a large feature collection costs one pass and no memory.
+class TopLevelKeys {
+ public:
+  // Feeds TEXT; true as soon as a top-level member is named NAME.
+  bool feed(std::string_view text, std::string_view name) {
+    for (const char c : text) {
+      if (in_string_) {
+        if (escaped_) {
+          escaped_ = false;
+          if (is_key_ && key_.size() <= name.size()) key_ += c;
+        } else if (c == '\\') {
+          escaped_ = true;
+        } else if (c == '"') {
+          in_string_ = false;
+          if (is_key_ && key_ == name) return true;
+        } else if (is_key_ && key_.size() <= name.size()) {
+          key_ += c;
+        }
+        continue;
+      }
+      if (c == '"') {
+        in_string_ = true;
+        is_key_ = depth_ == 1 && expect_key_;
+        expect_key_ = false;
+        key_.clear();
+      } else if (c == '{' || c == '[') {
+        ++depth_;
+        expect_key_ = depth_ == 1 && c == '{';
+      } else if (c == '}' || c == ']') {
+        --depth_;
+      } else if (c == ',' && depth_ == 1) {
+        expect_key_ = true;
+      }
+    }
+    return false;
+  }
+
+ private:
+  int depth_ = 0;
+  bool in_string_ = false, escaped_ = false, is_key_ = false, expect_key_ = false;
+  std::string key_;
+};
+
+}  // namespace
+
 bool geojson_names_crs(const std::string& path) {
   VSILFILE* f = VSIFOpenL(path.c_str(), "rb");
   if (f == nullptr) return false;
-  std::string text;
+  TopLevelKeys keys;
   char buffer[65536];
   bool named = false;
-  for (;;) {
+  while (!named) {
     const std::size_t n = VSIFReadL(buffer, 1, sizeof buffer, f);
     if (n == 0) break;
-    text.append(buffer, n);
-    const std::size_t features = text.find("\"features\"");
-    const std::size_t crs = text.find("\"crs\"");
-    if (crs != std::string::npos && crs < features) named = true;
-    if (named || features != std::string::npos) break;
-    text.erase(0, text.size() > 16 ? text.size() - 16 : 0);  // a key may span two reads
+    named = keys.feed(std::string_view(buffer, n), "crs");
   }
   VSIFCloseL(f);
   return named;

@@ -39,7 +39,7 @@ CrsResult crs_from_geotiff(const GeoTiffKeys& keys);
 // caller's error handler.
 std::string crs_of_layer(const OGRSpatialReference* srs);
 
-// Whether the GeoJSON text at PATH names its CRS: a "crs" member before its "features".
+// Whether the GeoJSON text at PATH names its CRS: a top-level "crs" member, wherever it stands.
 bool geojson_names_crs(const std::string& path);
 
 }  // namespace tincdt::io::detail
