@@ -127,7 +127,10 @@ struct BuildOptions {
     std::optional<int> max_level;  // default: from the data's point spacing
     // --terrain-fill-height: the surface beyond the data, metres; default the TIN's lowest
     std::optional<double> fill_height;
-    std::uint64_t max_tiles = 2'000'000;  // --terrain-max-tiles: a larger pyramid is refused
+    // --terrain-max-tiles: a larger pyramid is refused; kDefaultMaxTiles when not given
+    std::optional<std::uint64_t> max_tiles;
+    static constexpr std::uint64_t kDefaultMaxTiles = 2'000'000;
+    std::uint64_t max_tiles_or_default() const { return max_tiles.value_or(kDefaultMaxTiles); }
   } terrain;
 };
 

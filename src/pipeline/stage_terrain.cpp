@@ -186,7 +186,7 @@ void run(Job& job) {
       o.max_level ? *o.max_level : std::max(o.min_level, level_for_spacing(spacing));
   job.info("terrain: levels " + count_text(o.min_level) + "-" + count_text(max_level) +
            (o.max_level ? "" : " (point spacing " + short_number(spacing) + " m)"));
-  check_tile_count(job, source.bounds(), max_level, o.max_tiles,
+  check_tile_count(job, source.bounds(), max_level, o.max_tiles_or_default(),
                    o.max_level ? "levels 0-" + count_text(max_level)
                                : "the default levels 0-" + count_text(max_level) +
                                      " (the data's point spacing)");
@@ -272,7 +272,7 @@ void check_crs(Job& job) {
                      "the input has none: assign one with --a-srs");
   const BuildOptions::Terrain& o = job.options.terrain;
   if (o.max_level && !job.points.empty())
-    check_tile_count(job, points_lon_lat_box(job), *o.max_level, o.max_tiles,
+    check_tile_count(job, points_lon_lat_box(job), *o.max_level, o.max_tiles_or_default(),
                      "levels 0-" + count_text(*o.max_level));
 }
 
@@ -341,7 +341,8 @@ constexpr OptionSpec kOptions[] = {
                        set_max_tiles,
                        "The most tiles a pyramid may have: a larger one, which could fill\n"
                        "the disk, is refused before any tile is made"),
-        "2000000", [](const BuildOptions& o) { return std::to_string(o.terrain.max_tiles); }),
+        "2000000",
+        [](const BuildOptions& o) { return std::to_string(o.terrain.max_tiles_or_default()); }),
 };
 
 }  // namespace
