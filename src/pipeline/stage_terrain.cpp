@@ -7,6 +7,7 @@
 // web_terrain_crs runs right after read: a pyramid needs the data's CRS, so none stops the job
 // before any work.
 #include <algorithm>
+#include <cassert>
 #include <charconv>
 #include <cmath>
 #include <filesystem>
@@ -149,10 +150,10 @@ LevelStats write_level(Job& job, const TerrainSource& source, int level, int max
 // every vertex of the TIN against the tile that holds it, once per level.
 constexpr double kTileWork = 1000;
 
-std::vector<double> level_shares(const TerrainSource& source, int min_level, int max_level) {
+std::vector<double> level_shares(const TerrainSource& source, int max_level) {
   std::vector<double> shares;
   double total = 0;
-  for (int level = min_level; level <= max_level; ++level) {
+  for (int level = 0; level <= max_level; ++level) {
     const double work =
         kTileWork * static_cast<double>(tile_count(level_tiles(source.bounds(), level))) +
         static_cast<double>(source.vertices().size());
@@ -182,9 +183,8 @@ void run(Job& job) {
     job.info("terrain fill height: " + short_number(source.fill_height()) +
              " m (the TIN's lowest)");
   const double spacing = source.point_spacing_metres();
-  const int max_level =
-      o.max_level ? *o.max_level : std::max(o.min_level, level_for_spacing(spacing));
-  job.info("terrain: levels " + count_text(o.min_level) + "-" + count_text(max_level) +
+  const int max_level = o.max_level ? *o.max_level : level_for_spacing(spacing);
+  job.info("terrain: levels 0-" + count_text(max_level) +
            (o.max_level ? "" : " (point spacing " + short_number(spacing) + " m)"));
   check_tile_count(job, source.bounds(), max_level, o.max_tiles_or_default(),
                    o.max_level ? "levels 0-" + count_text(max_level)
@@ -192,15 +192,14 @@ void run(Job& job) {
                                      " (the data's point spacing)");
   qm::TerrainLayer layer;
   layer.bounds = source.bounds();
-  layer.min_zoom = o.min_level;
   layer.extensions = {"octvertexnormals", "metadata"};
   layer.metadata_availability = 1;  // every tile's metadata lists its children
   layer.available.resize(static_cast<std::size_t>(max_level) + 1);
-  const std::vector<double> shares = level_shares(source, o.min_level, max_level);
+  const std::vector<double> shares = level_shares(source, max_level);
   double done = 0;
-  for (int level = o.min_level; level <= max_level; ++level) {
+  for (int level = 0; level <= max_level; ++level) {
     layer.available[level] = {level_tiles(source.bounds(), level)};
-    const double share = shares[static_cast<std::size_t>(level - o.min_level)];
+    const double share = shares[static_cast<std::size_t>(level)];
     const LevelStats s = write_level(job, source, level, max_level, done, share);
     done += share;
     const double rmse =
@@ -307,7 +306,7 @@ std::string check_levels(std::string_view text) {
 void set_levels(BuildOptions& o, std::string_view text) {
   int min = 0, max = 0;
   parse_levels(text, min, max);
-  o.terrain.min_level = min;
+  assert(min == 0);  // check_levels refuses any other
   o.terrain.max_level = max;
 }
 
