@@ -84,23 +84,22 @@ std::uint64_t pyramid_tiles(const qm::GeoRectangle& bounds, int max_level) {
   return total;
 }
 
-// Refuses a pyramid of more than LIMIT tiles over BOUNDS (which would fill a disk before it
-// ends), naming the deepest level that keeps within it; logs the count otherwise. LEVELS_TEXT
-// says where the levels come from, for the message.
-void check_tile_count(Job& job, const qm::GeoRectangle& bounds, int max_level, std::uint64_t limit,
-                      const std::string& levels_text) {
+std::string box_text(const qm::GeoRectangle& bounds) {
+  return short_number(bounds.east - bounds.west) + " x " +
+         short_number(bounds.north - bounds.south) + " degrees";
+}
+
+// The tiles of the pyramid's levels 0 to MAX_LEVEL over BOUNDS; a UsageError when they are more
+// than LIMIT (they would fill a disk before the job ends), naming the deepest level that keeps
+// within it. LEVELS_TEXT says where the levels come from, for the message.
+std::uint64_t checked_tile_count(const qm::GeoRectangle& bounds, int max_level, std::uint64_t limit,
+                                 const std::string& levels_text) {
   const std::uint64_t total = pyramid_tiles(bounds, max_level);
-  const std::string box = short_number(bounds.east - bounds.west) + " x " +
-                          short_number(bounds.north - bounds.south) + " degrees";
-  if (total <= limit) {
-    job.info("terrain: " + count_text(total) + " tiles over the data's " + box + " (at most " +
-             count_text(limit) + ")");
-    return;
-  }
+  if (total <= limit) return total;
   int fits = max_level;
   while (fits > 0 && pyramid_tiles(bounds, fits) > limit) --fits;
   throw UsageError(levels_text + ": the pyramid would have " + count_text(total) +
-                   " tiles over the data's " + box + ", more than the limit of " +
+                   " tiles over the data's " + box_text(bounds) + ", more than the limit of " +
                    count_text(limit) + " (--terrain-max-tiles): give --terrain-levels 0-" +
                    count_text(fits) + " (" + count_text(pyramid_tiles(bounds, fits)) +
                    " tiles), or a higher --terrain-max-tiles");
@@ -186,10 +185,15 @@ void run(Job& job) {
   const int max_level = o.max_level ? *o.max_level : level_for_spacing(spacing);
   job.info("terrain: levels 0-" + count_text(max_level) +
            (o.max_level ? "" : " (point spacing " + short_number(spacing) + " m)"));
-  check_tile_count(job, source.bounds(), max_level, o.max_tiles_or_default(),
-                   o.max_level ? "levels 0-" + count_text(max_level)
-                               : "the default levels 0-" + count_text(max_level) +
-                                     " (the data's point spacing)");
+  // Levels given were checked right after read, over the points' extent, which holds the TIN's.
+  const std::uint64_t limit = o.max_tiles_or_default();
+  const std::uint64_t tiles =
+      o.max_level ? pyramid_tiles(source.bounds(), max_level)
+                  : checked_tile_count(source.bounds(), max_level, limit,
+                                       "the default levels 0-" + count_text(max_level) +
+                                           " (the data's point spacing)");
+  job.info("terrain: " + count_text(tiles) + " tiles over the data's " + box_text(source.bounds()) +
+           " (at most " + count_text(limit) + ")");
   qm::TerrainLayer layer;
   layer.bounds = source.bounds();
   layer.extensions = {"octvertexnormals", "metadata"};
@@ -240,13 +244,9 @@ void plan(const BuildOptions& o, FilePlan& files) {
 // The longitude/latitude box of the read points' extent, its sides sampled (a projected
 // rectangle's sides curve on the globe): the pyramid's bounds before there is a TIN.
 qm::GeoRectangle points_lon_lat_box(const Job& job) {
-  double west = job.points[0].x, east = west, south = job.points[0].y, north = south;
-  for (const Point3& p : job.points) {
-    west = std::min(west, p.x);
-    east = std::max(east, p.x);
-    south = std::min(south, p.y);
-    north = std::max(north, p.y);
-  }
+  BBox extent;
+  for (const Point3& p : job.points) extent.add(p.x, p.y);
+  const double west = extent.min_x, east = extent.max_x, south = extent.min_y, north = extent.max_y;
   constexpr int kSteps = 16;
   std::vector<Point3> sides;
   for (int i = 0; i <= kSteps; ++i) {
@@ -271,8 +271,8 @@ void check_crs(Job& job) {
                      "the input has none: assign one with --a-srs");
   const BuildOptions::Terrain& o = job.options.terrain;
   if (o.max_level && !job.points.empty())
-    check_tile_count(job, points_lon_lat_box(job), *o.max_level, o.max_tiles_or_default(),
-                     "levels 0-" + count_text(*o.max_level));
+    checked_tile_count(points_lon_lat_box(job), *o.max_level, o.max_tiles_or_default(),
+                       "levels 0-" + count_text(*o.max_level));
 }
 
 // ---- options -----------------------------------------------------------------------------------

@@ -36,6 +36,11 @@ TEST(TerrainOptionsCli, DefaultMaxTilesGivenWithTerrainAccepted) {
                                          "--terrain-max-tiles 2000000");
   ASSERT_EQ(r.exit_code, 0) << r.messages;
   EXPECT_TRUE(has(r, "(at most 2,000,000)")) << r.messages;
+  // The count, checked right after read with the levels given, is logged once, from the TIN.
+  const std::string line = "tiles over the data's";
+  const std::size_t first = r.messages.find(line);
+  ASSERT_NE(first, std::string::npos) << r.messages;
+  EXPECT_EQ(r.messages.find(line, first + 1), std::string::npos) << r.messages;
   EXPECT_TRUE(std::filesystem::exists(dir + "/t/layer.json"));
 }
 
