@@ -116,6 +116,7 @@ struct LevelStats {
   std::size_t tiles = 0;
   std::size_t line_segments = 0;
   std::size_t lines_dropped = 0;
+  std::size_t outlines_dropped = 0;
   std::uint64_t vertices = 0;
   TileError error;
 };
@@ -138,6 +139,7 @@ LevelStats write_level(Job& job, const TerrainSource& source, int level, int max
       stats.vertices += tile.mesh.vertices.size();
       stats.line_segments += tile.line_segments;
       stats.lines_dropped += tile.lines_dropped;
+      stats.outlines_dropped += tile.outline_dropped;
       stats.error.add(tile.error);
       job.progress(done + share * static_cast<double>(stats.tiles) / static_cast<double>(count));
     }
@@ -218,6 +220,10 @@ void run(Job& job) {
       job.debug("terrain level " + count_text(level) + ": " + count_text(s.lines_dropped) +
                 " tiles without their lines: simplified onto the tile's grid, they overlap "
                 "(coarse tiles over small data)");
+    if (s.outlines_dropped)
+      job.debug("terrain level " + count_text(level) + ": " + count_text(s.outlines_dropped) +
+                " tiles without their holes' outline: simplified onto the tile's grid, it "
+                "overlaps the other lines; their holes follow the triangles' centres");
     if (s.error.max > qm::geometric_error_at_level(level))
       job.warn("terrain level " + count_text(level) + ": vertices up to " +
                short_number(s.error.max) + " m from the TIN, above the level's error: points " +

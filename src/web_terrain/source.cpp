@@ -88,6 +88,8 @@ void TerrainSource::collect_constraints(const mesh::Triangulation& tin,
   tin.for_each_constrained_edge([&](EdgeId e) {
     if (tin.is_kept(mesh::triangle_of(e)) || tin.is_kept(mesh::triangle_of(tin.twin(e)))) add(e);
   });
+  std::vector<std::array<std::uint32_t, 2>> lines = constrained_;
+  std::sort(lines.begin(), lines.end());
   // The outline of the holes, where a removed triangle meets a kept one or the hull: lines of
   // every tile, so that a tile's triangles end at a hole's edge, not across it, whatever made
   // the hole. Clip and erase rings are constrained edges already; --max-edge's outline is not.
@@ -104,6 +106,9 @@ void TerrainSource::collect_constraints(const mesh::Triangulation& tin,
   std::sort(hull_outline_.begin(), hull_outline_.end());
   std::sort(constrained_.begin(), constrained_.end());
   constrained_.erase(std::unique(constrained_.begin(), constrained_.end()), constrained_.end());
+  outline_only_.reserve(constrained_.size());
+  for (const auto& e : constrained_)
+    outline_only_.push_back(std::binary_search(lines.begin(), lines.end(), e) ? 0 : 1);
 }
 
 void TerrainSource::collect_holes(const mesh::Triangulation& tin,

@@ -66,6 +66,9 @@ class TerrainSource {
     return constrained_;
   }
   std::vector<std::uint32_t> constrained_edges_in(const GeoRectangle& rectangle) const;
+  // Whether constrained edge E (an index into constrained_edges()) only bounds a hole, no
+  // contour, hard line, clip or erase ring: --max-edge's outline, the hull beside a hole.
+  bool outline_only(std::uint32_t e) const { return outline_only_[e] != 0; }
   bool is_constrained(std::uint32_t a, std::uint32_t b) const;
 
   // The mean spacing of the vertices in metres: the square root of the triangles' area per
@@ -94,6 +97,7 @@ class TerrainSource {
   std::vector<std::array<std::uint32_t, 2>> constrained_;  // sorted
   // Sorted: the edges of constrained_ that are no kept triangle's, a hole's side on the hull.
   std::vector<std::array<std::uint32_t, 2>> hull_outline_;
+  std::vector<std::uint8_t> outline_only_;    // per constrained_ edge
   std::vector<std::array<Point2, 3>> holes_;  // removed triangles, counter-clockwise
   std::vector<std::uint8_t> on_constraint_;   // per vertex
   GeoRectangle bounds_{0, 0, 0, 0};
