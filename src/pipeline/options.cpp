@@ -205,8 +205,7 @@ void check_contour_lines(const BuildOptions::ContourLines& c) {
 }
 
 void check_terrain_output(const BuildOptions::Terrain& t) {
-  if (t.path.empty() &&
-      (t.max_level || t.fill_height || t.max_tiles != BuildOptions::Terrain{}.max_tiles))
+  if (t.path.empty() && (t.max_level || t.fill_height || t.max_tiles))
     throw UsageError(
         "--terrain-levels, --terrain-fill-height and --terrain-max-tiles need --terrain");
 }

@@ -122,12 +122,15 @@ struct BuildOptions {
     std::string field = "elev";  // --contour-field: the level's attribute (none in DXF, DGN)
   } contour_lines;
   struct Terrain {
-    std::string path;              // --terrain DIR: a quantized-mesh pyramid; "" = none
-    int min_level = 0;             // --terrain-levels MIN-MAX
-    std::optional<int> max_level;  // default: from the data's point spacing
+    std::string path;  // --terrain DIR: a quantized-mesh pyramid; "" = none
+    // --terrain-levels 0-MAX (a pyramid starts at level 0); default: from the point spacing
+    std::optional<int> max_level;
     // --terrain-fill-height: the surface beyond the data, metres; default the TIN's lowest
     std::optional<double> fill_height;
-    std::uint64_t max_tiles = 2'000'000;  // --terrain-max-tiles: a larger pyramid is refused
+    // --terrain-max-tiles: a larger pyramid is refused; kDefaultMaxTiles when not given
+    std::optional<std::uint64_t> max_tiles;
+    static constexpr std::uint64_t kDefaultMaxTiles = 2'000'000;
+    std::uint64_t max_tiles_or_default() const { return max_tiles.value_or(kDefaultMaxTiles); }
   } terrain;
 };
 

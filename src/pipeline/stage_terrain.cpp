@@ -7,6 +7,7 @@
 // web_terrain_crs runs right after read: a pyramid needs the data's CRS, so none stops the job
 // before any work.
 #include <algorithm>
+#include <cassert>
 #include <charconv>
 #include <cmath>
 #include <filesystem>
@@ -83,23 +84,22 @@ std::uint64_t pyramid_tiles(const qm::GeoRectangle& bounds, int max_level) {
   return total;
 }
 
-// Refuses a pyramid of more than LIMIT tiles over BOUNDS (which would fill a disk before it
-// ends), naming the deepest level that keeps within it; logs the count otherwise. LEVELS_TEXT
-// says where the levels come from, for the message.
-void check_tile_count(Job& job, const qm::GeoRectangle& bounds, int max_level, std::uint64_t limit,
-                      const std::string& levels_text) {
+std::string box_text(const qm::GeoRectangle& bounds) {
+  return short_number(bounds.east - bounds.west) + " x " +
+         short_number(bounds.north - bounds.south) + " degrees";
+}
+
+// The tiles of the pyramid's levels 0 to MAX_LEVEL over BOUNDS; a UsageError when they are more
+// than LIMIT (they would fill a disk before the job ends), naming the deepest level that keeps
+// within it. LEVELS_TEXT says where the levels come from, for the message.
+std::uint64_t checked_tile_count(const qm::GeoRectangle& bounds, int max_level, std::uint64_t limit,
+                                 const std::string& levels_text) {
   const std::uint64_t total = pyramid_tiles(bounds, max_level);
-  const std::string box = short_number(bounds.east - bounds.west) + " x " +
-                          short_number(bounds.north - bounds.south) + " degrees";
-  if (total <= limit) {
-    job.info("terrain: " + count_text(total) + " tiles over the data's " + box + " (at most " +
-             count_text(limit) + ")");
-    return;
-  }
+  if (total <= limit) return total;
   int fits = max_level;
   while (fits > 0 && pyramid_tiles(bounds, fits) > limit) --fits;
   throw UsageError(levels_text + ": the pyramid would have " + count_text(total) +
-                   " tiles over the data's " + box + ", more than the limit of " +
+                   " tiles over the data's " + box_text(bounds) + ", more than the limit of " +
                    count_text(limit) + " (--terrain-max-tiles): give --terrain-levels 0-" +
                    count_text(fits) + " (" + count_text(pyramid_tiles(bounds, fits)) +
                    " tiles), or a higher --terrain-max-tiles");
@@ -116,6 +116,7 @@ struct LevelStats {
   std::size_t tiles = 0;
   std::size_t line_segments = 0;
   std::size_t lines_dropped = 0;
+  std::size_t outlines_dropped = 0;
   std::uint64_t vertices = 0;
   TileError error;
 };
@@ -138,6 +139,7 @@ LevelStats write_level(Job& job, const TerrainSource& source, int level, int max
       stats.vertices += tile.mesh.vertices.size();
       stats.line_segments += tile.line_segments;
       stats.lines_dropped += tile.lines_dropped;
+      stats.outlines_dropped += tile.outline_dropped;
       stats.error.add(tile.error);
       job.progress(done + share * static_cast<double>(stats.tiles) / static_cast<double>(count));
     }
@@ -149,10 +151,10 @@ LevelStats write_level(Job& job, const TerrainSource& source, int level, int max
 // every vertex of the TIN against the tile that holds it, once per level.
 constexpr double kTileWork = 1000;
 
-std::vector<double> level_shares(const TerrainSource& source, int min_level, int max_level) {
+std::vector<double> level_shares(const TerrainSource& source, int max_level) {
   std::vector<double> shares;
   double total = 0;
-  for (int level = min_level; level <= max_level; ++level) {
+  for (int level = 0; level <= max_level; ++level) {
     const double work =
         kTileWork * static_cast<double>(tile_count(level_tiles(source.bounds(), level))) +
         static_cast<double>(source.vertices().size());
@@ -182,25 +184,28 @@ void run(Job& job) {
     job.info("terrain fill height: " + short_number(source.fill_height()) +
              " m (the TIN's lowest)");
   const double spacing = source.point_spacing_metres();
-  const int max_level =
-      o.max_level ? *o.max_level : std::max(o.min_level, level_for_spacing(spacing));
-  job.info("terrain: levels " + count_text(o.min_level) + "-" + count_text(max_level) +
+  const int max_level = o.max_level ? *o.max_level : level_for_spacing(spacing);
+  job.info("terrain: levels 0-" + count_text(max_level) +
            (o.max_level ? "" : " (point spacing " + short_number(spacing) + " m)"));
-  check_tile_count(job, source.bounds(), max_level, o.max_tiles,
-                   o.max_level ? "levels 0-" + count_text(max_level)
-                               : "the default levels 0-" + count_text(max_level) +
-                                     " (the data's point spacing)");
+  // Levels given were checked right after read, over the points' extent, which holds the TIN's.
+  const std::uint64_t limit = o.max_tiles_or_default();
+  const std::uint64_t tiles =
+      o.max_level ? pyramid_tiles(source.bounds(), max_level)
+                  : checked_tile_count(source.bounds(), max_level, limit,
+                                       "the default levels 0-" + count_text(max_level) +
+                                           " (the data's point spacing)");
+  job.info("terrain: " + count_text(tiles) + " tiles over the data's " + box_text(source.bounds()) +
+           " (at most " + count_text(limit) + ")");
   qm::TerrainLayer layer;
   layer.bounds = source.bounds();
-  layer.min_zoom = o.min_level;
   layer.extensions = {"octvertexnormals", "metadata"};
   layer.metadata_availability = 1;  // every tile's metadata lists its children
   layer.available.resize(static_cast<std::size_t>(max_level) + 1);
-  const std::vector<double> shares = level_shares(source, o.min_level, max_level);
+  const std::vector<double> shares = level_shares(source, max_level);
   double done = 0;
-  for (int level = o.min_level; level <= max_level; ++level) {
+  for (int level = 0; level <= max_level; ++level) {
     layer.available[level] = {level_tiles(source.bounds(), level)};
-    const double share = shares[static_cast<std::size_t>(level - o.min_level)];
+    const double share = shares[static_cast<std::size_t>(level)];
     const LevelStats s = write_level(job, source, level, max_level, done, share);
     done += share;
     const double rmse =
@@ -215,6 +220,10 @@ void run(Job& job) {
       job.debug("terrain level " + count_text(level) + ": " + count_text(s.lines_dropped) +
                 " tiles without their lines: simplified onto the tile's grid, they overlap "
                 "(coarse tiles over small data)");
+    if (s.outlines_dropped)
+      job.debug("terrain level " + count_text(level) + ": " + count_text(s.outlines_dropped) +
+                " tiles without their holes' outline: simplified onto the tile's grid, it "
+                "overlaps the other lines; their holes follow the triangles' centres");
     if (s.error.max > qm::geometric_error_at_level(level))
       job.warn("terrain level " + count_text(level) + ": vertices up to " +
                short_number(s.error.max) + " m from the TIN, above the level's error: points " +
@@ -241,13 +250,9 @@ void plan(const BuildOptions& o, FilePlan& files) {
 // The longitude/latitude box of the read points' extent, its sides sampled (a projected
 // rectangle's sides curve on the globe): the pyramid's bounds before there is a TIN.
 qm::GeoRectangle points_lon_lat_box(const Job& job) {
-  double west = job.points[0].x, east = west, south = job.points[0].y, north = south;
-  for (const Point3& p : job.points) {
-    west = std::min(west, p.x);
-    east = std::max(east, p.x);
-    south = std::min(south, p.y);
-    north = std::max(north, p.y);
-  }
+  BBox extent;
+  for (const Point3& p : job.points) extent.add(p.x, p.y);
+  const double west = extent.min_x, east = extent.max_x, south = extent.min_y, north = extent.max_y;
   constexpr int kSteps = 16;
   std::vector<Point3> sides;
   for (int i = 0; i <= kSteps; ++i) {
@@ -272,8 +277,8 @@ void check_crs(Job& job) {
                      "the input has none: assign one with --a-srs");
   const BuildOptions::Terrain& o = job.options.terrain;
   if (o.max_level && !job.points.empty())
-    check_tile_count(job, points_lon_lat_box(job), *o.max_level, o.max_tiles,
-                     "levels 0-" + count_text(*o.max_level));
+    checked_tile_count(points_lon_lat_box(job), *o.max_level, o.max_tiles_or_default(),
+                       "levels 0-" + count_text(*o.max_level));
 }
 
 // ---- options -----------------------------------------------------------------------------------
@@ -307,7 +312,7 @@ std::string check_levels(std::string_view text) {
 void set_levels(BuildOptions& o, std::string_view text) {
   int min = 0, max = 0;
   parse_levels(text, min, max);
-  o.terrain.min_level = min;
+  assert(min == 0);  // check_levels refuses any other
   o.terrain.max_level = max;
 }
 
@@ -341,7 +346,8 @@ constexpr OptionSpec kOptions[] = {
                        set_max_tiles,
                        "The most tiles a pyramid may have: a larger one, which could fill\n"
                        "the disk, is refused before any tile is made"),
-        "2000000", [](const BuildOptions& o) { return std::to_string(o.terrain.max_tiles); }),
+        "2000000",
+        [](const BuildOptions& o) { return std::to_string(o.terrain.max_tiles_or_default()); }),
 };
 
 }  // namespace

@@ -75,9 +75,11 @@ Node settle(Node n) {
 }
 
 // The pieces of the constrained edges inside R, as pairs of nodes.
-std::vector<std::pair<Node, Node>> pieces_in(const TerrainSource& source, const GeoRectangle& r) {
+std::vector<std::pair<Node, Node>> pieces_in(const TerrainSource& source, const GeoRectangle& r,
+                                             bool with_outline) {
   std::vector<std::pair<Node, Node>> out;
   for (const std::uint32_t e : source.constrained_edges_in(r)) {
+    if (!with_outline && source.outline_only(e)) continue;
     const auto [ia, ib] = source.constrained_edges()[e];
     const auto nodes = edge_nodes(source.vertices()[ia], source.vertices()[ib], ia, ib, r);
     for (std::size_t i = 0; i + 1 < nodes.size(); ++i) {
@@ -143,12 +145,12 @@ bool within(const std::vector<Point3>& points, double tolerance) {
 }  // namespace
 
 std::size_t add_lines(const TerrainSource& source, const GeoRectangle& r, double tolerance,
-                      TilePoints& p) {
+                      bool with_outline, TilePoints& p) {
   const double lat = (r.south + r.north) / 2 * std::numbers::pi / 180;
   const double mx = (r.east - r.west) / kGridMax * kMetresPerDegree * std::cos(lat);
   const double my = (r.north - r.south) / kGridMax * kMetresPerDegree;
   std::size_t added = 0;
-  for (const std::vector<Node>& line : chains_of(pieces_in(source, r))) {
+  for (const std::vector<Node>& line : chains_of(pieces_in(source, r, with_outline))) {
     std::vector<Point3> metres;
     std::vector<std::uint8_t> keep;
     for (const Node& n : line) {

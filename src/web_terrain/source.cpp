@@ -77,16 +77,38 @@ TerrainSource::TerrainSource(const mesh::Triangulation& tin, const std::string& 
 void TerrainSource::collect_constraints(const mesh::Triangulation& tin,
                                         const std::vector<std::uint32_t>& number) {
   on_constraint_.assign(vertices_.size(), 0);
-  tin.for_each_constrained_edge([&](EdgeId e) {
-    if (!tin.is_kept(mesh::triangle_of(e)) && !tin.is_kept(mesh::triangle_of(tin.twin(e)))) return;
+  const auto add = [&](EdgeId e) {
     std::uint32_t a = number[tin.origin(e)], b = number[tin.dest(e)];
-    if (a == UINT32_MAX || b == UINT32_MAX) return;
+    if (a == UINT32_MAX || b == UINT32_MAX) return false;
     if (a > b) std::swap(a, b);
     constrained_.push_back({a, b});
     on_constraint_[a] = on_constraint_[b] = 1;
+    return true;
+  };
+  tin.for_each_constrained_edge([&](EdgeId e) {
+    if (tin.is_kept(mesh::triangle_of(e)) || tin.is_kept(mesh::triangle_of(tin.twin(e)))) add(e);
   });
+  std::vector<std::array<std::uint32_t, 2>> lines = constrained_;
+  std::sort(lines.begin(), lines.end());
+  // The outline of the holes, where a removed triangle meets a kept one or the hull: lines of
+  // every tile, so that a tile's triangles end at a hole's edge, not across it, whatever made
+  // the hole. Clip and erase rings are constrained edges already; --max-edge's outline is not.
+  for (std::size_t t = 0; t < tin.triangle_slots(); ++t) {
+    const auto id = static_cast<TriangleId>(t);
+    if (tin.is_ghost(id) || !tin.is_removed(id)) continue;
+    for (EdgeId e = 3 * id; e < 3 * id + 3; ++e) {
+      const TriangleId other = mesh::triangle_of(tin.twin(e));
+      if (!tin.is_ghost(other) && tin.is_removed(other)) continue;
+      // On the hull, the edge is no kept triangle's: section() finds it among these.
+      if (add(e) && tin.is_ghost(other)) hull_outline_.push_back(constrained_.back());
+    }
+  }
+  std::sort(hull_outline_.begin(), hull_outline_.end());
   std::sort(constrained_.begin(), constrained_.end());
   constrained_.erase(std::unique(constrained_.begin(), constrained_.end()), constrained_.end());
+  outline_only_.reserve(constrained_.size());
+  for (const auto& e : constrained_)
+    outline_only_.push_back(std::binary_search(lines.begin(), lines.end(), e) ? 0 : 1);
 }
 
 void TerrainSource::collect_holes(const mesh::Triangulation& tin,
@@ -302,25 +324,35 @@ std::vector<SectionPoint> TerrainSource::section(bool along_meridian, double at,
   std::vector<SectionPoint> out;
   const GeoRectangle r =
       along_meridian ? GeoRectangle{at, from, at, to} : GeoRectangle{from, at, to, at};
+  // Each edge from its lower-numbered end, so that both its triangles compute the same.
+  const auto cross = [&](std::uint32_t ia, std::uint32_t ib) {
+    if (ia > ib) std::swap(ia, ib);
+    const Point3 &a = vertices_[ia], &b = vertices_[ib];
+    const double ua = u_of(a), ub = u_of(b);
+    if (ua == 0) out.push_back({s_of(a), a.z, on_constraint_[ia] != 0});
+    if (ub == 0) out.push_back({s_of(b), b.z, on_constraint_[ib] != 0});
+    if ((ua < 0 && ub > 0) || (ua > 0 && ub < 0)) {
+      const double f = ua / (ua - ub);
+      out.push_back(
+          {s_of(a) + f * (s_of(b) - s_of(a)), a.z + f * (b.z - a.z), is_constrained(ia, ib)});
+    }
+  };
   for_cells(r, triangle_cells_, [&](std::size_t cell) {
     for (std::uint32_t i = triangle_cells_.begin[cell]; i < triangle_cells_.begin[cell + 1]; ++i) {
       const auto& t = triangles_[triangle_cells_.items[i]];
-      for (int k = 0; k < 3; ++k) {
-        // Each edge from its lower-numbered end, so that both its triangles compute the same.
-        std::uint32_t ia = t[k], ib = t[(k + 1) % 3];
-        if (ia > ib) std::swap(ia, ib);
-        const Point3 &a = vertices_[ia], &b = vertices_[ib];
-        const double ua = u_of(a), ub = u_of(b);
-        if (ua == 0) out.push_back({s_of(a), a.z, on_constraint_[ia] != 0});
-        if (ub == 0) out.push_back({s_of(b), b.z, on_constraint_[ib] != 0});
-        if ((ua < 0 && ub > 0) || (ua > 0 && ub < 0)) {
-          const double f = ua / (ua - ub);
-          out.push_back(
-              {s_of(a) + f * (s_of(b) - s_of(a)), a.z + f * (b.z - a.z), is_constrained(ia, ib)});
-        }
-      }
+      for (int k = 0; k < 3; ++k) cross(t[k], t[(k + 1) % 3]);
     }
   });
+  // The holes' outline along the hull, which no kept triangle has: where the line leaves a hole
+  // for the fill beyond the data, a vertex of both tiles of the border.
+  if (!hull_outline_.empty())
+    for_cells(r, constraint_cells_, [&](std::size_t cell) {
+      for (std::uint32_t i = constraint_cells_.begin[cell]; i < constraint_cells_.begin[cell + 1];
+           ++i) {
+        const auto& e = constrained_[constraint_cells_.items[i]];
+        if (std::binary_search(hull_outline_.begin(), hull_outline_.end(), e)) cross(e[0], e[1]);
+      }
+    });
   std::erase_if(out, [&](const SectionPoint& p) { return !(p.at > from && p.at < to); });
   std::sort(out.begin(), out.end(), [](const SectionPoint& a, const SectionPoint& b) {
     if (a.at != b.at) return a.at < b.at;

@@ -59,12 +59,16 @@ class TerrainSource {
   // between the ends, sorted; the ends with height_at(). The same arguments give the same points.
   std::vector<SectionPoint> section(bool along_meridian, double at, double from, double to) const;
 
-  // The constrained edges (contours, hard lines) of kept triangles, each from its lower-numbered
-  // vertex, and those whose box meets RECTANGLE, ascending.
+  // The constrained edges (contours, hard lines) of kept triangles and the outline of the holes
+  // (clip, erase, --max-edge), each from its lower-numbered vertex, and those whose box meets
+  // RECTANGLE, ascending.
   const std::vector<std::array<std::uint32_t, 2>>& constrained_edges() const {
     return constrained_;
   }
   std::vector<std::uint32_t> constrained_edges_in(const GeoRectangle& rectangle) const;
+  // Whether constrained edge E (an index into constrained_edges()) only bounds a hole, no
+  // contour, hard line, clip or erase ring: --max-edge's outline, the hull beside a hole.
+  bool outline_only(std::uint32_t e) const { return outline_only_[e] != 0; }
   bool is_constrained(std::uint32_t a, std::uint32_t b) const;
 
   // The mean spacing of the vertices in metres: the square root of the triangles' area per
@@ -91,8 +95,11 @@ class TerrainSource {
   std::vector<Point3> vertices_;
   std::vector<std::array<std::uint32_t, 3>> triangles_;    // counter-clockwise in lon/lat
   std::vector<std::array<std::uint32_t, 2>> constrained_;  // sorted
-  std::vector<std::array<Point2, 3>> holes_;               // removed triangles, counter-clockwise
-  std::vector<std::uint8_t> on_constraint_;                // per vertex
+  // Sorted: the edges of constrained_ that are no kept triangle's, a hole's side on the hull.
+  std::vector<std::array<std::uint32_t, 2>> hull_outline_;
+  std::vector<std::uint8_t> outline_only_;    // per constrained_ edge
+  std::vector<std::array<Point2, 3>> holes_;  // removed triangles, counter-clockwise
+  std::vector<std::uint8_t> on_constraint_;   // per vertex
   GeoRectangle bounds_{0, 0, 0, 0};
   io::terrain::HeightUnits units_;
   double fill_height_;

@@ -159,11 +159,16 @@ void drop_holes(const TerrainSource& source, TileMesh& mesh) {
   });
 }
 
+// Which of the source's lines a tile holds: all, all but the holes' outline, none.
+enum class Lines { all, features, none };
+
 TilePoints tile_points(const TerrainSource& source, const GeoRectangle& r, double error,
-                       bool with_lines, std::size_t& line_segments) {
+                       Lines lines, std::size_t& line_segments) {
   TilePoints p;
   add_border(source, r, kBorderShare * error, p);
-  line_segments = with_lines ? detail::add_lines(source, r, kBorderShare * error, p) : 0;
+  line_segments = lines == Lines::none
+                      ? 0
+                      : detail::add_lines(source, r, kBorderShare * error, lines == Lines::all, p);
   add_candidates(source, r, p);
   return p;
 }
@@ -208,18 +213,28 @@ BuiltTile greedy_tile(const TerrainSource& source, const GeoRectangle& r, const 
 
 BuiltTile build_tile(const TerrainSource& source, const io::terrain::TileKey& key, double error) {
   const GeoRectangle r = io::terrain::tile_rectangle(key);
-  std::size_t lines = 0;
-  const TilePoints p = tile_points(source, r, error, true, lines);
+  // Lines simplified onto the grid can overlap where the full TIN's do not; the tile is then
+  // made without the holes' outline, then without any line (its error still holds).
+  std::size_t all = 0, features = 0;
   try {
-    BuiltTile tile = greedy_tile(source, r, p, error);
-    tile.line_segments = lines;
+    BuiltTile tile = greedy_tile(source, r, tile_points(source, r, error, Lines::all, all), error);
+    tile.line_segments = all;
     return tile;
   } catch (const GeometryError&) {
-    // Lines simplified onto the grid can overlap where the full TIN's do not; the tile is then
-    // made without them (its error still holds).
-    if (lines == 0) throw;
+    if (all == 0) throw;
   }
-  BuiltTile tile = greedy_tile(source, r, tile_points(source, r, error, false, lines), error);
+  const TilePoints p = tile_points(source, r, error, Lines::features, features);
+  if (features > 0 && features != all) {
+    try {
+      BuiltTile tile = greedy_tile(source, r, p, error);
+      tile.line_segments = features;
+      tile.outline_dropped = true;
+      return tile;
+    } catch (const GeometryError&) {
+    }
+  }
+  std::size_t none = 0;
+  BuiltTile tile = greedy_tile(source, r, tile_points(source, r, error, Lines::none, none), error);
   tile.lines_dropped = true;
   return tile;
 }

@@ -34,6 +34,7 @@ struct BuiltTile {
   TileError error;
   std::size_t line_segments = 0;  // pieces of constrained lines held as edges
   bool lines_dropped = false;     // the lines could not be held (they overlap on the grid)
+  bool outline_dropped = false;   // the lines but the holes' outline could
 };
 
 // The tile KEY of the pyramid over SOURCE, within ERROR (metres).

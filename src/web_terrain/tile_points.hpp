@@ -23,8 +23,9 @@ using TilePoints = simplify::SimplifyInput;
 
 // Adds SOURCE's constrained lines inside R to P, their border crossings at the border's points
 // (P holds the border already): each line simplified by 3D Douglas–Peucker within TOLERANCE,
-// its vertices kept and its pieces segments. Returns the number of segments added.
+// its vertices kept and its pieces segments; the holes' outline (TerrainSource::outline_only)
+// only WITH_OUTLINE. Returns the number of segments added.
 std::size_t add_lines(const TerrainSource& source, const io::terrain::GeoRectangle& r,
-                      double tolerance, TilePoints& p);
+                      double tolerance, bool with_outline, TilePoints& p);
 
 }  // namespace tincdt::web_terrain::detail
