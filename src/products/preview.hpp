@@ -2,11 +2,12 @@
 // surface with the constrained edges and the outline of the kept triangles drawn over it, and
 // transparent where there is no surface (outside the hull, clipped, erased, trimmed).
 //
-// The shading is gdaldem's multidirectional hillshade: Horn's slope and aspect on the TIN
-// rasterized at the cell centres, lit from 225, 270, 315 and 360 degrees at 45 degrees altitude,
-// each light weighted by sin^2 of the angle between it and the aspect (Mark, 1992), so no slope
-// facing any way is left dark. Cells at the edge of the surface take their missing neighbours'
-// heights from themselves.
+// The shading is gdaldem's multidirectional hillshade with -compute_edges, grey for grey: Horn's
+// slope and aspect on the TIN rasterized at the cell centres, lit from 225, 270, 315 and 360
+// degrees at 45 degrees altitude, each light weighted as gdaldem weights it (cos^2 of the angle
+// between it and the aspect: the light along the slope counts most), greys 1 (unlit) to 255.
+// At the picture's sides a missing row or column of heights is extrapolated linearly, and a
+// neighbour without a height takes the cell's own, as gdaldem does.
 #pragma once
 
 #include <array>
