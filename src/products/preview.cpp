@@ -84,11 +84,12 @@ class Window {
   std::span<const double> z_;
 };
 
-void shade_cells(const Grid& g, std::span<const double> z, double z_factor,
+void shade_cells(const Grid& g, std::span<const double> z, double z_factor, Progress& progress,
                  std::vector<std::uint8_t>& rgba) {
   const Window window(g, z);
   const double scale = z_factor / (8 * g.resolution);
   for (std::uint32_t row = 0; row < g.height; ++row) {
+    progress.tick(row);
     for (std::uint32_t col = 0; col < g.width; ++col) {
       const std::size_t i = std::size_t{row} * g.width + col;
       if (std::isnan(z[i])) continue;  // transparent, as rgba was made
@@ -134,8 +135,10 @@ void draw_segment(const Grid& g, Point2 p, Point2 q, const Rgba& colour,
 }
 
 // The outline first, the constrained edges over it: a contour along a clip edge shows as a line.
-void draw_edges(const mesh::Triangulation& tin, const Grid& g, std::vector<std::uint8_t>& rgba) {
+void draw_edges(const mesh::Triangulation& tin, const Grid& g, Progress& progress,
+                std::vector<std::uint8_t>& rgba) {
   tin.for_each_triangle([&](TriangleId t, const std::array<VertexId, 3>&) {
+    progress.heartbeat();
     for (int k = 0; k < 3; ++k) {
       const auto e = static_cast<EdgeId>(3 * t + static_cast<std::uint32_t>(k));
       if (!tin.is_kept(mesh::triangle_of(tin.twin(e))))
@@ -167,10 +170,14 @@ PreviewImage render_preview(const mesh::Triangulation& tin, const PreviewOptions
   image.grid = preview_grid(tin, options);
   const Grid& g = image.grid;
   std::vector<double> z(g.cells());
-  rasterize<double>(tin, g, std::nan(""), z, {.threads = options.threads});
+  rasterize<double>(tin, g, std::nan(""), z,
+                    {.threads = options.threads, .progress = options.progress});
   image.rgba.assign(4 * g.cells(), 0);
-  shade_cells(g, z, options.z_factor, image.rgba);
-  draw_edges(tin, g, image.rgba);
+  // Over the rows shaded; the edges, one report per 2^16 triangles, at the end of it.
+  Progress progress(options.progress, "preview", g.height);
+  shade_cells(g, z, options.z_factor, progress, image.rgba);
+  draw_edges(tin, g, progress, image.rgba);
+  progress.finish();
   if (options.frame) draw_frame(g, image.rgba);
   return image;
 }

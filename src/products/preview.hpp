@@ -15,6 +15,7 @@
 #include <optional>
 #include <vector>
 
+#include "core/progress.hpp"
 #include "mesh/triangulation.hpp"
 #include "products/grid.hpp"
 
@@ -26,6 +27,9 @@ struct PreviewOptions {
   // for heights in metres on longitude/latitude, as gdaldem's -s 111120.
   double z_factor = 1;
   unsigned threads = 0;  // 0 = every hardware thread (the rasterization)
+  // Reports under "dem" (the rasterization, products::rasterize's name), then "preview" (the
+  // shading and the edges); a request to stop throws Cancelled.
+  const ProgressFn* progress = nullptr;
   // The picture's extent, drawn as a rectangle over it (a tile job's tile); unset: the kept
   // triangles' extent.
   std::optional<BBox> frame = std::nullopt;
@@ -41,7 +45,8 @@ struct PreviewImage {
   std::vector<std::uint8_t> rgba;  // grid.cells() pixels, 4 bytes each, row-major from the top
 };
 
-// Throws Error when the TIN has no kept triangle (and no frame is given), or SIZE is below 2.
+// Throws Error when the TIN has no kept triangle (and no frame is given), or SIZE is below 2;
+// Cancelled when the progress callback asks to stop.
 PreviewImage render_preview(const mesh::Triangulation& tin, const PreviewOptions& options = {});
 
 }  // namespace tincdt::products
