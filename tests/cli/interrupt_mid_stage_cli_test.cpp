@@ -202,6 +202,15 @@ TEST_F(InterruptMidStage, MakingTheDem) {
   expect_interrupted(args, "making the DEM", 70);
 }
 
+// 2,000 x 2,000 pixels. The stage's thirds: the rasterization, the shading and edges, GDAL
+// writing the PNG (through GDAL's progress callback): a signal in the last two.
+TEST_F(InterruptMidStage, DrawingThePreview) {
+  const std::vector<std::string> args = {
+      few_points(), "-o", path("t.ply"), "--preview", path("p.png"), "--preview-size", "2000"};
+  expect_interrupted(args, "drawing the preview", 50);
+  expect_interrupted(args, "drawing the preview", 80);
+}
+
 TEST_F(InterruptMidStage, Simplifying) {
   expect_interrupted({few_points(), "-o", path("t.ply"), "--max-error", "0.01"}, "simplifying");
 }
