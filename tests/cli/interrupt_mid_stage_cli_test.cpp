@@ -211,6 +211,14 @@ TEST_F(InterruptMidStage, DrawingThePreview) {
   expect_interrupted(args, "drawing the preview", 80);
 }
 
+// About 14,000 lines into a GeoPackage; the signal in the second half, OGR writing them (the
+// lines written are dropped, not indexed, before the file is discarded).
+TEST_F(InterruptMidStage, WritingContourLines) {
+  expect_interrupted(
+      {few_points(), "-o", path("t.ply"), "--contour-lines", path("c.gpkg"), "--interval", "0.1"},
+      "tracing contour lines", 80);
+}
+
 TEST_F(InterruptMidStage, Simplifying) {
   expect_interrupted({few_points(), "-o", path("t.ply"), "--max-error", "0.01"}, "simplifying");
 }
