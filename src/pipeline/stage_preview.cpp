@@ -1,6 +1,7 @@
 // preview: --preview, a PNG to look the final TIN over (products::render_preview): a hillshade
 // with the constrained edges and the outline drawn, transparent where there is no surface.
 #include <string>
+#include <string_view>
 
 #include "core/number_text.hpp"
 #include "io/crs.hpp"
@@ -25,6 +26,7 @@ void run(Job& job) {
   p.size = o.size;
   p.threads = job.options.threads;
   p.frame = job.preview_frame;
+  p.progress = job.stage_progress();
   // Heights in metres over longitude and latitude: shade as gdaldem -s 111120 does.
   if (io::is_geographic(job.crs_wkt)) p.z_factor = 1 / kMetresPerDegree;
   products::PreviewImage image;
@@ -33,12 +35,14 @@ void run(Job& job) {
   job.with_extra_triangles([&] {
     try {
       image = products::render_preview(job.tin(), p);
+    } catch (const Cancelled&) {
+      throw;  // a request to stop, not a fault of the picture
     } catch (const Error& e) {
       throw OutputError(o.path, "", e.detail());
     }
   });
   io::OutputFile& out = job.add_output(o.path, "preview");
-  io::write_png(out, image.grid.width, image.grid.height, image.rgba);
+  io::write_png(out, image.grid.width, image.grid.height, image.rgba, job.stage_progress());
   job.finish_output(out);
   job.info("preview: " + count_text(image.grid.width) + " x " + count_text(image.grid.height) +
            " pixels");
@@ -73,7 +77,10 @@ constexpr OptionSpec kOptions[] = {
 
 }  // namespace
 
-constexpr StageProgress kPreviewProgress{"drawing the preview"};
+// The library calls that report progress under this stage, in order.
+constexpr std::string_view kProgressPhases[] = {"dem", "preview", "write preview"};
+
+constexpr StageProgress kPreviewProgress{"drawing the preview", "", nullptr, kProgressPhases};
 extern const Stage preview_stage{"preview", "preview", wanted,   run,
                                  plan,      "",        kOptions, kPreviewProgress};
 

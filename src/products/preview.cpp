@@ -33,7 +33,9 @@ double multidirectional_shade(double dzdx, double dzdy) {
   double shade = 0;
   for (const double degrees : kAzimuths) {
     const double azimuth = degrees * std::numbers::pi / 180;
-    const double weight = std::pow(std::sin(aspect - azimuth), 2);
+    // gdaldem's weight: cos^2 of the angle between the light and the downslope azimuth, so the
+    // light along the slope counts most (its sin^2 takes the aspect counter-clockwise from east).
+    const double weight = std::pow(std::cos(aspect - azimuth), 2);
     // Lambert's cosine between the light and the surface normal: brightest facing the light.
     const double lit = std::sin(kAltitude) * std::cos(slope) +
                        std::cos(kAltitude) * std::sin(slope) * std::cos(azimuth - aspect);
@@ -42,28 +44,65 @@ double multidirectional_shade(double dzdx, double dzdy) {
   return shade / 2;  // the four weights, 45 degrees apart, sum to 2
 }
 
-void shade_cells(const Grid& g, std::span<const double> z, double z_factor,
-                 std::vector<std::uint8_t>& rgba) {
-  const auto at = [&](std::int64_t row, std::int64_t col, double centre) {
-    if (row < 0 || col < 0 || row >= g.height || col >= g.width) return centre;
-    const double v = z[static_cast<std::size_t>(row) * g.width + static_cast<std::size_t>(col)];
+// The heights of a 3 x 3 window of a grid of heights (NaN: no value), rows going south, as
+// gdaldem -compute_edges makes them: beyond the grid's sides a row or column is extrapolated
+// linearly from the two inside it (in the first and last rows a column beyond is the edge
+// column again), and a neighbour without a value takes the centre's height.
+class Window {
+ public:
+  Window(const Grid& g, std::span<const double> z) : g_(g), z_(z) {}
+
+  // The height of the neighbour (ROW + dr, COL + dc) of the cell (ROW, COL), which has a value.
+  double at(std::int64_t row, std::int64_t col, int dr, int dc) const {
+    const double centre = cell(row, col);
+    assert(!std::isnan(centre));
+    const std::int64_t h = g_.height, w = g_.width;
+    std::int64_t r = row + dr, c = col + dc;
+    double v = 0;
+    if (r < 0 || r >= h) {
+      c = std::clamp<std::int64_t>(c, 0, w - 1);
+      v = h < 2 ? centre : extrapolated(cell(r < 0 ? 0 : h - 1, c), cell(r < 0 ? 1 : h - 2, c));
+    } else if (c < 0 || c >= w) {
+      if (w < 2 || row == 0 || row == h - 1)
+        v = cell(r, std::clamp<std::int64_t>(c, 0, w - 1));
+      else
+        v = extrapolated(cell(r, c < 0 ? 0 : w - 1), cell(r, c < 0 ? 1 : w - 2));
+    } else {
+      v = cell(r, c);
+    }
     return std::isnan(v) ? centre : v;
-  };
+  }
+
+ private:
+  double cell(std::int64_t row, std::int64_t col) const {
+    return z_[static_cast<std::size_t>(row) * g_.width + static_cast<std::size_t>(col)];
+  }
+  // The value one cell beyond EDGE, away from INNER (NaN when either has none).
+  static double extrapolated(double edge, double inner) { return 2 * edge - inner; }
+
+  const Grid& g_;
+  std::span<const double> z_;
+};
+
+void shade_cells(const Grid& g, std::span<const double> z, double z_factor, Progress& progress,
+                 std::vector<std::uint8_t>& rgba) {
+  const Window window(g, z);
   const double scale = z_factor / (8 * g.resolution);
   for (std::uint32_t row = 0; row < g.height; ++row) {
+    progress.tick(row);
     for (std::uint32_t col = 0; col < g.width; ++col) {
       const std::size_t i = std::size_t{row} * g.width + col;
       if (std::isnan(z[i])) continue;  // transparent, as rgba was made
-      const std::int64_t r = row, c = col;
-      const double e = z[i];
-      const double a = at(r - 1, c - 1, e), b = at(r - 1, c, e), cc = at(r - 1, c + 1, e);
-      const double d = at(r, c - 1, e), f = at(r, c + 1, e);
-      const double gg = at(r + 1, c - 1, e), h = at(r + 1, c, e), k = at(r + 1, c + 1, e);
+      const auto at = [&](int dr, int dc) { return window.at(row, col, dr, dc); };
+      const double a = at(-1, -1), b = at(-1, 0), c = at(-1, 1);
+      const double d = at(0, -1), f = at(0, 1);
+      const double gg = at(1, -1), h = at(1, 0), k = at(1, 1);
       // Horn's 3 x 3 gradient; rows go south, so north is row - 1.
-      const double dzdx = ((cc + 2 * f + k) - (a + 2 * d + gg)) * scale;
-      const double dzdy = ((a + 2 * b + cc) - (gg + 2 * h + k)) * scale;
+      const double dzdx = ((c + 2 * f + k) - (a + 2 * d + gg)) * scale;
+      const double dzdy = ((a + 2 * b + c) - (gg + 2 * h + k)) * scale;
+      // gdaldem's greys: 1 (unlit) to 255, 0 being its nodata.
       const auto grey =
-          static_cast<std::uint8_t>(std::lround(255 * multidirectional_shade(dzdx, dzdy)));
+          static_cast<std::uint8_t>(std::lround(1 + 254 * multidirectional_shade(dzdx, dzdy)));
       std::uint8_t* px = &rgba[4 * i];
       px[0] = px[1] = px[2] = grey;
       px[3] = 255;
@@ -96,8 +135,10 @@ void draw_segment(const Grid& g, Point2 p, Point2 q, const Rgba& colour,
 }
 
 // The outline first, the constrained edges over it: a contour along a clip edge shows as a line.
-void draw_edges(const mesh::Triangulation& tin, const Grid& g, std::vector<std::uint8_t>& rgba) {
+void draw_edges(const mesh::Triangulation& tin, const Grid& g, Progress& progress,
+                std::vector<std::uint8_t>& rgba) {
   tin.for_each_triangle([&](TriangleId t, const std::array<VertexId, 3>&) {
+    progress.heartbeat();
     for (int k = 0; k < 3; ++k) {
       const auto e = static_cast<EdgeId>(3 * t + static_cast<std::uint32_t>(k));
       if (!tin.is_kept(mesh::triangle_of(tin.twin(e))))
@@ -129,10 +170,14 @@ PreviewImage render_preview(const mesh::Triangulation& tin, const PreviewOptions
   image.grid = preview_grid(tin, options);
   const Grid& g = image.grid;
   std::vector<double> z(g.cells());
-  rasterize<double>(tin, g, std::nan(""), z, {.threads = options.threads});
+  rasterize<double>(tin, g, std::nan(""), z,
+                    {.threads = options.threads, .progress = options.progress});
   image.rgba.assign(4 * g.cells(), 0);
-  shade_cells(g, z, options.z_factor, image.rgba);
-  draw_edges(tin, g, image.rgba);
+  // Over the rows shaded; the edges, one report per 2^16 triangles, at the end of it.
+  Progress progress(options.progress, "preview", g.height);
+  shade_cells(g, z, options.z_factor, progress, image.rgba);
+  draw_edges(tin, g, progress, image.rgba);
+  progress.finish();
   if (options.frame) draw_frame(g, image.rgba);
   return image;
 }

@@ -5,13 +5,14 @@
 #include <cstdint>
 #include <span>
 
+#include "core/progress.hpp"
 #include "io/output_file.hpp"
 
 namespace tincdt::io {
 
 // RGBA: WIDTH x HEIGHT pixels, 4 bytes each, row-major from the top. Throws OutputError naming
-// OUT's path.
+// OUT's path; Cancelled when PROGRESS (reported under "write preview") asks to stop.
 void write_png(OutputFile& out, std::uint32_t width, std::uint32_t height,
-               std::span<const std::uint8_t> rgba);
+               std::span<const std::uint8_t> rgba, const ProgressFn* progress = nullptr);
 
 }  // namespace tincdt::io

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <exception>
 #include <filesystem>
 #include <optional>
 #include <sstream>
@@ -106,6 +107,19 @@ ContourWriteStats write_contours(OutputFile& out, const products::ContourSet& co
     Progress progress(options.progress, "write contours", contours.lines.size());
     const detail::OgrFeature feature(OGRFeature::CreateFeature(layer->GetLayerDefn()));
     OGRLineString line;
+    // Stopped midway (asked to stop, or a write failed): the lines written so far are dropped
+    // before the file closes, for closing builds what the driver deferred (a GeoPackage's
+    // spatial index: seconds for a large set), and the file is discarded anyway.
+    struct DropWhenStopped {
+      GDALDataset& ds;
+      bool transaction;
+      int exceptions = std::uncaught_exceptions();
+      ~DropWhenStopped() {
+        if (std::uncaught_exceptions() <= exceptions) return;
+        if (transaction) ds.RollbackTransaction();
+        ds.DeleteLayer(0);
+      }
+    } drop_when_stopped{*ds, transactions};
     for (std::size_t i = 0; i < contours.lines.size(); ++i) {
       const products::ContourLine& c = contours.lines[i];
       line.setNumPoints(static_cast<int>(c.count), FALSE);
