@@ -189,11 +189,12 @@ void run(Job& job) {
            (o.max_level ? "" : " (point spacing " + short_number(spacing) + " m)"));
   // Levels given were checked right after read, over the points' extent, which holds the TIN's.
   const std::uint64_t limit = o.max_tiles_or_default();
-  const std::uint64_t tiles =
-      o.max_level ? pyramid_tiles(source.bounds(), max_level)
-                  : checked_tile_count(source.bounds(), max_level, limit,
-                                       "the default levels 0-" + count_text(max_level) +
-                                           " (the data's point spacing)");
+  // Checked again over the TIN's own bounds, which the points' box checked before only samples.
+  const std::uint64_t tiles = checked_tile_count(
+      source.bounds(), max_level, limit,
+      o.max_level
+          ? "levels 0-" + count_text(max_level)
+          : "the default levels 0-" + count_text(max_level) + " (the data's point spacing)");
   job.info("terrain: " + count_text(tiles) + " tiles over the data's " + box_text(source.bounds()) +
            " (at most " + count_text(limit) + ")");
   qm::TerrainLayer layer;
@@ -352,7 +353,12 @@ constexpr OptionSpec kOptions[] = {
 
 }  // namespace
 
-extern const Stage terrain_crs_stage{"web_terrain_crs", "", wanted, check_crs};
-extern const Stage terrain_stage{"web_terrain", "web_terrain", wanted, run, plan, "", kOptions};
+constexpr StageProgress kCrsProgress{"placing the data on the globe"};
+constexpr StageProgress kTerrainProgress{"making the web terrain"};
+
+extern const Stage terrain_crs_stage{"web_terrain_crs", "", wanted, check_crs,
+                                     nullptr,           "", {},     kCrsProgress};
+extern const Stage terrain_stage{"web_terrain", "web_terrain",   wanted, run, plan, "",
+                                 kOptions,      kTerrainProgress};
 
 }  // namespace tincdt::pipeline

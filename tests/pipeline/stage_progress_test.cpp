@@ -13,6 +13,7 @@
 
 #include "core/progress.hpp"
 #include "pipeline/build.hpp"
+#include "pipeline/stage.hpp"
 #include "support/files.hpp"
 
 namespace tincdt {
@@ -76,6 +77,15 @@ TEST(StageProgress, StagesAreAnnouncedAndNeverGoBack) {
   // An ordinary callback hears the same fractions; it has no watcher.
   const ProgressFn plain = [](std::string_view, double) { return true; };
   EXPECT_EQ(watcher_of(&plain), nullptr);
+}
+
+// Every stage a progress display can announce has a name for a person, not its internal one.
+TEST(StageProgress, EveryStageHasATitleForAPerson) {
+  for (const pipeline::Stage* stage : pipeline::stages()) {
+    SCOPED_TRACE(stage->name);
+    EXPECT_FALSE(stage->progress.title.empty());
+    EXPECT_EQ(stage->progress.title.find('_'), std::string_view::npos);
+  }
 }
 
 }  // namespace
