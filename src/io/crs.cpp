@@ -290,7 +290,8 @@ CrsResult crs_from_geotiff(const GeoTiffKeys& keys) {
 namespace {
 
 // The top-level member names of a JSON object, fed in pieces: a lexical walk (strings, escapes,
-// nesting) that needs no parse tree, so a large feature collection costs one pass and no memory.
+// nesting) that needs no parse tree, so a large feature collection costs one pass and no memory
+// (GDAL parses the whole file after it anyway). A name spelled with \u escapes is not matched.
 class TopLevelKeys {
  public:
   // Feeds TEXT; true as soon as a top-level member is named NAME.
@@ -316,12 +317,12 @@ class TopLevelKeys {
         expect_key_ = false;
         key_.clear();
       } else if (c == '{' || c == '[') {
-        ++depth_;
-        expect_key_ = depth_ == 1 && c == '{';
+        if (++depth_ == 1) top_is_object_ = c == '{';
+        expect_key_ = depth_ == 1 && top_is_object_;
       } else if (c == '}' || c == ']') {
         --depth_;
       } else if (c == ',' && depth_ == 1) {
-        expect_key_ = true;
+        expect_key_ = top_is_object_;
       }
     }
     return false;
@@ -330,6 +331,7 @@ class TopLevelKeys {
  private:
   int depth_ = 0;
   bool in_string_ = false, escaped_ = false, is_key_ = false, expect_key_ = false;
+  bool top_is_object_ = false;
   std::string key_;
 };
 

@@ -46,6 +46,7 @@ TEST(GeoJsonCrs, ATopLevelCrsMemberBeforeOrAfterTheFeatures) {
 TEST(GeoJsonCrs, ACrsKeyInsideAFeatureOrAStringIsNotTheFilesCrs) {
   EXPECT_FALSE(names_crs(object({kType, kFeatures})));
   EXPECT_FALSE(names_crs(R"({"type": "FeatureCollection", "name": "crs", "features": []})"));
+  EXPECT_FALSE(names_crs(R"([1, "crs", {"x": 2}])"));
   EXPECT_FALSE(names_crs(R"({"type": "Feature", "properties": {"x": "\\"}, "crss": 1})"));
 }
 
