@@ -91,6 +91,11 @@ const std::string& InputCrs::transform_to_target_from(const std::string& path) c
   for (const Implied& implied : implied_) {
     if (implied.path != path) continue;
     check_none_without();  // its format's default counts only when no input names its CRS
+    if (const std::string why = misfit(path, implied); !why.empty())
+      throw InputError(path, "",
+                       why + ", so it cannot be transformed into the target CRS " +
+                           job_.crs_names.name(target()),
+                       Remedy::assign_crs);
     from = &implied.wkt;
   }
   assert(from != nullptr && "with a target CRS, add() refuses an input without a CRS");
@@ -117,21 +122,26 @@ void InputCrs::read_extent(const std::string& path, std::span<const Point3> poin
   for (const Point3& p : points) box.add(p.x, p.y);
 }
 
+std::string InputCrs::misfit(const std::string& path, const Implied& implied) const {
+  if (!io::is_geographic(implied.wkt)) return {};
+  const auto it = extents_.find(path);
+  if (it == extents_.end()) return {};
+  const BBox& b = it->second;
+  if (!(b.min_x <= b.max_x)) return {};  // nothing read
+  if (b.min_x >= -180 && b.max_x <= 360 && b.min_y >= -90 && b.max_y <= 90) return {};
+  return "no CRS in the file, and its coordinates (x " + number_text(b.min_x) + " to " +
+         number_text(b.max_x) + ", y " + number_text(b.min_y) + " to " + number_text(b.max_y) +
+         ") are not longitudes and latitudes: " +
+         (path == implied.path ? "its format's default "
+                               : "the default of " + implied.path + ", ") +
+         job_.crs_names.name(implied.wkt) + ", is not assumed";
+}
+
 std::string InputCrs::implied_misfit() const {
-  if (!io::is_geographic(implied_.front().wkt)) return {};
   for (const std::string& path : order_) {
-    const auto it = extents_.find(path);
-    if (it == extents_.end() || taken_.contains(path)) continue;
-    const BBox& b = it->second;
-    if (!(b.min_x <= b.max_x)) continue;  // nothing read
-    if (b.min_x >= -180 && b.max_x <= 360 && b.min_y >= -90 && b.max_y <= 90) continue;
-    const std::string& source = implied_.front().path;
-    return path + ": no CRS in the file, and its coordinates (x " + number_text(b.min_x) + " to " +
-           number_text(b.max_x) + ", y " + number_text(b.min_y) + " to " + number_text(b.max_y) +
-           ") are not longitudes and latitudes: " +
-           (path == source ? "its format's default " : "the default of " + source + ", ") +
-           job_.crs_names.name(implied_.front().wkt) +
-           ", is not assumed, and the TIN has no CRS (assign one with --a-srs)";
+    if (taken_.contains(path)) continue;
+    if (const std::string why = misfit(path, implied_.front()); !why.empty())
+      return path + ": " + why + ", and the TIN has no CRS";
   }
   return {};
 }
@@ -139,8 +149,8 @@ std::string InputCrs::implied_misfit() const {
 void InputCrs::finish() {
   check_none_without();
   if (!crs_.empty() || implied_.empty()) return;
-  if (const std::string misfit = implied_misfit(); !misfit.empty()) {
-    job_.warn(misfit);
+  if (const std::string why = implied_misfit(); !why.empty()) {
+    job_.warn(why);
     return;
   }
   crs_ = implied_.front().wkt;

@@ -70,8 +70,11 @@ class InputCrs {
   };
   // crs_ and source_ from taken_: the first input in order_ with a CRS.
   void settle_first();
-  // finish()'s warning when an input without a CRS of its own lies where the implied CRS cannot
-  // hold it, "" when none does.
+  // Why input PATH, which names no CRS, cannot be in IMPLIED's: its coordinates are not
+  // longitudes and latitudes; "" when they can be.
+  std::string misfit(const std::string& path, const Implied& implied) const;
+  // finish()'s warning when an input without a CRS of its own lies where the first implied CRS
+  // cannot hold it, "" when none does.
   std::string implied_misfit() const;
   // transform_from() with a target CRS: from the CRS PATH is taken in, its format's default when
   // no input names its CRS (check_none_without() throws otherwise).

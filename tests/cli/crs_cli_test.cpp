@@ -168,6 +168,15 @@ TEST(CrsCli, ProjectedCoordinatesAreNotTakenInGeoJsonsDefault) {
   const ShellRun own = run_tincdt(dir, "lonlat.xyz --hard-lines line.geojson -o o.ply");
   EXPECT_TRUE(has(own, "line.geojson: no CRS in the file, and its coordinates")) << own;
   EXPECT_TRUE(has(own, "its format's default EPSG:4979, is not assumed")) << own;
+  // Nor is it transformed from that default into a target CRS: refused, naming the file.
+  const ShellRun target = run_tincdt(dir, "--contours line.geojson --t-srs EPSG:32632 -o g.ply");
+  EXPECT_EQ(target.exit_code, 1) << target;
+  EXPECT_TRUE(has(target,
+                  "line.geojson: no CRS in the file, and its coordinates (x 500,010 to "
+                  "500,090, y 4,000,010 to 4,000,090) are not longitudes and latitudes: "
+                  "its format's default EPSG:4979, is not assumed, so it cannot be "
+                  "transformed into the target CRS EPSG:32632"))
+      << target;
   // Degrees in both files: GeoJSON's default is taken, with the warning for the XYZ file.
   spit(fs::path(dir) / "deg.geojson",
        R"({"type": "FeatureCollection", "features": [{"type": "Feature",)"
