@@ -29,6 +29,13 @@ std::string stats_crs(const std::string& path, const std::string& member = "crs"
   return StatsJson(slurp(path)).text(member).value_or("(none)");
 }
 
+// A GeoJSON feature collection of one line through COORDINATES ("[x, y, z], ..."), naming no CRS.
+std::string line_geojson(const std::string& coordinates) {
+  return R"({"type": "FeatureCollection", "features": [{"type": "Feature", "properties": {},)"
+         R"( "geometry": {"type": "LineString", "coordinates": [)" +
+         coordinates + "]}}]}";
+}
+
 // lone-star.copc.laz is tagged geocentric (EPSG:4978) though its coordinates are projected.
 TEST(CrsCli, AGeocentricCrsIsRefusedBeforeAnyWork) {
   TINCDT_REQUIRE_SHARED_DATA("copc");
@@ -126,9 +133,7 @@ TEST(CrsCli, AGeoJsonNamingNoCrsBesideALasFileNeedsASrs) {
   TINCDT_REQUIRE_SHARED_DATA("las");
   const std::string dir = scratch_dir("crs_cli");
   spit(fs::path(dir) / "line.geojson",
-       R"({"type": "FeatureCollection", "features": [{"type": "Feature",)"
-       R"( "properties": {}, "geometry": {"type": "LineString", "coordinates":)"
-       R"( [[273400, 5274400, 800], [273600, 5274600, 800]]}}]})");
+       line_geojson("[273400, 5274400, 800], [273600, 5274600, 800]"));
   const ShellRun r =
       run_tincdt(dir, shared("las/Topography.las") + " --hard-lines line.geojson -o t.ply");
   EXPECT_EQ(r.exit_code, 1) << r;
@@ -149,9 +154,7 @@ TEST(CrsCli, ProjectedCoordinatesAreNotTakenInGeoJsonsDefault) {
   spit(fs::path(dir) / "points.xyz",
        "500000 4000000 10\n500100 4000000 11\n500000 4000100 12\n500100 4000100 13\n");
   spit(fs::path(dir) / "line.geojson",
-       R"({"type": "FeatureCollection", "features": [{"type": "Feature",)"
-       R"( "properties": {}, "geometry": {"type": "LineString", "coordinates":)"
-       R"( [[500010, 4000010, 11], [500090, 4000090, 12]]}}]})");
+       line_geojson("[500010, 4000010, 11], [500090, 4000090, 12]"));
   const ShellRun r =
       run_tincdt(dir, "points.xyz --hard-lines line.geojson -o t.ply --stats s.json");
   EXPECT_EQ(r.exit_code, 0) << r;
@@ -178,10 +181,7 @@ TEST(CrsCli, ProjectedCoordinatesAreNotTakenInGeoJsonsDefault) {
                   "transformed into the target CRS EPSG:32632"))
       << target;
   // Degrees in both files: GeoJSON's default is taken, with the warning for the XYZ file.
-  spit(fs::path(dir) / "deg.geojson",
-       R"({"type": "FeatureCollection", "features": [{"type": "Feature",)"
-       R"( "properties": {}, "geometry": {"type": "LineString", "coordinates":)"
-       R"( [[7.0002, 45.0002, 2], [7.0008, 45.0008, 3]]}}]})");
+  spit(fs::path(dir) / "deg.geojson", line_geojson("[7.0002, 45.0002, 2], [7.0008, 45.0008, 3]"));
   const ShellRun degrees =
       run_tincdt(dir, "lonlat.xyz --hard-lines deg.geojson -o d.ply --stats d.json");
   EXPECT_EQ(degrees.exit_code, 0) << degrees;
