@@ -111,8 +111,8 @@ const PlanTile& tile_of_plan(const TilePlan& plan, const TileOptions& options) {
   if (plan.tiles.empty()) throw InputError(plan_path, "", "the plan has no tiles");
   if (static_cast<std::uint64_t>(options.tile) >= plan.tiles.size())
     throw InputError(plan_path, "",
-                     "no tile " + std::to_string(options.tile) + ": the plan has tiles 0 to " +
-                         std::to_string(plan.tiles.size() - 1));
+                     "no tile " + signed_count_text(options.tile) + ": the plan has tiles 0 to " +
+                         count_text(plan.tiles.size() - 1));
   return plan.tiles[static_cast<std::size_t>(options.tile)];
 }
 
