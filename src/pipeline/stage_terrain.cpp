@@ -127,10 +127,17 @@ LevelStats write_level(Job& job, const TerrainSource& source, int level, int max
   const double error = qm::geometric_error_at_level(level);
   const std::uint64_t count = tile_count(range);
   LevelStats stats;
+  // Within a tile, the stage's fraction so far is reported again, so that Ctrl-C gets through.
+  double at = done;
+  const ProgressFn within_tile = [&job, &at](std::string_view, double) {
+    job.progress(at);
+    return true;
+  };
   for (std::uint32_t x = range.start_x; x <= range.end_x; ++x)
     for (std::uint32_t y = range.start_y; y <= range.end_y; ++y) {
       const qm::TileKey key{level, x, y};
-      const web_terrain::BuiltTile tile = web_terrain::build_tile(source, key, error);
+      const web_terrain::BuiltTile tile = web_terrain::build_tile(
+          source, key, error, job.stage_progress() ? &within_tile : nullptr);
       qm::QuantizedMeshOptions options;
       options.available = children(key, max_level, source.bounds());
       write_file(job, tile_path(job.options.terrain.path, key),
@@ -141,7 +148,8 @@ LevelStats write_level(Job& job, const TerrainSource& source, int level, int max
       stats.lines_dropped += tile.lines_dropped;
       stats.outlines_dropped += tile.outline_dropped;
       stats.error.add(tile.error);
-      job.progress(done + share * static_cast<double>(stats.tiles) / static_cast<double>(count));
+      at = done + share * static_cast<double>(stats.tiles) / static_cast<double>(count);
+      job.progress(at);
     }
   return stats;
 }

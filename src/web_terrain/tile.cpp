@@ -176,7 +176,7 @@ TilePoints tile_points(const TerrainSource& source, const GeoRectangle& r, doubl
 // The greedy runs on P: at the tolerance that leaves room for the quantization of the heights,
 // then tighter while the measured error is above ERROR.
 BuiltTile greedy_tile(const TerrainSource& source, const GeoRectangle& r, const TilePoints& p,
-                      double error) {
+                      double error, const ProgressFn* progress) {
   const auto [low, high] = std::minmax_element(p.z.begin(), p.z.end());
   // A height step of the tile's quantization, at most.
   const double step = (*high - *low) / kMax;
@@ -189,7 +189,7 @@ BuiltTile greedy_tile(const TerrainSource& source, const GeoRectangle& r, const 
     BuiltTile tile;
     try {
       const simplify::SimplifyResult result =
-          simplify::simplify(p.xy, p.z, p.kept, p.segments, options);
+          simplify::simplify(p.xy, p.z, p.kept, p.segments, options, progress);
       assert(result.tin.vertex_count() >= p.kept.size());
       tile = {tile_mesh(r, result.tin), {}, 0};
       check_quantized_triangles(tile.mesh);
@@ -211,13 +211,15 @@ BuiltTile greedy_tile(const TerrainSource& source, const GeoRectangle& r, const 
 
 }  // namespace
 
-BuiltTile build_tile(const TerrainSource& source, const io::terrain::TileKey& key, double error) {
+BuiltTile build_tile(const TerrainSource& source, const io::terrain::TileKey& key, double error,
+                     const ProgressFn* progress) {
   const GeoRectangle r = io::terrain::tile_rectangle(key);
   // Lines simplified onto the grid can overlap where the full TIN's do not; the tile is then
   // made without the holes' outline, then without any line (its error still holds).
   std::size_t all = 0, features = 0;
   try {
-    BuiltTile tile = greedy_tile(source, r, tile_points(source, r, error, Lines::all, all), error);
+    BuiltTile tile =
+        greedy_tile(source, r, tile_points(source, r, error, Lines::all, all), error, progress);
     tile.line_segments = all;
     return tile;
   } catch (const GeometryError&) {
@@ -226,7 +228,7 @@ BuiltTile build_tile(const TerrainSource& source, const io::terrain::TileKey& ke
   const TilePoints p = tile_points(source, r, error, Lines::features, features);
   if (features > 0 && features != all) {
     try {
-      BuiltTile tile = greedy_tile(source, r, p, error);
+      BuiltTile tile = greedy_tile(source, r, p, error, progress);
       tile.line_segments = features;
       tile.outline_dropped = true;
       return tile;
@@ -234,7 +236,8 @@ BuiltTile build_tile(const TerrainSource& source, const io::terrain::TileKey& ke
     }
   }
   std::size_t none = 0;
-  BuiltTile tile = greedy_tile(source, r, tile_points(source, r, error, Lines::none, none), error);
+  BuiltTile tile =
+      greedy_tile(source, r, tile_points(source, r, error, Lines::none, none), error, progress);
   tile.lines_dropped = true;
   return tile;
 }

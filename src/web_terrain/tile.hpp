@@ -14,6 +14,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "core/progress.hpp"
 #include "io/terrain/geographic_tiling.hpp"
 #include "io/terrain/quantized_mesh.hpp"
 #include "web_terrain/source.hpp"
@@ -37,8 +38,10 @@ struct BuiltTile {
   bool outline_dropped = false;   // the lines but the holes' outline could
 };
 
-// The tile KEY of the pyramid over SOURCE, within ERROR (metres).
-BuiltTile build_tile(const TerrainSource& source, const io::terrain::TileKey& key, double error);
+// The tile KEY of the pyramid over SOURCE, within ERROR (metres). PROGRESS (may be null) is
+// called now and then during the work, so that a request to stop gets through within a tile.
+BuiltTile build_tile(const TerrainSource& source, const io::terrain::TileKey& key, double error,
+                     const ProgressFn* progress = nullptr);
 
 // The error of MESH, decoded as a client does, against SOURCE's vertices in its rectangle.
 TileError measure_tile(const TerrainSource& source, const io::terrain::TileMesh& mesh);
