@@ -1,5 +1,5 @@
-// Numbers in the messages of plan, tile jobs and the read stage: thousands separated, as in every
-// other message.
+// Numbers in the messages of plan, tile jobs, merge and the read stage: thousands separated, as in
+// every other message.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -44,6 +44,35 @@ TEST(MessageNumbersCli, TheReadStageGroupsItsPointCounts) {
   const ShellRun r = run_tincdt(dir, "-v sample.las -o t.ply");
   EXPECT_EQ(r.exit_code, 0) << r;
   EXPECT_TRUE(has(r, "sample.las: las 1.2 pdrf 1, 4,160 points, 4,160 kept")) << r;
+}
+
+// The plan's rim line, the tile jobs' refusal of a tile the plan lacks, and merge's summary.
+TEST(MessageNumbersCli, PlanTileAndMergeGroupTheirCounts) {
+  const std::string dir = folder_with_sample("message_numbers_cli_merge");
+  // tincdt plan sample.las --tile-size 20 --buffer 10 -o plan.json
+  const ShellRun plan = run_tincdt(dir, "plan sample.las --tile-size 20 --buffer 10 -o plan.json");
+  EXPECT_EQ(plan.exit_code, 0) << plan;
+  EXPECT_TRUE(has(plan, "rim: 2,139 points within")) << plan;
+  EXPECT_TRUE(has(plan, "wrote plan.json: 48 tiles of 20 (buffer 10)")) << plan;
+  // tincdt --plan plan.json --tile 99999 -o x.ply
+  const ShellRun missing = run_tincdt(dir, "--plan plan.json --tile 99999 -o x.ply");
+  EXPECT_EQ(missing.exit_code, 1) << missing;
+  EXPECT_TRUE(has(missing, "plan.json: no tile 99,999: the plan has tiles 0 to 47")) << missing;
+  std::string tiles;
+  for (int i = 0; i < 48; ++i) {
+    const std::string number = std::to_string(i);
+    std::string tile = "t";
+    tile.append(number).append(".ply");
+    std::string args = "--plan plan.json --tile ";
+    args.append(number).append(" -o ").append(tile).append(" -q");
+    expect_success(dir, args);
+    tiles.append(" ").append(tile);
+  }
+  // tincdt merge t0.ply ... t47.ply -o m.ply
+  const ShellRun merged = run_tincdt(dir, "merge" + tiles.append(" -o m.ply"));
+  EXPECT_EQ(merged.exit_code, 0) << merged;
+  EXPECT_TRUE(has(merged, "merged 48 tiles: 4,156 vertices, 8,306 triangles, 924 seam edges"))
+      << merged;
 }
 
 }  // namespace
