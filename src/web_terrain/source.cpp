@@ -279,9 +279,14 @@ void TerrainSource::for_cells(const GeoRectangle& r, const Cells& cells, F&& f) 
 }
 
 double TerrainSource::height_at(double lon, double lat) const {
+  return tin_height(lon, lat).value_or(fill_height_);
+}
+
+std::optional<double> TerrainSource::tin_height(double lon, double lat) const {
   // Inside a triangle: its plane. On an edge, rounding can put the point a hair outside both
   // triangles: then the one it is least outside, if that is within rounding of its area.
-  double found = fill_height_, best = -1;
+  std::optional<double> found;
+  double best = -1;
   bool done = false;
   for_cells({lon, lat, lon, lat}, triangle_cells_, [&](std::size_t cell) {
     for (std::uint32_t i = triangle_cells_.begin[cell];
@@ -366,6 +371,27 @@ std::vector<SectionPoint> TerrainSource::section(bool along_meridian, double at,
   const double h_to = along_meridian ? height_at(at, to) : height_at(to, at);
   out.insert(out.begin(), {from, h_from, false});
   out.push_back({to, h_to, false});
+  return out;
+}
+
+std::vector<SectionPoint> TerrainSource::outline_beside(bool along_meridian, double at, double from,
+                                                        double to, double half_width) const {
+  assert(from < to && half_width >= 0);
+  const GeoRectangle band = along_meridian
+                                ? GeoRectangle{at - half_width, from, at + half_width, to}
+                                : GeoRectangle{from, at - half_width, to, at + half_width};
+  std::vector<SectionPoint> out;
+  for (const std::uint32_t id : vertices_in(band)) {
+    const Point3& p = vertices_[id];
+    const double s = along_meridian ? p.y : p.x;
+    if (!(s > from && s < to)) continue;
+    const double lon = along_meridian ? at : s, lat = along_meridian ? s : at;
+    if (tin_height(lon, lat) || in_hole(lon, lat)) continue;
+    out.push_back({s, p.z, false});
+  }
+  std::sort(out.begin(), out.end(), [](const SectionPoint& a, const SectionPoint& b) {
+    return a.at != b.at ? a.at < b.at : a.height < b.height;
+  });
   return out;
 }
 

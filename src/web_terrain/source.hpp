@@ -58,6 +58,12 @@ class TerrainSource {
   // from FROM to TO (FROM < TO): where the line crosses an edge or meets a vertex, strictly
   // between the ends, sorted; the ends with height_at(). The same arguments give the same points.
   std::vector<SectionPoint> section(bool along_meridian, double at, double from, double to) const;
+  // The vertices within HALF_WIDTH of that line, strictly between FROM and TO, where the line
+  // beside them is outside the TIN and in no hole: the data's outline just inside the line,
+  // which a tile's grid puts on the line, so that the line carries the data's heights there, not
+  // the fill's. Each at its place along the line, sorted.
+  std::vector<SectionPoint> outline_beside(bool along_meridian, double at, double from, double to,
+                                           double half_width) const;
 
   // The constrained edges (contours, hard lines) of kept triangles and the outline of the holes
   // (clip, erase, --max-edge), each from its lower-numbered vertex, and those whose box meets
@@ -87,6 +93,8 @@ class TerrainSource {
                      const std::string& crs_wkt, const std::string& what);
   void collect_constraints(const mesh::Triangulation& tin,
                            const std::vector<std::uint32_t>& number);
+  // The TIN's height at LON, LAT, none outside every triangle.
+  std::optional<double> tin_height(double lon, double lat) const;
   std::uint32_t column(double lon) const;
   std::uint32_t row(double lat) const;
   template <class F>

@@ -44,7 +44,17 @@ std::vector<std::pair<double, double>> side_vertices(const TerrainSource& source
                     : side == Side::west  ? r.west
                                           : r.east;
   const double from = meridian ? r.south : r.west, to = meridian ? r.north : r.east;
-  const std::vector<SectionPoint> section = source.section(meridian, at, from, to);
+  std::vector<SectionPoint> section = source.section(meridian, at, from, to);
+  // The data's outline within half a grid step beyond the side: its vertices' grid places are
+  // on the side, where the section says the fill. The side is as long as the tile is wide, so
+  // both tiles of the side find the same vertices.
+  const std::vector<SectionPoint> outline =
+      source.outline_beside(meridian, at, from, to, (to - from) / kMax / 2);
+  if (!outline.empty()) {
+    section.insert(section.end() - 1, outline.begin(), outline.end());
+    std::stable_sort(section.begin() + 1, section.end() - 1,
+                     [](const SectionPoint& a, const SectionPoint& b) { return a.at < b.at; });
+  }
   std::vector<double> place, height;
   std::vector<std::uint8_t> forced;  // where a constrained line crosses: a vertex of both tiles
   for (std::size_t i = 0; i < section.size(); ++i) {
