@@ -398,14 +398,9 @@ TEST(TerrainCli, ErasedAreaIsAHoleAtEveryLevel) {
   };
   std::map<int, double> missing;  // per level: the tiles' squares less their triangles' area
   for (const auto& [key, tile] : read_pyramid(dir + "/t")) {
-    const GeoRectangle g = rectangle_of(key);
     double area = 0;
     for (std::size_t t = 0; t + 2 < tile.indices.size(); t += 3) {
-      double lon = 0, lat = 0;
-      for (int i = 0; i < 3; ++i) {
-        lon += g.west + (g.east - g.west) * tile.u[tile.indices[t + i]] / kQ / 3;
-        lat += g.south + (g.north - g.south) * tile.v[tile.indices[t + i]] / kQ / 3;
-      }
+      const auto [lon, lat] = centroid(key, tile, t);
       EXPECT_FALSE(in_square(lon, lat)) << key.z << "/" << key.x << "/" << key.y;
       const auto a = tile.indices[t], b = tile.indices[t + 1], c = tile.indices[t + 2];
       area += (static_cast<double>(tile.u[b]) - tile.u[a]) *

@@ -53,6 +53,17 @@ inline GeoRectangle rectangle_of(const Key& k) {
 }
 
 // Cesium's level error: a 65-sample heightmap's, the equator over 2 x 64 spacings, a quarter.
+// The longitude and latitude of the centroid of triangle T (its first index) of TILE at KEY.
+inline std::array<double, 2> centroid(const Key& key, const DecodedTile& tile, std::size_t t) {
+  const GeoRectangle g = rectangle_of(key);
+  double lon = 0, lat = 0;
+  for (std::size_t i = 0; i < 3; ++i) {
+    lon += g.west + (g.east - g.west) * tile.u[tile.indices[t + i]] / kQ / 3;
+    lat += g.south + (g.north - g.south) * tile.v[tile.indices[t + i]] / kQ / 3;
+  }
+  return {lon, lat};
+}
+
 inline double level_error(int z) {
   return 2 * std::numbers::pi * kA * 0.25 / (65 * 2) / std::ldexp(1.0, z);
 }

@@ -115,11 +115,7 @@ TEST(TerrainTrimCli, TrimmedGapIsAHoleAtEveryLevel) {
     const GeoRectangle g = rectangle_of(key);
     levels.insert(key.z);
     for (std::size_t t = 0; t + 2 < tile.indices.size(); t += 3) {
-      double lon = 0, lat = 0;
-      for (int i = 0; i < 3; ++i) {
-        lon += g.west + (g.east - g.west) * tile.u[tile.indices[t + i]] / kQ / 3;
-        lat += g.south + (g.north - g.south) * tile.v[tile.indices[t + i]] / kQ / 3;
-      }
+      const auto [lon, lat] = centroid(key, tile, t);
       EXPECT_FALSE(in_gap(lon, lat)) << key.z << "/" << key.x << "/" << key.y;
     }
     for (const auto& p : gap)

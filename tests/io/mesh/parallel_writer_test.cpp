@@ -15,6 +15,7 @@
 #include "core/error.hpp"
 #include "delaunay/delaunay.hpp"
 #include "io/mesh/tin_writer.hpp"
+#include "support/digest.hpp"
 #include "support/files.hpp"
 #include "support/splitmix.hpp"
 
@@ -86,15 +87,7 @@ std::string write(const mesh::Triangulation& tin, const Format& f, unsigned thre
   return test::slurp(path);
 }
 
-// FNV-1a, 64 bits: a fixed function of the bytes, the same on every machine.
-std::uint64_t digest(const std::string& bytes) {
-  std::uint64_t h = 0xcbf29ce484222325ULL;
-  for (const char c : bytes) {
-    h ^= static_cast<unsigned char>(c);
-    h *= 0x100000001b3ULL;
-  }
-  return h;
-}
+using test::digest;
 
 class ParallelWriter : public ::testing::Test {
  protected:

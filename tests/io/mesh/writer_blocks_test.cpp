@@ -14,6 +14,7 @@
 #include "io/mesh/tin_writer.hpp"
 #include "io/mesh/writer_detail.hpp"
 #include "io/output_file.hpp"
+#include "support/digest.hpp"
 #include "support/files.hpp"
 #include "support/meshes.hpp"
 #include "support/splitmix.hpp"
@@ -34,15 +35,7 @@ constexpr Format kFormats[] = {{"ply binary", ".ply", false},
                                {"stl", ".stl", false},
                                {"geojson", ".geojson", false}};
 
-// FNV-1a, 64 bits: a fixed function of the bytes, the same on every machine.
-std::uint64_t digest(const std::string& bytes) {
-  std::uint64_t h = 0xcbf29ce484222325ULL;
-  for (const char c : bytes) {
-    h ^= static_cast<unsigned char>(c);
-    h *= 0x100000001b3ULL;
-  }
-  return h;
-}
+using test::digest;
 
 class WriterBlocks : public ::testing::Test {
  protected:
