@@ -224,7 +224,11 @@ void run(Job& job) {
              " m (allowed " + short_number(qm::geometric_error_at_level(level)) + "), RMSE " +
              short_number(rmse) + " m over " + count_text(s.error.count) + " vertices" +
              (s.line_segments ? ", " + count_text(s.line_segments) + " line pieces as edges"
-                              : std::string()));
+                              : std::string()) +
+             (s.error.hidden ? ", " + count_text(s.error.hidden) +
+                                   (s.error.hidden == 1 ? " vertex" : " vertices") +
+                                   " under holes (their outline simplified at this level)"
+                             : std::string()));
     if (s.lines_dropped)
       job.debug("terrain level " + count_text(level) + ": " + count_text(s.lines_dropped) +
                 " tiles without their lines: simplified onto the tile's grid, they overlap "

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <span>
 #include <vector>
 
 #include "io/terrain/quantized_mesh_detail.hpp"
@@ -51,12 +52,34 @@ TriangleGrid grid_of(const std::vector<std::array<Corner, 3>>& triangles) {
   return g;
 }
 
+struct SurfacePoint {
+  double height = 0;
+  bool in_hole = false;
+};
+
+// How far U, V lies outside triangle C, in grid steps (0 inside or on it).
+double distance_outside(const std::array<Corner, 3>& c, double u, double v) {
+  double farthest = 0;
+  for (int i = 0; i < 3; ++i) {
+    const Corner &a = c[i], &b = c[(i + 1) % 3];
+    const double side = orient(a, b, u, v);
+    if (side < 0) farthest = std::max(farthest, -side / std::hypot(b.u - a.u, b.v - a.v));
+  }
+  return farthest;
+}
+
 // The surface's height at U, V: the triangle of the cell that holds the point best (the least
-// negative barycentric weight, for a point on an edge rounded off it).
-double surface_at(const std::vector<std::array<Corner, 3>>& triangles, const TriangleGrid& g,
-                  double u, double v) {
-  double best = -INFINITY, height = 0;
-  for (const std::uint32_t t : g.cells[std::size_t{g.cell_of(v)} * g.side + g.cell_of(u)]) {
+// negative barycentric weight, for a point on an edge rounded off it). A point whose triangle is
+// a hole's is in the hole unless a shown triangle is within a grid step (its place is rounded).
+SurfacePoint surface_at(const std::vector<std::array<Corner, 3>>& triangles,
+                        std::span<const std::uint8_t> hole, const TriangleGrid& g, double u,
+                        double v) {
+  const std::vector<std::uint32_t>& cell =
+      g.cells[std::size_t{g.cell_of(v)} * g.side + g.cell_of(u)];
+  double best = -INFINITY;
+  SurfacePoint out;
+  std::uint32_t best_triangle = UINT32_MAX;
+  for (const std::uint32_t t : cell) {
     const auto& c = triangles[t];
     const double area = orient(c[0], c[1], c[2].u, c[2].v);
     if (!(area > 0)) continue;
@@ -65,14 +88,20 @@ double surface_at(const std::vector<std::array<Corner, 3>>& triangles, const Tri
     const double worst = std::min({wa, wb, wc});
     if (worst <= best) continue;
     best = worst;
-    height = wa * c[0].h + wb * c[1].h + wc * c[2].h;
+    best_triangle = t;
+    out.height = wa * c[0].h + wb * c[1].h + wc * c[2].h;
   }
-  return height;
+  if (best_triangle == UINT32_MAX || hole.empty() || !hole[best_triangle]) return out;
+  out.in_hole = std::none_of(cell.begin(), cell.end(), [&](std::uint32_t t) {
+    return !hole[t] && distance_outside(triangles[t], u, v) <= 1;
+  });
+  return out;
 }
 
 }  // namespace
 
-TileError measure_tile(const TerrainSource& source, const io::terrain::TileMesh& mesh) {
+TileError measure_tile(const TerrainSource& source, const io::terrain::TileMesh& mesh,
+                       std::span<const std::uint8_t> hole) {
   const io::terrain::detail::QuantizedVertices q = io::terrain::detail::quantize_vertices(mesh);
   const double low = q.minimum_height, high = q.maximum_height;
   std::vector<std::array<Corner, 3>> triangles;
@@ -93,7 +122,9 @@ TileError measure_tile(const TerrainSource& source, const io::terrain::TileMesh&
     // triangle (the fill's ramp down from the data's outline) half a step sideways is a height.
     const double u = std::round((p.x - r.west) / (r.east - r.west) * kQuantizedMax);
     const double v = std::round((p.y - r.south) / (r.north - r.south) * kQuantizedMax);
-    const double e = std::fabs(p.z - surface_at(triangles, grid, u, v));
+    const SurfacePoint s = surface_at(triangles, hole, grid, u, v);
+    const double e = std::fabs(p.z - s.height);
+    error.hidden += s.in_hole ? 1 : 0;
     error.max = std::max(error.max, e);
     error.sum_squares += e * e;
     ++error.count;

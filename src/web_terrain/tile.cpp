@@ -144,6 +144,7 @@ void TileError::add(const TileError& other) {
   max = std::max(max, other.max);
   sum_squares += other.sum_squares;
   count += other.count;
+  hidden += other.hidden;
 }
 
 namespace {
@@ -160,13 +161,23 @@ void check_quantized_triangles(const TileMesh& mesh) {
   }
 }
 
-// Removes the triangles of MESH whose centroid is in a hole of SOURCE. The holes' rings are
-// constrained lines of the full TIN, so the tile's TIN has edges along them.
-void drop_holes(const TerrainSource& source, TileMesh& mesh) {
-  std::erase_if(mesh.triangles, [&](const std::array<std::uint32_t, 3>& t) {
-    const Point3 &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
-    return source.in_hole((a.x + b.x + c.x) / 3, (a.y + b.y + c.y) / 3);
-  });
+// One flag a triangle of MESH: its centroid is in a hole of SOURCE. The holes' rings are
+// constrained lines of the full TIN, so the tile's TIN has edges along them where it holds them.
+std::vector<std::uint8_t> hole_triangles(const TerrainSource& source, const TileMesh& mesh) {
+  std::vector<std::uint8_t> hole(mesh.triangles.size());
+  for (std::size_t t = 0; t < hole.size(); ++t) {
+    const auto& c = mesh.triangles[t];
+    const Point3 &a = mesh.vertices[c[0]], &b = mesh.vertices[c[1]], &d = mesh.vertices[c[2]];
+    hole[t] = source.in_hole((a.x + b.x + d.x) / 3, (a.y + b.y + d.y) / 3) ? 1 : 0;
+  }
+  return hole;
+}
+
+void drop_triangles(const std::vector<std::uint8_t>& hole, TileMesh& mesh) {
+  std::size_t kept = 0;
+  for (std::size_t t = 0; t < hole.size(); ++t)
+    if (!hole[t]) mesh.triangles[kept++] = mesh.triangles[t];
+  mesh.triangles.resize(kept);
 }
 
 // Which of the source's lines a tile holds: all, all but the holes' outline, none.
@@ -207,8 +218,10 @@ BuiltTile greedy_tile(const TerrainSource& source, const GeoRectangle& r, const 
       if (attempt == 0) throw;
       break;  // a tighter run that fails keeps the best tile so far
     }
-    drop_holes(source, tile.mesh);
-    tile.error = measure_tile(source, tile.mesh);
+    // The surface is measured whole: a hole is where it is not shown, not a height.
+    const std::vector<std::uint8_t> hole = hole_triangles(source, tile.mesh);
+    tile.error = measure_tile(source, tile.mesh, hole);
+    drop_triangles(hole, tile.mesh);
     // A tighter run is kept only when it meets the error. One that does not met an error no
     // vertex can remove: the quantized grid moves a point of a near-vertical face (a wall, a
     // tree) by up to half a step. The sparsest tile is kept then.

@@ -13,6 +13,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <span>
 
 #include "core/progress.hpp"
 #include "io/terrain/geographic_tiling.hpp"
@@ -21,12 +22,15 @@
 
 namespace tincdt::web_terrain {
 
-// The vertical error of a tile against the full TIN's vertices inside it (sides included), as a
-// client decodes the tile.
+// The vertical error of a tile's surface against the full TIN's vertices inside it (sides
+// included), as a client decodes the tile. A hole's outline is simplified like any line (or, where
+// it cannot be held, the hole follows the triangles' centres): the surface under a hole still
+// measures the vertices there, and those are counted as hidden.
 struct TileError {
   double max = 0;
   double sum_squares = 0;
   std::uint64_t count = 0;
+  std::uint64_t hidden = 0;  // vertices in a hole of the tile, none of the full TIN's
   void add(const TileError& other);
 };
 
@@ -43,7 +47,9 @@ struct BuiltTile {
 BuiltTile build_tile(const TerrainSource& source, const io::terrain::TileKey& key, double error,
                      const ProgressFn* progress = nullptr);
 
-// The error of MESH, decoded as a client does, against SOURCE's vertices in its rectangle.
-TileError measure_tile(const TerrainSource& source, const io::terrain::TileMesh& mesh);
+// The error of MESH, decoded as a client does, against SOURCE's vertices in its rectangle. HOLE
+// (empty, or one flag a triangle) marks the triangles that a hole removes from the tile.
+TileError measure_tile(const TerrainSource& source, const io::terrain::TileMesh& mesh,
+                       std::span<const std::uint8_t> hole = {});
 
 }  // namespace tincdt::web_terrain

@@ -5,13 +5,16 @@
 
 #include <cmath>
 #include <cstdio>
-#include <regex>
 #include <string>
 
 #include "support/files.hpp"
 #include "support/tincdt_run.hpp"
+#include "terrain_support.hpp"
 
 namespace tincdt::test {
+
+using terrain::expect_levels_within;
+
 namespace {
 
 // A 2 km square of points 20 m apart, its first row or column 5 cm from the border along
@@ -29,20 +32,6 @@ std::string square_beside_border(bool across_x, double x0, double y0) {
       text += line;
     }
   return text;
-}
-
-// Every "terrain level N: ... max error E m (allowed A)" of the log has E <= A; the count.
-int expect_levels_within(const std::string& log) {
-  static const std::regex level(
-      R"(terrain level (\d+): .*max error ([0-9.,]+) m \(allowed ([0-9.,]+)\))");
-  const auto number = [](std::string s) {
-    std::erase(s, ',');
-    return std::stod(s);
-  };
-  int levels = 0;
-  for (std::sregex_iterator m(log.begin(), log.end(), level), end; m != end; ++m, ++levels)
-    EXPECT_LE(number((*m)[2]), number((*m)[3])) << "level " << (*m)[1];
-  return levels;
 }
 
 TEST(TerrainBorderCli, DataNorthOfTheEquatorKeepsEveryLevelsError) {

@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <regex>
 #include <string>
 #include <vector>
 
@@ -207,6 +208,20 @@ inline std::vector<std::pair<std::uint16_t, double>> side_of(const DecodedTile& 
 // Half a height step of TILE's quantization.
 inline double half_step(const DecodedTile& tile) {
   return (static_cast<double>(tile.maximum_height) - tile.minimum_height) / kQ / 2;
+}
+
+// Every "terrain level N: ... max error E m (allowed A)" of the log has E <= A; the count.
+inline int expect_levels_within(const std::string& log) {
+  static const std::regex level(
+      R"(terrain level (\d+): .*max error ([0-9.,]+) m \(allowed ([0-9.,]+)\))");
+  const auto number = [](std::string s) {
+    std::erase(s, ',');
+    return std::stod(s);
+  };
+  int levels = 0;
+  for (std::sregex_iterator m(log.begin(), log.end(), level), end; m != end; ++m, ++levels)
+    EXPECT_LE(number((*m)[2]), number((*m)[3])) << "level " << (*m)[1];
+  return levels;
 }
 
 }  // namespace tincdt::test::terrain
