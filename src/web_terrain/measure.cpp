@@ -101,7 +101,8 @@ SurfacePoint surface_at(const std::vector<std::array<Corner, 3>>& triangles,
 }  // namespace
 
 TileError measure_tile(const TerrainSource& source, const io::terrain::TileMesh& mesh,
-                       std::span<const std::uint8_t> hole) {
+                       std::span<const std::uint8_t> hole,
+                       std::span<const std::uint32_t> vertices) {
   const io::terrain::detail::QuantizedVertices q = io::terrain::detail::quantize_vertices(mesh);
   const double low = q.minimum_height, high = q.maximum_height;
   std::vector<std::array<Corner, 3>> triangles;
@@ -116,7 +117,7 @@ TileError measure_tile(const TerrainSource& source, const io::terrain::TileMesh&
   const TriangleGrid grid = grid_of(triangles);
   const io::terrain::GeoRectangle& r = mesh.rectangle;
   TileError error;
-  for (const std::uint32_t id : source.vertices_in(r)) {
+  for (const std::uint32_t id : vertices) {
     const Point3& p = source.vertices()[id];
     // At the vertex's place on the tile's grid, the finest a tile can place it: beside a steep
     // triangle (the fill's ramp down from the data's outline) half a step sideways is a height.

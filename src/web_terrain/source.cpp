@@ -316,7 +316,6 @@ std::vector<std::uint32_t> TerrainSource::vertices_in(const GeoRectangle& r) con
         out.push_back(vertex_cells_.items[i]);
     }
   });
-  std::sort(out.begin(), out.end());
   return out;
 }
 

@@ -51,7 +51,8 @@ class TerrainSource {
   // the tiles leave without triangles too.
   bool in_hole(double lon, double lat) const;
 
-  // The vertices inside RECTANGLE (sides included), ascending.
+  // The vertices inside RECTANGLE (sides included), cell by cell of the index: an order that
+  // depends on the TIN only.
   std::vector<std::uint32_t> vertices_in(const GeoRectangle& rectangle) const;
 
   // The TIN's section along the meridian LON = AT (ALONG_MERIDIAN) or the parallel LAT = AT,

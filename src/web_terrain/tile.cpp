@@ -4,7 +4,7 @@
 #include <array>
 #include <cassert>
 #include <cmath>
-#include <tuple>
+#include <span>
 #include <vector>
 
 #include "core/error.hpp"
@@ -99,18 +99,27 @@ void add_border(const TerrainSource& source, const GeoRectangle& r, double toler
   p.segments.push_back({static_cast<std::uint32_t>(p.xy.size() - 1), 0, 0});
 }
 
-// The full TIN's vertices strictly inside the rectangle's grid, one per grid place.
-void add_candidates(const TerrainSource& source, const GeoRectangle& r, TilePoints& p) {
-  std::vector<std::tuple<double, double, std::uint32_t>> cells;
-  for (const std::uint32_t id : source.vertices_in(r)) {
+// The full TIN's vertices strictly inside the rectangle's grid (of INSIDE, those in R), one per
+// grid place: the lowest id of a place, the places in order of u, then v.
+void add_candidates(const TerrainSource& source, const GeoRectangle& r,
+                    std::span<const std::uint32_t> inside, TilePoints& p) {
+  // u and v are whole places below 2^15: (u, v, id) in one sortable key.
+  std::vector<std::uint64_t> keys;
+  keys.reserve(inside.size());
+  for (const std::uint32_t id : inside) {
     const Point3& v = source.vertices()[id];
     const double u = grid_place(v.x, r.west, r.east), w = grid_place(v.y, r.south, r.north);
-    if (u >= 1 && u <= kMax - 1 && w >= 1 && w <= kMax - 1) cells.emplace_back(u, w, id);
+    if (u >= 1 && u <= kMax - 1 && w >= 1 && w <= kMax - 1)
+      keys.push_back(static_cast<std::uint64_t>(u) << 47 | static_cast<std::uint64_t>(w) << 32 |
+                     id);
   }
-  std::sort(cells.begin(), cells.end());
-  for (std::size_t i = 0; i < cells.size(); ++i) {
-    const auto& [u, w, id] = cells[i];
-    if (i > 0 && std::get<0>(cells[i - 1]) == u && std::get<1>(cells[i - 1]) == w) continue;
+  std::sort(keys.begin(), keys.end());
+  constexpr std::uint64_t kPlace = ~std::uint64_t{0xffffffff};
+  for (std::size_t i = 0; i < keys.size(); ++i) {
+    if (i > 0 && (keys[i - 1] & kPlace) == (keys[i] & kPlace)) continue;
+    const double u = static_cast<double>(keys[i] >> 47);
+    const double w = static_cast<double>(keys[i] >> 32 & 0x7fff);
+    const auto id = static_cast<std::uint32_t>(keys[i]);
     p.add_candidate({u, w}, source.vertices()[id].z);  // unless a line's vertex is there
   }
 }
@@ -183,21 +192,23 @@ void drop_triangles(const std::vector<std::uint8_t>& hole, TileMesh& mesh) {
 // Which of the source's lines a tile holds: all, all but the holes' outline, none.
 enum class Lines { all, features, none };
 
-TilePoints tile_points(const TerrainSource& source, const GeoRectangle& r, double error,
-                       Lines lines, std::size_t& line_segments) {
+TilePoints tile_points(const TerrainSource& source, const GeoRectangle& r,
+                       std::span<const std::uint32_t> inside, double error, Lines lines,
+                       std::size_t& line_segments) {
   TilePoints p;
   add_border(source, r, kBorderShare * error, p);
   line_segments = lines == Lines::none
                       ? 0
                       : detail::add_lines(source, r, kBorderShare * error, lines == Lines::all, p);
-  add_candidates(source, r, p);
+  add_candidates(source, r, inside, p);
   return p;
 }
 
 // The greedy runs on P: at the tolerance that leaves room for the quantization of the heights,
 // then tighter while the measured error is above ERROR.
-BuiltTile greedy_tile(const TerrainSource& source, const GeoRectangle& r, const TilePoints& p,
-                      double error, const ProgressFn* progress) {
+BuiltTile greedy_tile(const TerrainSource& source, const GeoRectangle& r,
+                      std::span<const std::uint32_t> inside, const TilePoints& p, double error,
+                      const ProgressFn* progress) {
   const auto [low, high] = std::minmax_element(p.z.begin(), p.z.end());
   // A height step of the tile's quantization, at most.
   const double step = (*high - *low) / kMax;
@@ -220,7 +231,7 @@ BuiltTile greedy_tile(const TerrainSource& source, const GeoRectangle& r, const 
     }
     // The surface is measured whole: a hole is where it is not shown, not a height.
     const std::vector<std::uint8_t> hole = hole_triangles(source, tile.mesh);
-    tile.error = measure_tile(source, tile.mesh, hole);
+    tile.error = measure_tile(source, tile.mesh, hole, inside);
     drop_triangles(hole, tile.mesh);
     // A tighter run is kept only when it meets the error. One that does not met an error no
     // vertex can remove: the quantized grid moves a point of a near-vertical face (a wall, a
@@ -237,21 +248,22 @@ BuiltTile greedy_tile(const TerrainSource& source, const GeoRectangle& r, const 
 BuiltTile build_tile(const TerrainSource& source, const io::terrain::TileKey& key, double error,
                      const ProgressFn* progress) {
   const GeoRectangle r = io::terrain::tile_rectangle(key);
+  const std::vector<std::uint32_t> inside = source.vertices_in(r);
   // Lines simplified onto the grid can overlap where the full TIN's do not; the tile is then
   // made without the holes' outline, then without any line (its error still holds).
   std::size_t all = 0, features = 0;
   try {
-    BuiltTile tile =
-        greedy_tile(source, r, tile_points(source, r, error, Lines::all, all), error, progress);
+    BuiltTile tile = greedy_tile(
+        source, r, inside, tile_points(source, r, inside, error, Lines::all, all), error, progress);
     tile.line_segments = all;
     return tile;
   } catch (const GeometryError&) {
     if (all == 0) throw;
   }
-  const TilePoints p = tile_points(source, r, error, Lines::features, features);
+  const TilePoints p = tile_points(source, r, inside, error, Lines::features, features);
   if (features > 0 && features != all) {
     try {
-      BuiltTile tile = greedy_tile(source, r, p, error, progress);
+      BuiltTile tile = greedy_tile(source, r, inside, p, error, progress);
       tile.line_segments = features;
       tile.outline_dropped = true;
       return tile;
@@ -259,8 +271,8 @@ BuiltTile build_tile(const TerrainSource& source, const io::terrain::TileKey& ke
     }
   }
   std::size_t none = 0;
-  BuiltTile tile =
-      greedy_tile(source, r, tile_points(source, r, error, Lines::none, none), error, progress);
+  BuiltTile tile = greedy_tile(
+      source, r, inside, tile_points(source, r, inside, error, Lines::none, none), error, progress);
   tile.lines_dropped = true;
   return tile;
 }

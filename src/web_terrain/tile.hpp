@@ -47,9 +47,10 @@ struct BuiltTile {
 BuiltTile build_tile(const TerrainSource& source, const io::terrain::TileKey& key, double error,
                      const ProgressFn* progress = nullptr);
 
-// The error of MESH, decoded as a client does, against SOURCE's vertices in its rectangle. HOLE
-// (empty, or one flag a triangle) marks the triangles that a hole removes from the tile.
+// The error of MESH, decoded as a client does, against SOURCE's vertices in its rectangle
+// (VERTICES, as TerrainSource::vertices_in gives them). HOLE (empty, or one flag a triangle)
+// marks the triangles that a hole removes from the tile.
 TileError measure_tile(const TerrainSource& source, const io::terrain::TileMesh& mesh,
-                       std::span<const std::uint8_t> hole = {});
+                       std::span<const std::uint8_t> hole, std::span<const std::uint32_t> vertices);
 
 }  // namespace tincdt::web_terrain
