@@ -20,6 +20,7 @@
 #include "io/terrain/geographic_tiling.hpp"
 #include "io/terrain/layer_json.hpp"
 #include "io/terrain/lon_lat.hpp"
+#include "io/terrain/pyramid_folder.hpp"
 #include "io/terrain/quantized_mesh.hpp"
 #include "io/terrain/wgs84.hpp"
 #include "pipeline/stage.hpp"
@@ -242,16 +243,16 @@ void run(Job& job) {
   write_file(job, o.path + "/layer.json", qm::layer_json(layer));
 }
 
+constexpr const char* kFolderWhat = "the web terrain (--terrain)";
+
 // The folder is made when the tiles are written: until then, a new one is checked as a file
-// would be (its parent folder exists and is writable), and in one that exists layer.json must
-// not (without --overwrite).
+// would be (its parent folder exists and is writable). One that exists may hold only an earlier
+// pyramid, which only --overwrite replaces, and no input or other output of the run.
 void plan(const BuildOptions& o, FilePlan& files) {
   std::error_code ec;
-  if (std::filesystem::exists(o.terrain.path, ec))
-    files.outputs.push_back(
-        {o.terrain.path + "/layer.json", "the terrain's layer.json (--terrain)"});
-  else
-    files.outputs.push_back({o.terrain.path, "the terrain's folder (--terrain)"});
+  const bool exists = std::filesystem::exists(o.terrain.path, ec);
+  files.outputs.push_back({exists ? o.terrain.path + "/layer.json" : o.terrain.path, kFolderWhat});
+  files.folders.push_back({o.terrain.path, kFolderWhat, qm::check_pyramid_folder});
 }
 
 // ---- terrain_crs -------------------------------------------------------------------------------
