@@ -92,6 +92,11 @@ std::string first_stranger(const fs::path& dir, std::string& first_tile) {
   return {};
 }
 
+void remove_if_empty(const fs::path& folder) {
+  std::error_code ec;
+  fs::remove(folder, ec);  // only an empty folder goes; one that is not stays, as it should
+}
+
 }  // namespace
 
 void check_pyramid_folder(const std::string& dir, bool overwrite) {
@@ -113,6 +118,43 @@ void check_pyramid_folder(const std::string& dir, bool overwrite) {
   if (!first_tile.empty())
     throw OutputError((fs::path(dir) / first_tile).string(), "", "already exists",
                       Remedy::overwrite);
+}
+
+TileRemoval remove_tiles(const std::string& dir, const std::function<bool(const TileKey&)>& keep) {
+  TileRemoval r;
+  const auto fail = [&r](const fs::path& path, const std::error_code& ec) {
+    if (r.failed++ == 0) r.first_failure = path.string() + ": " + ec.message();
+  };
+  const fs::path root(dir);
+  std::error_code levels_ec;
+  for (const Entry& level : entries_of(root, levels_ec)) {
+    const std::optional<int> z = level_of(level.name);
+    if (!is_folder(level) || !z) continue;
+    const fs::path level_path = root / level.name;
+    std::error_code columns_ec;
+    for (const Entry& column : entries_of(level_path, columns_ec)) {
+      const std::optional<std::uint32_t> x = decimal(column.name);
+      if (!is_folder(column) || !x) continue;
+      const fs::path column_path = level_path / column.name;
+      std::error_code tiles_ec;
+      for (const Entry& tile : entries_of(column_path, tiles_ec)) {
+        const std::optional<std::uint32_t> y = tile_row(tile.name);
+        if (!is_file(tile) || !y || keep(TileKey{*z, *x, *y})) continue;
+        const fs::path path = column_path / tile.name;
+        std::error_code ec;
+        if (fs::remove(path, ec))
+          ++r.removed;
+        else if (ec)
+          fail(path, ec);
+      }
+      if (tiles_ec) fail(column_path, tiles_ec);
+      remove_if_empty(column_path);
+    }
+    if (columns_ec) fail(level_path, columns_ec);
+    remove_if_empty(level_path);
+  }
+  if (levels_ec) fail(root, levels_ec);
+  return r;
 }
 
 }  // namespace tincdt::io::terrain
