@@ -117,6 +117,16 @@ TEST(TerrainOverwriteCli, StrangerInTheFolderRefusedBeforeAnyWork) {
   }
 }
 
+TEST(TerrainOverwriteCli, LinkNamedLikeATileRefusedAndKept) {
+  const std::string dir = scratch_dir("terrain_overwrite_cli");
+  earlier_pyramid(dir);
+  fs::create_symlink("0.terrain", dir + "/web/0/0/7.terrain");
+  const ShellRun r = run_tincdt(dir, "p.xyz" + kSrs + " --overwrite --terrain web");
+  EXPECT_EQ(r.exit_code, 1) << r.messages;
+  EXPECT_TRUE(has(r, "error: web: holds '0/0/7.terrain', which is not part")) << r.messages;
+  EXPECT_TRUE(fs::is_symlink(dir + "/web/0/0/7.terrain"));
+}
+
 TEST(TerrainOverwriteCli, EarlierTilesWithoutOverwriteRefusedBeforeAnyWork) {
   const std::string dir = scratch_dir("terrain_overwrite_cli");
   earlier_pyramid(dir);
