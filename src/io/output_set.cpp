@@ -174,6 +174,7 @@ void OutputSet::commit(const std::function<bool()>& proceed) {
     if (folders.insert(e.file->path().substr(0, e.file->path().rfind('/') + 1)).second)
       detail::sync_folder_of(e.file->path());
   committed_ = true;
+  for (const std::function<void()>& task : after_commit_) task();
 }
 
 }  // namespace tincdt::io

@@ -9,6 +9,7 @@
 #include <memory>
 #include <string>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "io/output_file.hpp"
@@ -50,6 +51,9 @@ class OutputSet {
   // target gets its old content again, a new one is removed) and the OutputError is thrown. An
   // empty set commits nothing.
   void commit(const std::function<bool()>& proceed = {});
+  // TASK runs at the end of a successful commit(), once every file is in place, never otherwise
+  // (tasks in the order given). It must not throw: the outputs are committed, whatever it meets.
+  void after_commit(std::function<void()> task) { after_commit_.push_back(std::move(task)); }
   bool committed() const { return committed_; }
 
  private:
@@ -58,6 +62,7 @@ class OutputSet {
   std::unordered_map<std::string, std::size_t> by_path_;
   std::unordered_map<const OutputFile*, std::size_t> by_file_;
   std::vector<std::string> made_folders_;  // in the order made, parents first
+  std::vector<std::function<void()>> after_commit_;
   bool overwrite_;
   bool committed_ = false;
 };

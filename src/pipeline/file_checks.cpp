@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/quoted_text.hpp"
 #include "io/crs.hpp"
 #include "io/vector/line_reader.hpp"
 
@@ -66,6 +67,37 @@ std::vector<std::string> with_sidecars(const std::string& spec) {
     for (const char* suffix : {"-journal", "-wal", "-shm"}) files.push_back(file + suffix);
   }
   return files;
+}
+
+// PATH's canonical form, through the symbolic links and the "." and ".." of the part that exists,
+// without a trailing separator.
+fs::path canonical_form(const std::string& path) {
+  std::error_code ec;
+  fs::path p = fs::weakly_canonical(path, ec);
+  if (ec) p = fs::absolute(path, ec).lexically_normal();
+  if (!p.empty() && p.filename().empty()) p = p.parent_path();
+  return p;
+}
+
+// Whether PATH is FOLDER or lies under it (both canonical).
+bool inside(const fs::path& folder, const fs::path& path) {
+  return std::mismatch(folder.begin(), folder.end(), path.begin(), path.end()).first ==
+         folder.end();
+}
+
+// Refuses an input or an output (but FOLDER's own) that lies inside FOLDER.
+void refuse_inside(const FilePlan& plan, const FilePlan::Folder& folder) {
+  const fs::path dir = canonical_form(folder.path);
+  const auto refuse = [&](const std::string& file, const std::string& what) {
+    if (file == "-" || !inside(dir, canonical_form(file))) return;
+    throw UsageError(file, "",
+                     what + " lies inside " + folder.what + " " + quoted_text(folder.path) +
+                         ", which may hold only that output's files; keep it elsewhere");
+  };
+  for (const FilePlan::File& input : plan.inputs)
+    refuse(io::vector_source_file(input.path), input.what);
+  for (const FilePlan::File& output : plan.outputs)
+    if (output.what != folder.what) refuse(output.path, output.what);
 }
 
 }  // namespace
@@ -131,6 +163,10 @@ void check_files(const FilePlan& plan, bool overwrite) {
   const std::vector<FilePlan::File>& outputs = plan.outputs;
   // An input first: that it exists already is then beside the point.
   for (const FilePlan::File& output : outputs) detail::refuse_input(plan, output.path, output.what);
+  for (const FilePlan::Folder& folder : plan.folders) {
+    detail::refuse_inside(plan, folder);
+    if (folder.check) folder.check(folder.path, overwrite);
+  }
   for (std::size_t i = 0; i < outputs.size(); ++i) {
     detail::check_output_path(outputs[i].path, overwrite);
     for (std::size_t j = 0; j < i; ++j)

@@ -10,8 +10,8 @@
 namespace tincdt::pipeline {
 
 // Every planned output writable (as check_output_path), no two of them the same file, and none
-// of them (with its sidecars) an input or an input's sidecar, whatever OVERWRITE says; standard
-// input read once.
+// of them (with its sidecars) an input or an input's sidecar, whatever OVERWRITE says; no input
+// and no other output inside a planned folder, whose own check passes; standard input read once.
 void check_files(const FilePlan& plan, bool overwrite);
 
 }  // namespace tincdt::pipeline

@@ -24,6 +24,15 @@ struct FilePlan {
   };
   std::vector<File> inputs;   // as given: "FILE" or "FILE:LAYER", "-" for standard input
   std::vector<File> outputs;  // each written through Job::outputs
+  // A folder an output fills with files of its own (the web terrain's): no input and no other
+  // output may lie inside it (the outputs whose `what` is the folder's are its own), and CHECK
+  // refuses what it holds already.
+  struct Folder {
+    std::string path;
+    std::string what;
+    void (*check)(const std::string& path, bool overwrite) = nullptr;
+  };
+  std::vector<Folder> folders;
 };
 
 // What a progress display shows of a stage: what it does, for a person, and what it counts (its

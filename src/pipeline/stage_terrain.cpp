@@ -20,6 +20,7 @@
 #include "io/terrain/geographic_tiling.hpp"
 #include "io/terrain/layer_json.hpp"
 #include "io/terrain/lon_lat.hpp"
+#include "io/terrain/pyramid_folder.hpp"
 #include "io/terrain/quantized_mesh.hpp"
 #include "io/terrain/wgs84.hpp"
 #include "pipeline/stage.hpp"
@@ -184,8 +185,39 @@ void log_units(Job& job, const TerrainSource& source) {
              "), not above the WGS 84 ellipsoid");
 }
 
+// Once the new pyramid is in place, the tiles of the earlier one in the folder that it did not
+// write (other levels, other areas) go, so that the folder is the pyramid its layer.json
+// describes; LEVELS: the new pyramid's tiles, by level. The new pyramid is complete whatever
+// happens here, so a failure is a warning.
+void remove_earlier_tiles_after_commit(Job& job, std::vector<qm::TileRange> levels) {
+  job.outputs.after_commit([&job, levels = std::move(levels)] {
+    const std::string& dir = job.options.terrain.path;
+    const auto written = [&levels](const qm::TileKey& k) {
+      if (static_cast<std::size_t>(k.level) >= levels.size()) return false;
+      const qm::TileRange& r = levels[static_cast<std::size_t>(k.level)];
+      return k.x >= r.start_x && k.x <= r.end_x && k.y >= r.start_y && k.y <= r.end_y;
+    };
+    try {
+      const qm::TileRemoval r = qm::remove_tiles(dir, written);
+      if (r.removed)
+        job.info("terrain: removed " + count_text(r.removed) + " tiles of the earlier pyramid");
+      if (r.failed)
+        job.warn(dir + ": the new pyramid is complete, but " + count_text(r.failed) +
+                 " tiles or folders of the earlier one could not be removed (first: " +
+                 r.first_failure + ")");
+    } catch (const std::exception& e) {
+      job.warn(dir +
+               ": the new pyramid is complete, but the earlier one's tiles could not be "
+               "removed: " +
+               e.what());
+    }
+  });
+}
+
 void run(Job& job) {
   const BuildOptions::Terrain& o = job.options.terrain;
+  std::error_code ec;
+  const bool replacing = job.options.write.overwrite && std::filesystem::is_directory(o.path, ec);
   const TerrainSource source(job.tin(), job.crs_wkt, job.describe_inputs(), o.fill_height);
   log_units(job, source);
   if (!o.fill_height)
@@ -244,18 +276,27 @@ void run(Job& job) {
                "height (walls, trees; ground points alone make a smoother terrain)");
   }
   write_file(job, o.path + "/layer.json", qm::layer_json(layer));
+  if (replacing) {
+    std::vector<qm::TileRange> levels;
+    for (const std::vector<qm::TileRange>& ranges : layer.available) {
+      assert(ranges.size() == 1);  // a level's tiles are one range
+      levels.push_back(ranges[0]);
+    }
+    remove_earlier_tiles_after_commit(job, std::move(levels));
+  }
 }
 
+constexpr const char* kFolderWhat = "the web terrain (--terrain)";
+
 // The folder is made when the tiles are written: until then, a new one is checked as a file
-// would be (its parent folder exists and is writable), and in one that exists layer.json must
-// not (without --overwrite).
+// would be (its parent folder exists and is writable). One that exists may hold only an earlier
+// pyramid, which only --overwrite replaces, and no input or other output of the run: the
+// earlier pyramid's tiles that the new one does not write are removed after the run.
 void plan(const BuildOptions& o, FilePlan& files) {
   std::error_code ec;
-  if (std::filesystem::exists(o.terrain.path, ec))
-    files.outputs.push_back(
-        {o.terrain.path + "/layer.json", "the terrain's layer.json (--terrain)"});
-  else
-    files.outputs.push_back({o.terrain.path, "the terrain's folder (--terrain)"});
+  const bool exists = std::filesystem::exists(o.terrain.path, ec);
+  files.outputs.push_back({exists ? o.terrain.path + "/layer.json" : o.terrain.path, kFolderWhat});
+  files.folders.push_back({o.terrain.path, kFolderWhat, qm::check_pyramid_folder});
 }
 
 // ---- terrain_crs -------------------------------------------------------------------------------
