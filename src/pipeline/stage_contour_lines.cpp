@@ -66,8 +66,8 @@ void run(Job& job) {
   for (io::OutputFile* s : siblings) job.finish_output(*s);
   r.driver = stats.driver;
   r.write_s = seconds_since(t0);
-  job.info("contour lines: " + count_text(r.lines) + " lines on " + count_text(r.levels) +
-           " levels");
+  job.info("contour lines: " + count_text(r.lines, "line") + " on " +
+           count_text(r.levels, "level"));
 }
 
 // A shapefile's .shx, .dbf and .prj are planned with it, so that an existing one stops the job

@@ -203,8 +203,8 @@ void run(Job& job) {
       o.max_level
           ? "levels 0-" + count_text(max_level)
           : "the default levels 0-" + count_text(max_level) + " (the data's point spacing)");
-  job.info("terrain: " + count_text(tiles) + " tiles over the data's " + box_text(source.bounds()) +
-           " (at most " + count_text(limit) + ")");
+  job.info("terrain: " + count_text(tiles, "tile") + " over the data's " +
+           box_text(source.bounds()) + " (at most " + count_text(limit) + ")");
   qm::TerrainLayer layer;
   layer.bounds = source.bounds();
   layer.extensions = {"octvertexnormals", "metadata"};
@@ -219,11 +219,12 @@ void run(Job& job) {
     done += share;
     const double rmse =
         s.error.count ? std::sqrt(s.error.sum_squares / static_cast<double>(s.error.count)) : 0;
-    job.info("terrain level " + count_text(level) + ": " + count_text(s.tiles) + " tiles, " +
-             count_text(s.vertices) + " vertices, max error " + short_number(s.error.max) +
-             " m (allowed " + short_number(qm::geometric_error_at_level(level)) + "), RMSE " +
-             short_number(rmse) + " m over " + count_text(s.error.count) + " vertices" +
-             (s.line_segments ? ", " + count_text(s.line_segments) + " line pieces as edges"
+    job.info("terrain level " + count_text(level) + ": " + count_text(s.tiles, "tile") + ", " +
+             count_text(s.vertices, "vertex", "vertices") + ", max error " +
+             short_number(s.error.max) + " m (allowed " +
+             short_number(qm::geometric_error_at_level(level)) + "), RMSE " + short_number(rmse) +
+             " m over " + count_text(s.error.count, "vertex", "vertices") +
+             (s.line_segments ? ", " + count_text(s.line_segments, "line piece") + " as edges"
                               : std::string()));
     if (s.lines_dropped)
       job.debug("terrain level " + count_text(level) + ": " + count_text(s.lines_dropped) +
