@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <string>
+#include <string_view>
 
 #include "core/number_text.hpp"
 #include "io/mesh/tin_writer.hpp"
@@ -16,6 +17,10 @@ namespace {
 
 std::string count(std::uint64_t n) {
   return count_text(n);
+}
+
+std::string count(std::uint64_t n, std::string_view noun, std::string_view plural = {}) {
+  return count_text(n, noun, plural);
 }
 
 std::string bytes(std::uint64_t n) {
@@ -42,25 +47,25 @@ void log_inputs(const pipeline::BuildReport& r) {
   const auto point_files = static_cast<std::uint64_t>(
       std::count_if(r.inputs.begin(), r.inputs.end(),
                     [](const pipeline::BuildReport::Input& in) { return in.kind == "points"; }));
-  std::string line = "read " + count(r.points_read) + " points from " + count(point_files) +
-                     (point_files == 1 ? " file" : " files");
-  if (r.line_vertices > 0) line += " and " + count(r.line_vertices) + " line vertices";
+  std::string line =
+      "read " + count(r.points_read, "point") + " from " + count(point_files, "file");
+  if (r.line_vertices > 0) line += " and " + count(r.line_vertices, "line vertex", "line vertices");
   if (r.points_kept != r.points_read) line += ", kept " + count(r.points_kept);
-  if (r.duplicates_merged > 0) line += ", merged " + count(r.duplicates_merged) + " duplicates";
+  if (r.duplicates_merged > 0) line += ", merged " + count(r.duplicates_merged, "duplicate");
   spdlog::info(line);
   if (r.constraint_segments > 0) {
-    std::string c = "constraints: " + count(r.constraint_segments) + " segments";
-    if (r.line_features > 0) c += " from " + count(r.line_features) + " line features";
+    std::string c = "constraints: " + count(r.constraint_segments, "segment");
+    if (r.line_features > 0) c += " from " + count(r.line_features, "line feature");
     if (r.surface_features > 0)
-      c += (r.line_features > 0 ? " and " : " from ") + count(r.surface_features) +
-           " surface features";
-    if (r.crossings > 0) c += ", " + count(r.crossings) + " crossings joined";
+      c +=
+          (r.line_features > 0 ? " and " : " from ") + count(r.surface_features, "surface feature");
+    if (r.crossings > 0) c += ", " + count(r.crossings, "crossing") + " joined";
     if (r.constraint_segments_split > 0)
       c += ", " + count(r.constraint_segments_split) + " split at vertices";
     spdlog::info(c);
   }
   if (r.draped_vertices > 0)
-    spdlog::info("draped: {} vertices ({} of soft lines)", count(r.draped_vertices),
+    spdlog::info("draped: {} ({} of soft lines)", count(r.draped_vertices, "vertex", "vertices"),
                  count(r.soft_line_vertices));
 }
 
@@ -82,15 +87,17 @@ void log_stages(const pipeline::BuildReport& r) {
                  r.simplify.stopped_at_max_vertices ? " (stopped at --max-vertices)" : "");
   }
   if (r.flats.fixed)
-    spdlog::info("flat triangles: {} before, {} after ({} swaps, {} new vertices)",
-                 count(r.flats.before), count(r.flats.after), count(r.flats.swaps),
-                 count(r.flats.vertices_added));
-  if (r.replaced_vertices > 0) spdlog::info("replace: {} vertices", count(r.replaced_vertices));
+    spdlog::info("flat triangles: {} before, {} after ({}, {})", count(r.flats.before),
+                 count(r.flats.after), count(r.flats.swaps, "swap"),
+                 count(r.flats.vertices_added, "new vertex", "new vertices"));
+  if (r.replaced_vertices > 0)
+    spdlog::info("replace: {}", count(r.replaced_vertices, "vertex", "vertices"));
   if (r.trimmed_triangles + r.clipped_triangles + r.erased_triangles > 0)
     spdlog::info("removed triangles: {} trimmed (--max-edge), {} clipped, {} erased",
                  count(r.trimmed_triangles), count(r.clipped_triangles), count(r.erased_triangles));
-  spdlog::info("TIN: {} vertices, {} triangles{}", count(r.vertices), count(r.triangles),
-               r.constraints > 0 ? ", " + count(r.constraints) + " constrained edges" : "");
+  spdlog::info("TIN: {}, {}{}", count(r.vertices, "vertex", "vertices"),
+               count(r.triangles, "triangle"),
+               r.constraints > 0 ? ", " + count(r.constraints, "constrained edge") : "");
 }
 
 void log_timings(const pipeline::BuildReport& r) {
@@ -145,9 +152,9 @@ void log_outputs(const pipeline::BuildOptions& options, const pipeline::BuildRep
                    number_text(r.dem.resolution), bytes(o.bytes), crs_text(o.crs),
                    secs(r.dem.rasterize_s), secs(r.dem.write_s));
     } else if (o.kind == "contour_lines" && o.path == r.contour_lines.path) {
-      spdlog::info("wrote {} ({}, {} lines on {} levels, {}, {}; trace {}, write {})", o.path,
-                   r.contour_lines.driver, count(r.contour_lines.lines),
-                   count(r.contour_lines.levels), bytes(o.bytes), crs_text(o.crs),
+      spdlog::info("wrote {} ({}, {} on {}, {}, {}; trace {}, write {})", o.path,
+                   r.contour_lines.driver, count(r.contour_lines.lines, "line"),
+                   count(r.contour_lines.levels, "level"), bytes(o.bytes), crs_text(o.crs),
                    secs(r.contour_lines.trace_s), secs(r.contour_lines.write_s));
     } else if (o.kind == "preview") {
       spdlog::info("wrote {}", o.path);
@@ -156,8 +163,8 @@ void log_outputs(const pipeline::BuildOptions& options, const pipeline::BuildRep
     }
   }
   if (terrain_tiles > 0)
-    spdlog::info("wrote {} ({} tiles and layer.json, {})", options.terrain.path,
-                 count(terrain_tiles), bytes(terrain_bytes));
+    spdlog::info("wrote {} ({} and layer.json, {})", options.terrain.path,
+                 count(terrain_tiles, "tile"), bytes(terrain_bytes));
   if (options.stats_path == "-")
     spdlog::info("wrote the stats to standard output");
   else if (!options.stats_path.empty())

@@ -34,6 +34,21 @@ inline std::string count_text(std::uint64_t n) {
   return detail::group_thousands(std::to_string(n));
 }
 
+// A count and its noun, the noun singular for one: (1, "segment") -> "1 segment", (1200,
+// "segment") -> "1,200 segments". PLURAL is for a noun that does not just take an "s" ("vertex",
+// "vertices").
+inline std::string count_text(std::uint64_t n, std::string_view noun,
+                              std::string_view plural = {}) {
+  std::string text = count_text(n) + ' ';
+  if (n == 1)
+    text += noun;
+  else if (plural.empty())
+    text.append(noun).append("s");
+  else
+    text += plural;
+  return text;
+}
+
 // count_text for a value that can be negative: -1234567 -> "-1,234,567".
 inline std::string signed_count_text(std::int64_t n) {
   return detail::group_thousands(std::to_string(n));

@@ -12,6 +12,13 @@ constexpr std::size_t kMaxWarnings = 20;
 
 }  // namespace
 
+int CPL_STDCALL GdalProgress::report(double fraction, const char*, void* data) {
+  auto* self = static_cast<GdalProgress*>(data);
+  if ((*self->fn_)(self->stage_, fraction)) return TRUE;
+  self->cancelled_ = true;
+  return FALSE;
+}
+
 void register_gdal_drivers() {
   static std::once_flag once;
   std::call_once(once, [] { GDALAllRegister(); });

@@ -16,6 +16,8 @@
 #include <string_view>
 #include <vector>
 
+#include "core/progress.hpp"
+
 namespace tincdt::io::detail {
 
 // Owning handles: a dataset is closed (GDALClose), a feature, geometry or transformation
@@ -70,6 +72,29 @@ class GdalMessages {
   bool failed_ = false;
   std::string failure_;
   std::vector<std::string> warnings_;
+};
+
+// GDAL's progress callback over ours (CreateCopy's pfnProgress and pProgressData), reporting to
+// ours as STAGE. Remembers a request to stop, which GDAL reports as a failure like any other: the
+// caller asks cancelled() before it looks at GDAL's result. Without a callback of ours, GDAL gets
+// its dummy.
+class GdalProgress {
+ public:
+  GdalProgress(const ProgressFn* fn, const char* stage)
+      : fn_(fn != nullptr && *fn ? fn : nullptr), stage_(stage) {}
+  GdalProgress(const GdalProgress&) = delete;
+  GdalProgress& operator=(const GdalProgress&) = delete;
+
+  GDALProgressFunc function() const { return fn_ ? report : GDALDummyProgress; }
+  void* data() { return fn_ ? this : nullptr; }
+  bool cancelled() const { return cancelled_; }
+
+ private:
+  static int CPL_STDCALL report(double fraction, const char* message, void* data);
+
+  const ProgressFn* fn_;
+  const char* stage_;
+  bool cancelled_ = false;
 };
 
 // For a scope that wants GDAL silent and its last message fresh, and no more.

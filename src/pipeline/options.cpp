@@ -138,8 +138,7 @@ io::TinFormat check_outputs(const BuildOptions& o) {
 // --preview: a PNG, its size only with it.
 void check_preview(const BuildOptions& o) {
   const BuildOptions::Preview& p = o.preview;
-  if (p.path.empty() && p.size != BuildOptions::Preview{}.size)
-    throw UsageError("--preview-size needs --preview");
+  if (p.path.empty() && p.size) throw UsageError("--preview-size needs --preview");
   if (!p.path.empty() && lower_extension(p.path) != ".png")
     throw UsageError(p.path, "", "--preview writes a PNG: give a name ending in .png");
 }
@@ -148,7 +147,7 @@ void check_preview(const BuildOptions& o) {
 void check_dem_format(const BuildOptions::Dem& dem) {
   std::string driver;
   try {
-    driver = io::dem_driver_for(dem.path, dem.format, dem.float64);
+    driver = io::dem_driver_for(dem.path, dem.format, dem.float64());
   } catch (const Error& e) {
     if (!dem.format.empty()) throw UsageError("--dem-format " + dem.format + ": " + e.detail());
     const bool no_driver = e.detail().rfind("no ", 0) == 0;  // no extension, or none writes it
@@ -163,9 +162,10 @@ void check_dem_format(const BuildOptions::Dem& dem) {
 }
 
 void check_dem(const BuildOptions::Dem& dem) {
-  const bool dem_settings = dem.resolution != 0 || dem.extent || dem.target_aligned ||
-                            !(dem.nodata == -9999) || dem.float64 ||
-                            !dem.creation_options.empty() || !dem.format.empty();
+  // Given, whatever the value: one at its default is refused without --dem too.
+  const bool dem_settings = dem.resolution != 0 || dem.extent || dem.target_aligned || dem.nodata ||
+                            dem.float64_cells || !dem.creation_options.empty() ||
+                            !dem.format.empty();
   if (dem.path.empty() && dem_settings)
     throw UsageError(
         "--resolution, --dem-extent, --tap, --dem-nodata, --dem-type, --dem-format and --dem-co "
@@ -176,10 +176,10 @@ void check_dem(const BuildOptions::Dem& dem) {
   if (dem.extent &&
       (!(dem.extent->min_x < dem.extent->max_x) || !(dem.extent->min_y < dem.extent->max_y)))
     throw UsageError("--dem-extent: give XMIN YMIN XMAX YMAX with XMIN < XMAX, YMIN < YMAX");
-  const double v = dem.nodata;
+  const double v = dem.nodata_or_default();
   const bool fits_float = std::isnan(v) || (std::fabs(v) <= 3.4028234663852886e38 &&
                                             static_cast<double>(static_cast<float>(v)) == v);
-  if (!dem.float64 && !fits_float)
+  if (!dem.float64() && !fits_float)
     throw UsageError("--dem-nodata: " + products::short_number(v) +
                      " cannot be stored in Float32 cells (use --dem-type Float64)");
   for (const std::string& co : dem.creation_options)
@@ -189,19 +189,19 @@ void check_dem(const BuildOptions::Dem& dem) {
 }
 
 void check_contour_lines(const BuildOptions::ContourLines& c) {
-  const bool settings = c.interval != 0 || c.base != 0 || !c.levels.empty() ||
-                        c.field != BuildOptions{}.contour_lines.field;
+  // Given, whatever the value: one at its default is refused without --contour-lines too.
+  const bool settings = c.interval != 0 || c.base || !c.levels.empty() || c.field;
   if (c.path.empty() && settings)
     throw UsageError("--interval, --base, --levels and --contour-field need --contour-lines");
   if (c.path.empty()) return;
   if (!c.levels.empty() && c.interval != 0)
     throw UsageError("--levels and --interval exclude each other: fixed levels, or every interval");
-  if (!c.levels.empty() && c.base != 0)
+  if (!c.levels.empty() && c.base)
     throw UsageError("--base goes with --interval, not with the fixed --levels");
   if (c.levels.empty() && (!(c.interval > 0) || !std::isfinite(c.interval)))
     throw UsageError("--contour-lines needs --interval, an interval > 0, or --levels");
-  if (!std::isfinite(c.base)) throw UsageError("--base: not a finite number");
-  if (c.field.empty()) throw UsageError("--contour-field: give a field name");
+  if (!std::isfinite(c.base_or_default())) throw UsageError("--base: not a finite number");
+  if (c.field_or_default().empty()) throw UsageError("--contour-field: give a field name");
 }
 
 void check_terrain_output(const BuildOptions::Terrain& t) {

@@ -105,21 +105,33 @@ struct BuildOptions {
     double resolution = 0;        // --resolution: cell size (> 0), in the CRS's units
     std::optional<BBox> extent;   // --dem-extent; default: the kept triangles' extent
     bool target_aligned = false;  // --tap: extent snapped out to multiples of the resolution
-    double nodata = -9999;        // --dem-nodata
-    bool float64 = false;         // --dem-type Float64 (default Float32)
+    // --dem-nodata; kDefaultNodata when not given
+    std::optional<double> nodata;
+    static constexpr double kDefaultNodata = -9999;
+    double nodata_or_default() const { return nodata.value_or(kDefaultNodata); }
+    // --dem-type: Float64 cells when true; Float32 when false or not given
+    std::optional<bool> float64_cells;
+    bool float64() const { return float64_cells.value_or(false); }
     std::vector<std::string> creation_options;  // --dem-co NAME=VALUE: the driver's options
   } dem;
   struct Preview {
-    std::string path;           // --preview FILE.png: a hillshade with the edges drawn; "" = none
-    std::uint32_t size = 1024;  // --preview-size: pixels on the longer side
+    std::string path;  // --preview FILE.png: a hillshade with the edges drawn; "" = none
+    // --preview-size: pixels on the longer side; kDefaultSize when not given
+    std::optional<std::uint32_t> size;
+    static constexpr std::uint32_t kDefaultSize = 1024;
+    std::uint32_t size_or_default() const { return size.value_or(kDefaultSize); }
   } preview;
   struct ContourLines {
     std::string path;            // --contour-lines FILE (any OGR vector format); "" = none
     std::string format;          // GDAL driver name; "" = from the extension
     double interval = 0;         // --interval (> 0)
-    double base = 0;             // --base: levels are base + k * interval
+    std::optional<double> base;  // --base: levels are base + k * interval; 0 when not given
+    double base_or_default() const { return base.value_or(0); }
     std::vector<double> levels;  // --levels: fixed levels instead of an interval
-    std::string field = "elev";  // --contour-field: the level's attribute (none in DXF, DGN)
+    // --contour-field: the level's attribute (none in DXF, DGN); kDefaultField when not given
+    std::optional<std::string> field;
+    static constexpr const char* kDefaultField = "elev";
+    std::string field_or_default() const { return field.value_or(kDefaultField); }
   } contour_lines;
   struct Terrain {
     std::string path;  // --terrain DIR: a quantized-mesh pyramid; "" = none

@@ -29,7 +29,7 @@ void run(Job& job) {
   products::ContourSet set;
   try {
     set = products::trace_contours(job.tin(), {.interval = o.interval,
-                                               .base = o.base,
+                                               .base = o.base_or_default(),
                                                .levels = o.levels,
                                                .threads = job.options.threads,
                                                .progress = job.stage_progress()});
@@ -52,7 +52,7 @@ void run(Job& job) {
   t0 = std::chrono::steady_clock::now();
   io::ContourWriteOptions w;
   w.format = o.format;
-  w.elevation_field = driver == "DXF" || driver == "DGN" ? "" : o.field;
+  w.elevation_field = driver == "DXF" || driver == "DGN" ? "" : o.field_or_default();
   w.crs_wkt = job.crs_wkt;
   w.progress = job.stage_progress();
   io::OutputFile& out = job.add_output(o.path, "contour_lines");
@@ -66,8 +66,8 @@ void run(Job& job) {
   for (io::OutputFile* s : siblings) job.finish_output(*s);
   r.driver = stats.driver;
   r.write_s = seconds_since(t0);
-  job.info("contour lines: " + count_text(r.lines) + " lines on " + count_text(r.levels) +
-           " levels");
+  job.info("contour lines: " + count_text(r.lines, "line") + " on " +
+           count_text(r.levels, "level"));
 }
 
 // A shapefile's .shx, .dbf and .prj are planned with it, so that an existing one stops the job
@@ -133,11 +133,12 @@ constexpr OptionSpec kOptions[] = {
     with_default(checked_option("--contour-field", "NAME", option_groups::products, check_name,
                                 set_text<&BuildOptions::contour_lines, &ContourLines::field>,
                                 "The contour level's field (as gdal_contour -a)"),
-                 "elev", [](const BuildOptions& o) { return o.contour_lines.field; }),
-    with_default(checked_option("--base", "B", option_groups::products, check_number,
-                                set_number<&BuildOptions::contour_lines, &ContourLines::base>,
-                                "Contour levels are BASE + k * interval"),
-                 "0", show_number<&BuildOptions::contour_lines, &ContourLines::base>),
+                 "elev", [](const BuildOptions& o) { return o.contour_lines.field_or_default(); }),
+    with_default(
+        checked_option("--base", "B", option_groups::products, check_number,
+                       set_number<&BuildOptions::contour_lines, &ContourLines::base>,
+                       "Contour levels are BASE + k * interval"),
+        "0", [](const BuildOptions& o) { return number_text(o.contour_lines.base_or_default()); }),
 };
 
 }  // namespace

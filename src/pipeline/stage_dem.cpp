@@ -108,7 +108,7 @@ void rasterize_and_write(Job& job, const products::Grid& grid, io::OutputFile& o
   products::RasterizeStats stats;
   job.with_extra_triangles([&] {
     stats =
-        products::rasterize<T>(job.tin(), grid, static_cast<T>(o.nodata), cells,
+        products::rasterize<T>(job.tin(), grid, static_cast<T>(o.nodata_or_default()), cells,
                                {.threads = job.options.threads, .progress = job.stage_progress()});
   });
   r.cells_with_value = stats.cells_with_value;
@@ -116,7 +116,7 @@ void rasterize_and_write(Job& job, const products::Grid& grid, io::OutputFile& o
   t0 = std::chrono::steady_clock::now();
   io::DemWriteOptions w;
   w.format = o.format;
-  w.nodata = o.nodata;
+  w.nodata = o.nodata_or_default();
   w.crs_wkt = job.crs_wkt;
   w.creation_options = o.creation_options;
   w.threads = job.options.threads;
@@ -141,17 +141,17 @@ void run(Job& job) {
   } else {
     grid = checked_grid(o, o.extent ? *o.extent : products::kept_extent(job.tin()), job.crs_wkt);
   }
-  check_fits_in_memory(o, grid, o.float64 ? sizeof(double) : sizeof(float));
+  check_fits_in_memory(o, grid, o.float64() ? sizeof(double) : sizeof(float));
   BuildReport::Dem& r = job.report.dem;
   r.path = o.path;
-  r.type = o.float64 ? "Float64" : "Float32";
+  r.type = o.float64() ? "Float64" : "Float32";
   r.width = grid.width;
   r.height = grid.height;
   r.resolution = grid.resolution;
   r.min_x = grid.min_x;
   r.max_y = grid.max_y;
   io::OutputFile& out = job.add_output(o.path, "dem");
-  if (o.float64)
+  if (o.float64())
     rasterize_and_write<double>(job, grid, out);
   else
     rasterize_and_write<float>(job, grid, out);
@@ -187,7 +187,7 @@ void check_dem_grid_early(const Job& job) {
     return;
   }
   const products::Grid grid = checked_grid(o, extent, job.crs_wkt);
-  check_fits_in_memory(o, grid, o.float64 ? sizeof(double) : sizeof(float));
+  check_fits_in_memory(o, grid, o.float64() ? sizeof(double) : sizeof(float));
 }
 
 namespace {
@@ -198,7 +198,7 @@ void plan(const BuildOptions& o, FilePlan& files) {
   files.outputs.push_back({o.dem.path, "the DEM (--dem)"});
   std::string driver;
   try {
-    driver = io::dem_driver_for(o.dem.path, o.dem.format, o.dem.float64);
+    driver = io::dem_driver_for(o.dem.path, o.dem.format, o.dem.float64());
   } catch (const Error&) {
     return;  // check_options() refused it already; the writer would again
   }
@@ -261,9 +261,14 @@ constexpr OptionSpec kOptions[] = {
                 "Snap the DEM extent out to multiples of the resolution (as gdalwarp -tap)"),
     with_default(checked_option("--dem-nodata", "V", option_groups::products, check_nodata,
                                 set_nodata, "Value of the DEM cells outside the TIN (or nan)"),
-                 "-9999", show_number<&BuildOptions::dem, &Dem::nodata>),
-    choice_option<kCellTypes, kIsFloat64, &BuildOptions::dem, &Dem::float64>(
-        "--dem-type", option_groups::products, "float32", "DEM cell type"),
+                 "-9999",
+                 [](const BuildOptions& o) { return number_text(o.dem.nodata_or_default()); }),
+    // Shown from float64(): the choice's own shown finds no word while the option is not given.
+    with_default(
+        choice_option<kCellTypes, kIsFloat64, &BuildOptions::dem, &Dem::float64_cells>(
+            "--dem-type", option_groups::products, "float32", "DEM cell type"),
+        "float32",
+        [](const BuildOptions& o) { return std::string(o.dem.float64() ? "float64" : "float32"); }),
     repeated_option("--dem-co", "NAME=VALUE", option_groups::products,
                     add_text<&BuildOptions::dem, &Dem::creation_options>,
                     "A creation option of the DEM's driver, checked against it; for COG\n"

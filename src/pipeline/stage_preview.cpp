@@ -23,7 +23,7 @@ bool wanted(const BuildOptions& o) {
 void run(Job& job) {
   const BuildOptions::Preview& o = job.options.preview;
   products::PreviewOptions p;
-  p.size = o.size;
+  p.size = o.size_or_default();
   p.threads = job.options.threads;
   p.frame = job.preview_frame;
   p.progress = job.stage_progress();
@@ -72,7 +72,8 @@ constexpr OptionSpec kOptions[] = {
                 "and the outline (red), transparent where there is no surface"),
     with_default(checked_option("--preview-size", "PX", option_groups::products, check_size,
                                 set_size, "The preview's size in pixels on its longer side"),
-                 "1024", [](const BuildOptions& o) { return std::to_string(o.preview.size); }),
+                 "1024",
+                 [](const BuildOptions& o) { return std::to_string(o.preview.size_or_default()); }),
 };
 
 }  // namespace

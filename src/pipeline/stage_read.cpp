@@ -89,7 +89,7 @@ void read_point_files(Job& job, detail::InputCrs& crs) {
     job.report.points_read += s.points_read;
     job.report.points_kept += s.points_kept;
     job.debug(path + ": " + (s.format.empty() ? std::string("points") : s.format) + ", " +
-              count_text(s.points_read) + " points, " + count_text(s.points_kept) + " kept, " +
+              count_text(s.points_read, "point") + ", " + count_text(s.points_kept) + " kept, " +
               job.crs_names.name(s.crs_wkt));
     if (inputs.size() > 1) {  // with one input, the Delaunay stage's error says it all
       if (s.points_read == 0)
@@ -124,8 +124,8 @@ void read_line_sources(Job& job, detail::InputCrs& crs) {
     for (const std::string& w : s.warnings) job.warn(w);
     job.report.line_features += s.features;
     job.report.zero_length_segments += s.zero_length_segments;
-    job.debug(path + ": layer " + s.layer + ", " + count_text(s.features) + " features, " +
-              count_text(s.segments) + " segments, " + job.crs_names.name(s.crs_wkt));
+    job.debug(path + ": layer " + s.layer + ", " + count_text(s.features, "feature") + ", " +
+              count_text(s.segments, "segment") + ", " + job.crs_names.name(s.crs_wkt));
     crs.read_extent(path, std::span(lines.vertices).subspan(before.vertices));
     crs.add(path, s.crs_wkt);
     detail::InputTransform(job, crs, path).apply_to_lines(lines, before, s.layer);
@@ -171,8 +171,8 @@ void read_surface_kind(Job& job, detail::InputCrs& crs, detail::SurfaceInput& in
                                        : io::read_polygons(path, shape, input.data);
     for (const std::string& w : s.warnings) job.warn(w);
     job.debug(path + ": " + detail::kind_name(input.kind) + ", layer " + s.layer + ", " +
-              count_text(s.features) + " features, " + count_text(s.parts) +
-              (lines ? " lines, " : " rings, ") + job.crs_names.name(s.crs_wkt));
+              count_text(s.features, "feature") + ", " +
+              count_text(s.parts, lines ? "line" : "ring") + ", " + job.crs_names.name(s.crs_wkt));
     for (std::size_t f = features_before; f < input.data.features.size(); ++f)
       for (const io::ShapePart& part : input.data.features[f].parts)
         crs.read_extent(path, part.points);

@@ -200,7 +200,7 @@ void remove_earlier_tiles_after_commit(Job& job, std::vector<qm::TileRange> leve
     try {
       const qm::TileRemoval r = qm::remove_tiles(dir, written);
       if (r.removed)
-        job.info("terrain: removed " + count_text(r.removed) + " tiles of the earlier pyramid");
+        job.info("terrain: removed " + count_text(r.removed, "tile") + " of the earlier pyramid");
       if (r.failed)
         job.warn(dir + ": the new pyramid is complete, but " + count_text(r.failed) +
                  " tiles or folders of the earlier one could not be removed (first: " +
@@ -235,8 +235,8 @@ void run(Job& job) {
       o.max_level
           ? "levels 0-" + count_text(max_level)
           : "the default levels 0-" + count_text(max_level) + " (the data's point spacing)");
-  job.info("terrain: " + count_text(tiles) + " tiles over the data's " + box_text(source.bounds()) +
-           " (at most " + count_text(limit) + ")");
+  job.info("terrain: " + count_text(tiles, "tile") + " over the data's " +
+           box_text(source.bounds()) + " (at most " + count_text(limit) + ")");
   qm::TerrainLayer layer;
   layer.bounds = source.bounds();
   layer.extensions = {"octvertexnormals", "metadata"};
@@ -251,14 +251,14 @@ void run(Job& job) {
     done += share;
     const double rmse =
         s.error.count ? std::sqrt(s.error.sum_squares / static_cast<double>(s.error.count)) : 0;
-    job.info("terrain level " + count_text(level) + ": " + count_text(s.tiles) + " tiles, " +
-             count_text(s.vertices) + " vertices, max error " + short_number(s.error.max) +
-             " m (allowed " + short_number(qm::geometric_error_at_level(level)) + "), RMSE " +
-             short_number(rmse) + " m over " + count_text(s.error.count) + " vertices" +
-             (s.line_segments ? ", " + count_text(s.line_segments) + " line pieces as edges"
+    job.info("terrain level " + count_text(level) + ": " + count_text(s.tiles, "tile") + ", " +
+             count_text(s.vertices, "vertex", "vertices") + ", max error " +
+             short_number(s.error.max) + " m (allowed " +
+             short_number(qm::geometric_error_at_level(level)) + "), RMSE " + short_number(rmse) +
+             " m over " + count_text(s.error.count, "vertex", "vertices") +
+             (s.line_segments ? ", " + count_text(s.line_segments, "line piece") + " as edges"
                               : std::string()) +
-             (s.error.hidden ? ", " + count_text(s.error.hidden) +
-                                   (s.error.hidden == 1 ? " vertex" : " vertices") +
+             (s.error.hidden ? ", " + count_text(s.error.hidden, "vertex", "vertices") +
                                    " under holes (their outline simplified at this level)"
                              : std::string()));
     if (s.lines_dropped)

@@ -27,9 +27,10 @@ void run(Job& job) {
     problem = constraints::check_segments(job.tin(), job.given_segments, job.pieces);
   if (!problem.empty()) throw InternalError("the TIN failed validation: " + problem);
   // The verdict is what --validate was asked for: said at the normal level, not only with -v.
-  const std::string verdict = "TIN is valid: " + count_text(job.tin().triangle_count()) +
-                              " triangles, " + count_text(job.given_segments.size()) +
-                              " constraint segments; checked the topology, the constrained edges";
+  const std::string verdict =
+      "TIN is valid: " + count_text(job.tin().triangle_count(), "triangle") + ", " +
+      count_text(job.given_segments.size(), "constraint segment") +
+      "; checked the topology, the constrained edges";
   if (delaunay) {
     job.info(verdict + " and the Delaunay property");
     return;

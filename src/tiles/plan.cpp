@@ -373,10 +373,11 @@ void find_rim(const PlanOptions& options, TilePlan& plan, const BBox& all,
   for (const auto& [i, p] : near)
     if (r.holds({p.x, p.y})) rim.push_back(p);
   if (log)
-    log(log_info, "rim: " + count_text(rim.size()) + " points within " +
+    log(log_info, "rim: " + count_text(rim.size(), "point") + " within " +
                       number_text(plan.rim_width) + " of the data's hull (" +
-                      count_text(plan.hull.size()) + " vertices); read " + count_text(scanned) +
-                      " point files for it, skipped " + count_text(skipped) + " inside");
+                      count_text(plan.hull.size(), "vertex", "vertices") + "); read " +
+                      count_text(scanned, "point file") + " for it, skipped " +
+                      count_text(skipped) + " inside");
 }
 
 void set_extent(TilePlan& plan, const LogFn& log) {

@@ -247,9 +247,9 @@ void check_triangle(TileJob& job, const BBox& near, const tiles::Polygon& near_p
                                          const FinalityTally& tally) {
   char where[80];
   std::snprintf(where, sizeof where, "(%.3f, %.3f)", tally.at.x, tally.at.y);
-  std::string detail =
-      "buffer " + number(tile.buffer) + " is too small: " + count_text(tally.failed) + " triangle" +
-      (tally.failed == 1 ? "" : "s") + " near the tile could still change (one near " + where + ")";
+  std::string detail = "buffer " + number(tile.buffer) +
+                       " is too small: " + count_text(tally.failed, "triangle") +
+                       " near the tile could still change (one near " + where + ")";
   // Past a hull edge of the points read, a larger buffer usually finds more points; the
   // estimate from the circles is then a lower bound.
   if (tally.failed_reach > 0) {
@@ -290,7 +290,7 @@ void run(TileJob& job) {
     detail::write_outline(out, outline_of(tin), "");
     job.finish_output(out);
   }
-  job.info(name + ": " + count_text(tally.owned) + " triangles owned, " +
+  job.info(name + ": " + count_text(tally.owned, "triangle") + " owned, " +
            count_text(tally.checked) +
            " checked final: " + count_text(tally.checked - tally.beyond) +
            " with a circumcircle inside the buffered box (reaching " + number(tally.reach) +

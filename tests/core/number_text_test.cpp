@@ -20,6 +20,14 @@ TEST(NumberText, CountsAreThousandsSeparated) {
   EXPECT_EQ(count_text(UINT64_MAX), "18,446,744,073,709,551,615");
 }
 
+TEST(NumberText, ACountTakesTheSingularForOne) {
+  EXPECT_EQ(count_text(0, "segment"), "0 segments");
+  EXPECT_EQ(count_text(1, "segment"), "1 segment");
+  EXPECT_EQ(count_text(1200, "segment"), "1,200 segments");
+  EXPECT_EQ(count_text(1, "vertex", "vertices"), "1 vertex");
+  EXPECT_EQ(count_text(2, "vertex", "vertices"), "2 vertices");
+}
+
 TEST(NumberText, ValuesAreShortAndGrouped) {
   EXPECT_EQ(number_text(0), "0");
   EXPECT_EQ(number_text(2), "2");

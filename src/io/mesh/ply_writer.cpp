@@ -85,14 +85,24 @@ void put_edge(BlockWriter& w, VertexId a, VertexId b) {
 }
 
 // The `edge` element: the written TIN's constrained segments under the vertices' written numbers,
-// in blocks of half-edges on the writer's threads. Not in the progress: the records are few.
+// in blocks of half-edges on the writer's threads. Its NE records take the writer's progress from
+// DONE of TOTAL records on; polled between blocks as the faces are, so that a request to stop
+// gets through.
 template <bool kAscii>
 void write_edges(BlockWriter& w, const mesh::Triangulation& tin, const WrittenTin& written,
-                 unsigned threads) {
+                 const TinWriteOptions& options, std::uint64_t done, std::uint64_t ne,
+                 std::uint64_t total) {
   if (!tin.has_constraints()) return;
   const VertexNumbering& number = written.number;
-  Progress untracked;
-  write_blocks(w, threads, 3 * tin.triangle_slots(), kHalfEdgeBytes, untracked, 0,
+  const std::size_t half_edges = 3 * tin.triangle_slots();
+  // The blocks count half-edges; the writer's progress counts the records they hold.
+  const ProgressFn* writer = options.progress;
+  const ProgressFn share = [&](std::string_view stage, double fraction) {
+    return (*writer)(stage, (static_cast<double>(done) + fraction * static_cast<double>(ne)) /
+                                static_cast<double>(total));
+  };
+  Progress progress(writer != nullptr && *writer ? &share : nullptr, "write", half_edges);
+  write_blocks(w, options.threads, half_edges, kHalfEdgeBytes, progress, 0,
                [&](BlockWriter& b, std::size_t begin, std::size_t end) {
                  for_each_constrained_segment_in(tin, written.compact, begin, end,
                                                  [&](VertexId v1, VertexId v2) {
@@ -115,7 +125,8 @@ TinWriteStats write_ply(OutputFile& out, const mesh::Triangulation& tin,
   const std::uint64_t ne = count_constrained_segments(tin, written.compact, options.threads);
 
   BlockWriter w(out);
-  Progress progress(options.progress, "write", nv + tin.triangle_slots());
+  const std::uint64_t total = nv + tin.triangle_slots() + ne;
+  Progress progress(options.progress, "write", total);
   w.put(ply_header(ascii, nv, written.triangles, ne, options));
 
   write_blocks(w, options.threads, nv, ascii ? kAsciiVertexBytes : kBinaryVertexBytes, progress, 0,
@@ -141,10 +152,11 @@ TinWriteStats write_ply(OutputFile& out, const mesh::Triangulation& tin,
   else
     write_faces<false, false>(w, tin, number, options, progress, nv);
 
+  const std::uint64_t faces_done = nv + tin.triangle_slots();
   if (ascii)
-    write_edges<true>(w, tin, written, options.threads);
+    write_edges<true>(w, tin, written, options, faces_done, ne, total);
   else
-    write_edges<false>(w, tin, written, options.threads);
+    write_edges<false>(w, tin, written, options, faces_done, ne, total);
   w.flush();
   progress.finish();
   return {nv, written.triangles, 0};

@@ -23,19 +23,6 @@
 namespace tincdt::io {
 namespace {
 
-// GDAL's progress callback over ours; remembers a request to stop, which GDAL reports as a
-// failure like any other.
-struct ProgressBridge {
-  const ProgressFn* fn;
-  bool cancelled = false;
-  static int CPL_STDCALL report(double fraction, const char*, void* data) {
-    auto* self = static_cast<ProgressBridge*>(data);
-    if ((*self->fn)("write dem", fraction)) return TRUE;
-    self->cancelled = true;
-    return FALSE;
-  }
-};
-
 constexpr int kBlock = 512;  // tile size, and the largest overview's side bound (as COG's AUTO)
 
 // One overview level from the one above it (W x H cells): each cell the mean of the up to 2 x 2
@@ -286,15 +273,13 @@ DemWriteStats write(OutputFile& out, const products::Grid& grid, std::span<const
                                          grid.width, grid.height, type, nodata, threads))
     fail("cannot compute the overviews");
   GDALDriver* driver = GetGDALDriverManager()->GetDriverByName(stats.driver.c_str());
-  const bool with_progress = options.progress != nullptr && *options.progress;
-  ProgressBridge bridge{options.progress};
+  detail::GdalProgress progress(options.progress, "write dem");
   const std::string& build_path = out.take_path();
   const SiblingFiles siblings(build_path);
-  detail::GdalDataset written(
-      driver->CreateCopy(build_path.c_str(), source.get(), FALSE, creation.List(),
-                         with_progress ? ProgressBridge::report : GDALDummyProgress,
-                         with_progress ? &bridge : nullptr));
-  if (bridge.cancelled) throw Cancelled();
+  detail::GdalDataset written(driver->CreateCopy(build_path.c_str(), source.get(), FALSE,
+                                                 creation.List(), progress.function(),
+                                                 progress.data()));
+  if (progress.cancelled()) throw Cancelled();
   if (!written) fail(cog ? "cannot write the GeoTIFF" : "cannot write the raster");
   CPLErrorReset();
   written.reset();  // close: flushes the file

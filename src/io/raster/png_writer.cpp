@@ -8,22 +8,6 @@
 #include "io/gdal_support.hpp"
 
 namespace tincdt::io {
-namespace {
-
-// GDAL's progress callback over ours; remembers a request to stop, which GDAL reports as a
-// failure like any other.
-struct PngProgress {
-  const ProgressFn* fn;
-  bool cancelled = false;
-  static int CPL_STDCALL report(double fraction, const char*, void* data) {
-    auto* self = static_cast<PngProgress*>(data);
-    if ((*self->fn)("write preview", fraction)) return TRUE;
-    self->cancelled = true;
-    return FALSE;
-  }
-};
-
-}  // namespace
 
 void write_png(OutputFile& out, std::uint32_t width, std::uint32_t height,
                std::span<const std::uint8_t> rgba, const ProgressFn* progress) {
@@ -51,12 +35,10 @@ void write_png(OutputFile& out, std::uint32_t width, std::uint32_t height,
                       nullptr) != CE_None)
     fail("cannot set up the picture");
   image->GetRasterBand(4)->SetColorInterpretation(GCI_AlphaBand);
-  const bool with_progress = progress != nullptr && *progress;
-  PngProgress bridge{progress};
-  detail::GdalDataset written(png->CreateCopy(
-      out.take_path().c_str(), image.get(), FALSE, nullptr,
-      with_progress ? PngProgress::report : GDALDummyProgress, with_progress ? &bridge : nullptr));
-  if (bridge.cancelled) throw Cancelled();
+  detail::GdalProgress bridge(progress, "write preview");
+  detail::GdalDataset written(png->CreateCopy(out.take_path().c_str(), image.get(), FALSE, nullptr,
+                                              bridge.function(), bridge.data()));
+  if (bridge.cancelled()) throw Cancelled();
   if (!written) fail("cannot write the PNG");
   CPLErrorReset();
   written.reset();

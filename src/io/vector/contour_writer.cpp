@@ -116,8 +116,14 @@ ContourWriteStats write_contours(OutputFile& out, const products::ContourSet& co
       int exceptions = std::uncaught_exceptions();
       ~DropWhenStopped() {
         if (std::uncaught_exceptions() <= exceptions) return;
-        if (transaction) ds.RollbackTransaction();
-        ds.DeleteLayer(0);
+        // Neither is checked as an error: the file is a temporary that is removed anyway, the
+        // error in flight says why the write stopped, and a driver that cannot drop the layer
+        // only makes the close slower. A refusal's message is cleared, not to stand for that
+        // error.
+        const bool rolled_back = !transaction || ds.RollbackTransaction() == OGRERR_NONE;
+        const bool dropped =
+            ds.TestCapability(ODsCDeleteLayer) != 0 && ds.DeleteLayer(0) == OGRERR_NONE;
+        if (!rolled_back || !dropped) CPLErrorReset();
       }
     } drop_when_stopped{*ds, transactions};
     for (std::size_t i = 0; i < contours.lines.size(); ++i) {
