@@ -7,6 +7,7 @@
 #include <span>
 #include <vector>
 
+#include "core/error.hpp"
 #include "io/terrain/quantized_mesh_detail.hpp"
 #include "web_terrain/tile.hpp"
 
@@ -14,6 +15,8 @@ namespace tincdt::web_terrain {
 namespace {
 
 using io::terrain::kQuantizedMax;
+
+constexpr std::size_t kVerticesBetweenReports = std::size_t{1} << 16;
 
 struct Corner {
   double u, v, h;
@@ -101,8 +104,8 @@ SurfacePoint surface_at(const std::vector<std::array<Corner, 3>>& triangles,
 }  // namespace
 
 TileError measure_tile(const TerrainSource& source, const io::terrain::TileMesh& mesh,
-                       std::span<const std::uint8_t> hole,
-                       std::span<const std::uint32_t> vertices) {
+                       std::span<const std::uint8_t> hole, std::span<const std::uint32_t> vertices,
+                       const ProgressFn* progress) {
   const io::terrain::detail::QuantizedVertices q = io::terrain::detail::quantize_vertices(mesh);
   const double low = q.minimum_height, high = q.maximum_height;
   std::vector<std::array<Corner, 3>> triangles;
@@ -117,8 +120,11 @@ TileError measure_tile(const TerrainSource& source, const io::terrain::TileMesh&
   const TriangleGrid grid = grid_of(triangles);
   const io::terrain::GeoRectangle& r = mesh.rectangle;
   TileError error;
-  for (const std::uint32_t id : vertices) {
-    const Point3& p = source.vertices()[id];
+  for (std::size_t i = 0; i < vertices.size(); ++i) {
+    // A tile over a large TIN measures millions of vertices: a request to stop gets through.
+    if (i % kVerticesBetweenReports == 0 && progress && *progress && !(*progress)("", 0))
+      throw Cancelled();
+    const Point3& p = source.vertices()[vertices[i]];
     // At the vertex's place on the tile's grid, the finest a tile can place it: beside a steep
     // triangle (the fill's ramp down from the data's outline) half a step sideways is a height.
     const double u = std::round((p.x - r.west) / (r.east - r.west) * kQuantizedMax);

@@ -189,6 +189,12 @@ void drop_triangles(const std::vector<std::uint8_t>& hole, TileMesh& mesh) {
   mesh.triangles.resize(kept);
 }
 
+// Throws Cancelled when PROGRESS (may be null) asks to stop: between the passes over every vertex
+// of a tile, which take a while over a large TIN.
+void poll(const ProgressFn* progress) {
+  if (progress && *progress && !(*progress)("", 0)) throw Cancelled();
+}
+
 // Which of the source's lines a tile holds: all, all but the holes' outline, none.
 enum class Lines { all, features, none };
 
@@ -209,6 +215,7 @@ TilePoints tile_points(const TerrainSource& source, const GeoRectangle& r,
 BuiltTile greedy_tile(const TerrainSource& source, const GeoRectangle& r,
                       std::span<const std::uint32_t> inside, const TilePoints& p, double error,
                       const ProgressFn* progress) {
+  poll(progress);
   const auto [low, high] = std::minmax_element(p.z.begin(), p.z.end());
   // A height step of the tile's quantization, at most.
   const double step = (*high - *low) / kMax;
@@ -231,7 +238,7 @@ BuiltTile greedy_tile(const TerrainSource& source, const GeoRectangle& r,
     }
     // The surface is measured whole: a hole is where it is not shown, not a height.
     const std::vector<std::uint8_t> hole = hole_triangles(source, tile.mesh);
-    tile.error = measure_tile(source, tile.mesh, hole, inside);
+    tile.error = measure_tile(source, tile.mesh, hole, inside, progress);
     drop_triangles(hole, tile.mesh);
     // A tighter run is kept only when it meets the error. One that does not met an error no
     // vertex can remove: the quantized grid moves a point of a near-vertical face (a wall, a
@@ -249,6 +256,7 @@ BuiltTile build_tile(const TerrainSource& source, const io::terrain::TileKey& ke
                      const ProgressFn* progress) {
   const GeoRectangle r = io::terrain::tile_rectangle(key);
   const std::vector<std::uint32_t> inside = source.vertices_in(r);
+  poll(progress);
   // Lines simplified onto the grid can overlap where the full TIN's do not; the tile is then
   // made without the holes' outline, then without any line (its error still holds).
   std::size_t all = 0, features = 0;

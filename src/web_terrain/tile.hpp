@@ -49,8 +49,10 @@ BuiltTile build_tile(const TerrainSource& source, const io::terrain::TileKey& ke
 
 // The error of MESH, decoded as a client does, against SOURCE's vertices in its rectangle
 // (VERTICES, as TerrainSource::vertices_in gives them). HOLE (empty, or one flag a triangle)
-// marks the triangles that a hole removes from the tile.
+// marks the triangles that a hole removes from the tile. PROGRESS (may be null) is called now
+// and then; when it returns false, Cancelled is thrown.
 TileError measure_tile(const TerrainSource& source, const io::terrain::TileMesh& mesh,
-                       std::span<const std::uint8_t> hole, std::span<const std::uint32_t> vertices);
+                       std::span<const std::uint8_t> hole, std::span<const std::uint32_t> vertices,
+                       const ProgressFn* progress = nullptr);
 
 }  // namespace tincdt::web_terrain
