@@ -7,16 +7,22 @@
 // web_terrain_crs runs right after read: a pyramid needs the data's CRS, so none stops the job
 // before any work.
 #include <algorithm>
+#include <atomic>
 #include <cassert>
 #include <charconv>
+#include <chrono>
 #include <cmath>
+#include <exception>
 #include <filesystem>
 #include <numbers>
+#include <span>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "core/error.hpp"
 #include "core/number_text.hpp"
+#include "core/parallel.hpp"
 #include "io/terrain/geographic_tiling.hpp"
 #include "io/terrain/layer_json.hpp"
 #include "io/terrain/lon_lat.hpp"
@@ -122,37 +128,55 @@ struct LevelStats {
   TileError error;
 };
 
-LevelStats write_level(Job& job, const TerrainSource& source, int level, int max_level, double done,
-                       double share) {
-  const qm::TileRange range = level_tiles(source.bounds(), level);
-  const double error = qm::geometric_error_at_level(level);
-  const std::uint64_t count = tile_count(range);
-  LevelStats stats;
-  // Within a tile, the stage's fraction so far is reported again, so that Ctrl-C gets through.
-  double at = done;
-  const ProgressFn within_tile = [&job, &at](std::string_view, double) {
-    job.progress(at);
-    return true;
-  };
-  for (std::uint32_t x = range.start_x; x <= range.end_x; ++x)
-    for (std::uint32_t y = range.start_y; y <= range.end_y; ++y) {
-      const qm::TileKey key{level, x, y};
-      const web_terrain::BuiltTile tile = web_terrain::build_tile(
-          source, key, error, job.stage_progress() ? &within_tile : nullptr);
-      qm::QuantizedMeshOptions options;
-      options.available = children(key, max_level, source.bounds());
-      write_file(job, tile_path(job.options.terrain.path, key),
-                 qm::encode_quantized_mesh(tile.mesh, options));
-      ++stats.tiles;
-      stats.vertices += tile.mesh.vertices.size();
-      stats.line_segments += tile.line_segments;
-      stats.lines_dropped += tile.lines_dropped;
-      stats.outlines_dropped += tile.outline_dropped;
-      stats.error.add(tile.error);
-      at = done + share * static_cast<double>(stats.tiles) / static_cast<double>(count);
-      job.progress(at);
+// Builds the tiles KEYS[i] into TILES[i], each within its level's error, on WORKERS threads.
+// Worker 0, on the calling thread, reports the stage's fraction AT within its tiles and, once it
+// has none left, while the others finish theirs: a request to stop gets through within a tile's
+// step. Once any tile fails, the others stop at their next report. The error of the lowest tile
+// is rethrown, one that is not a stop before a stop.
+void build_tiles(Job& job, const TerrainSource& source, std::span<const qm::TileKey> keys,
+                 std::size_t workers, double at, std::vector<web_terrain::BuiltTile>& tiles) {
+  tiles.assign(keys.size(), {});
+  std::vector<std::exception_ptr> errors(keys.size());
+  std::exception_ptr stop;
+  std::atomic<std::size_t> next{0}, finished{0};
+  std::atomic<bool> failed{false};
+  const bool report = job.stage_progress() != nullptr;
+  run_workers(std::min(workers, keys.size()), [&](std::size_t worker) {
+    const ProgressFn within_tile = [&](std::string_view, double) {
+      if (worker == 0) job.progress(at);
+      return !failed.load(std::memory_order_relaxed);
+    };
+    for (std::size_t i; (i = next.fetch_add(1)) < keys.size(); ++finished) {
+      try {
+        if (failed.load(std::memory_order_relaxed)) throw Cancelled();
+        tiles[i] =
+            web_terrain::build_tile(source, keys[i], qm::geometric_error_at_level(keys[i].level),
+                                    report ? &within_tile : nullptr);
+      } catch (...) {
+        errors[i] = std::current_exception();
+        failed = true;
+      }
     }
-  return stats;
+    if (worker != 0 || !report) return;
+    while (finished.load() < keys.size()) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      try {
+        if (!failed.load()) job.progress(at);
+      } catch (const Cancelled&) {
+        stop = std::current_exception();
+        failed = true;
+      }
+    }
+  });
+  for (const std::exception_ptr& e : errors) {
+    if (!e) continue;
+    try {
+      std::rethrow_exception(e);
+    } catch (const Cancelled&) {
+      if (!stop) stop = e;
+    }
+  }
+  if (stop) std::rethrow_exception(stop);
 }
 
 // Each level's share of the stage's progress, in proportion to its work: every tile's fixed
@@ -172,6 +196,95 @@ std::vector<double> level_shares(const TerrainSource& source, int max_level) {
   }
   for (double& share : shares) share /= total;
   return shares;
+}
+
+void log_level(Job& job, int level, const LevelStats& s) {
+  const double rmse =
+      s.error.count ? std::sqrt(s.error.sum_squares / static_cast<double>(s.error.count)) : 0;
+  job.info("terrain level " + count_text(level) + ": " + count_text(s.tiles, "tile") + ", " +
+           count_text(s.vertices, "vertex", "vertices") + ", max error " +
+           short_number(s.error.max) + " m (allowed " +
+           short_number(qm::geometric_error_at_level(level)) + "), RMSE " + short_number(rmse) +
+           " m over " + count_text(s.error.count, "vertex", "vertices") +
+           (s.line_segments ? ", " + count_text(s.line_segments, "line piece") + " as edges"
+                            : std::string()) +
+           (s.error.hidden ? ", " + count_text(s.error.hidden, "vertex", "vertices") +
+                                 " under holes (their outline simplified at this level)"
+                           : std::string()));
+  if (s.lines_dropped)
+    job.debug("terrain level " + count_text(level) + ": " + count_text(s.lines_dropped) +
+              " tiles without their lines: simplified onto the tile's grid, they overlap "
+              "(coarse tiles over small data)");
+  if (s.outlines_dropped)
+    job.debug("terrain level " + count_text(level) + ": " + count_text(s.outlines_dropped) +
+              " tiles without their holes' outline: simplified onto the tile's grid, it "
+              "overlaps the other lines; their holes follow the triangles' centres");
+  if (s.error.max > qm::geometric_error_at_level(level))
+    job.warn("terrain level " + count_text(level) + ": vertices up to " +
+             short_number(s.error.max) + " m from the TIN, above the level's error: points " +
+             "closer than a tile's quantization step (1/32767 of its width) differ more in " +
+             "height (walls, trees; ground points alone make a smoother terrain)");
+}
+
+struct LevelRun {
+  std::uint64_t count;  // tiles
+  double start, share;  // of the stage's progress
+  LevelStats stats;
+};
+
+// Writes the tiles of levels 0 to MAX_LEVEL in order (level, x, y), built in batches on every
+// thread: the coarse levels, one or two tiles over all the data each, are built side by side.
+// A level is logged once its last tile is written.
+void write_levels(Job& job, const TerrainSource& source, int max_level) {
+  const std::vector<double> shares = level_shares(source, max_level);
+  std::vector<LevelRun> levels;
+  double start = 0;
+  for (int level = 0; level <= max_level; ++level) {
+    const double share = shares[static_cast<std::size_t>(level)];
+    levels.push_back({tile_count(level_tiles(source.bounds(), level)), start, share, {}});
+    start += share;
+  }
+  const auto fraction = [&levels](const qm::TileKey& key) {
+    const LevelRun& l = levels[static_cast<std::size_t>(key.level)];
+    return l.start + l.share * static_cast<double>(l.stats.tiles) / static_cast<double>(l.count);
+  };
+  const std::size_t workers = thread_count(job.options.threads);
+  std::vector<qm::TileKey> batch;
+  std::vector<web_terrain::BuiltTile> tiles;
+  const auto flush = [&] {
+    build_tiles(job, source, batch, workers, fraction(batch.front()), tiles);
+    for (std::size_t i = 0; i < batch.size(); ++i) {
+      const qm::TileKey& key = batch[i];
+      const web_terrain::BuiltTile& tile = tiles[i];
+      qm::QuantizedMeshOptions options;
+      options.available = children(key, max_level, source.bounds());
+      write_file(job, tile_path(job.options.terrain.path, key),
+                 qm::encode_quantized_mesh(tile.mesh, options));
+      LevelRun& l = levels[static_cast<std::size_t>(key.level)];
+      ++l.stats.tiles;
+      l.stats.vertices += tile.mesh.vertices.size();
+      l.stats.line_segments += tile.line_segments;
+      l.stats.lines_dropped += tile.lines_dropped;
+      l.stats.outlines_dropped += tile.outline_dropped;
+      l.stats.error.add(tile.error);
+      job.progress(fraction(key));
+      if (l.stats.tiles == l.count) log_level(job, key.level, l.stats);
+    }
+    batch.clear();
+  };
+  for (int level = 0; level <= max_level; ++level) {
+    const qm::TileRange range = level_tiles(source.bounds(), level);
+    for (std::uint32_t x = range.start_x; x <= range.end_x; ++x)
+      for (std::uint32_t y = range.start_y; y <= range.end_y; ++y) {
+        batch.push_back({level, x, y});
+        // A tile of a coarse level is a pass over every vertex: its batch is one a worker.
+        const LevelRun& l = levels[static_cast<std::size_t>(level)];
+        if (batch.size() == 8 * workers ||
+            (batch.size() >= workers && l.share / static_cast<double>(l.count) > 0.01))
+          flush();
+      }
+  }
+  if (!batch.empty()) flush();
 }
 
 void log_units(Job& job, const TerrainSource& source) {
@@ -242,39 +355,9 @@ void run(Job& job) {
   layer.extensions = {"octvertexnormals", "metadata"};
   layer.metadata_availability = 1;  // every tile's metadata lists its children
   layer.available.resize(static_cast<std::size_t>(max_level) + 1);
-  const std::vector<double> shares = level_shares(source, max_level);
-  double done = 0;
-  for (int level = 0; level <= max_level; ++level) {
+  for (int level = 0; level <= max_level; ++level)
     layer.available[level] = {level_tiles(source.bounds(), level)};
-    const double share = shares[static_cast<std::size_t>(level)];
-    const LevelStats s = write_level(job, source, level, max_level, done, share);
-    done += share;
-    const double rmse =
-        s.error.count ? std::sqrt(s.error.sum_squares / static_cast<double>(s.error.count)) : 0;
-    job.info("terrain level " + count_text(level) + ": " + count_text(s.tiles, "tile") + ", " +
-             count_text(s.vertices, "vertex", "vertices") + ", max error " +
-             short_number(s.error.max) + " m (allowed " +
-             short_number(qm::geometric_error_at_level(level)) + "), RMSE " + short_number(rmse) +
-             " m over " + count_text(s.error.count, "vertex", "vertices") +
-             (s.line_segments ? ", " + count_text(s.line_segments, "line piece") + " as edges"
-                              : std::string()) +
-             (s.error.hidden ? ", " + count_text(s.error.hidden, "vertex", "vertices") +
-                                   " under holes (their outline simplified at this level)"
-                             : std::string()));
-    if (s.lines_dropped)
-      job.debug("terrain level " + count_text(level) + ": " + count_text(s.lines_dropped) +
-                " tiles without their lines: simplified onto the tile's grid, they overlap "
-                "(coarse tiles over small data)");
-    if (s.outlines_dropped)
-      job.debug("terrain level " + count_text(level) + ": " + count_text(s.outlines_dropped) +
-                " tiles without their holes' outline: simplified onto the tile's grid, it "
-                "overlaps the other lines; their holes follow the triangles' centres");
-    if (s.error.max > qm::geometric_error_at_level(level))
-      job.warn("terrain level " + count_text(level) + ": vertices up to " +
-               short_number(s.error.max) + " m from the TIN, above the level's error: points " +
-               "closer than a tile's quantization step (1/32767 of its width) differ more in " +
-               "height (walls, trees; ground points alone make a smoother terrain)");
-  }
+  write_levels(job, source, max_level);
   write_file(job, o.path + "/layer.json", qm::layer_json(layer));
   if (replacing) {
     std::vector<qm::TileRange> levels;
