@@ -1,6 +1,6 @@
 // Contour lines through OGR: read back in GeoPackage, shapefile and GeoJSON, every line with its
 // points, its z and its elevation field, and the CRS; the format from the extension or named;
-// refusals leave nothing behind.
+// refusals and a write asked to stop leave nothing behind.
 #include "io/vector/contour_writer.hpp"
 
 #include <gdal_priv.h>
@@ -9,7 +9,9 @@
 
 #include <filesystem>
 #include <random>
+#include <set>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/error.hpp"
@@ -119,6 +121,28 @@ TEST(ContourWriter, RefusalsLeaveNothingBehind) {
   o.overwrite = true;
   write_contours(dir + "/s.shp", c, o);
   EXPECT_NE(test::slurp(dir + "/s.dbf"), "old");
+}
+
+// Asked to stop midway, in a format whose driver can drop the layer (GeoPackage, shapefile) and
+// one whose cannot (GeoJSON): Cancelled, and nothing is left behind.
+TEST(ContourCancel, StoppedMidwayLeavesNothing) {
+  const products::ContourSet c = sample_contours();
+  ASSERT_GT(c.lines.size(), 2u);
+  for (const char* name : {"lines.gpkg", "lines.shp", "lines.geojson"}) {
+    SCOPED_TRACE(name);
+    const std::string dir = test::scratch_dir("contour_cancel");
+    int reports = 0;
+    // The first report, after the first line, goes on; the second, after two, stops.
+    const ProgressFn stop = [&](std::string_view stage, double) {
+      EXPECT_EQ(stage, "write contours");
+      return ++reports < 2;
+    };
+    ContourWriteOptions o;
+    o.progress = &stop;
+    EXPECT_THROW(write_contours(dir + "/" + name, c, o), Cancelled);
+    EXPECT_EQ(reports, 2);
+    EXPECT_EQ(test::names_in(dir), std::set<std::string>{});
+  }
 }
 
 }  // namespace
