@@ -131,40 +131,49 @@ struct LevelStats {
 // Builds the tiles KEYS[i] into TILES[i], each within its level's error, on WORKERS threads.
 // Worker 0, on the calling thread, reports the stage's fraction AT within its tiles and, once it
 // has none left, while the others finish theirs: a request to stop gets through within a tile's
-// step. Once any tile fails, the others stop at their next report. The error of the lowest tile
-// is rethrown, one that is not a stop before a stop.
+// step. A tile that fails stops the tiles after it, not those before it, so the error rethrown,
+// the lowest tile's, is the same on any number of threads; a stop comes after any error.
 void build_tiles(Job& job, const TerrainSource& source, std::span<const qm::TileKey> keys,
                  std::size_t workers, double at, std::vector<web_terrain::BuiltTile>& tiles) {
   tiles.assign(keys.size(), {});
   std::vector<std::exception_ptr> errors(keys.size());
   std::exception_ptr stop;
-  std::atomic<std::size_t> next{0}, finished{0};
-  std::atomic<bool> failed{false};
+  std::atomic<std::size_t> next{0}, finished{0}, first_failed{SIZE_MAX};
+  std::atomic<bool> stopped{false};
   const bool report = job.stage_progress() != nullptr;
+  const auto ask = [&] {
+    try {
+      if (report && !stopped) job.progress(at);
+    } catch (const Cancelled&) {
+      stopped = true;
+      throw;
+    }
+  };
   run_workers(std::min(workers, keys.size()), [&](std::size_t worker) {
+    std::size_t i = 0;
     const ProgressFn within_tile = [&](std::string_view, double) {
-      if (worker == 0) job.progress(at);
-      return !failed.load(std::memory_order_relaxed);
+      if (worker == 0) ask();
+      return !stopped && i < first_failed;
     };
-    for (std::size_t i; (i = next.fetch_add(1)) < keys.size(); ++finished) {
+    for (; (i = next.fetch_add(1)) < keys.size(); ++finished) {
       try {
-        if (failed.load(std::memory_order_relaxed)) throw Cancelled();
-        tiles[i] =
-            web_terrain::build_tile(source, keys[i], qm::geometric_error_at_level(keys[i].level),
-                                    report ? &within_tile : nullptr);
+        if (stopped || i > first_failed) throw Cancelled();
+        tiles[i] = web_terrain::build_tile(
+            source, keys[i], qm::geometric_error_at_level(keys[i].level), &within_tile);
+      } catch (const Cancelled&) {
+        errors[i] = std::current_exception();
       } catch (...) {
         errors[i] = std::current_exception();
-        failed = true;
+        for (std::size_t seen = first_failed; i < seen;)
+          if (first_failed.compare_exchange_weak(seen, i)) break;
       }
     }
-    if (worker != 0 || !report) return;
-    while (finished.load() < keys.size()) {
+    while (worker == 0 && finished < keys.size()) {
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
       try {
-        if (!failed.load()) job.progress(at);
+        ask();
       } catch (const Cancelled&) {
         stop = std::current_exception();
-        failed = true;
       }
     }
   });
@@ -212,12 +221,12 @@ void log_level(Job& job, int level, const LevelStats& s) {
                                  " under holes (their outline simplified at this level)"
                            : std::string()));
   if (s.lines_dropped)
-    job.debug("terrain level " + count_text(level) + ": " + count_text(s.lines_dropped) +
-              " tiles without their lines: simplified onto the tile's grid, they overlap "
+    job.debug("terrain level " + count_text(level) + ": " + count_text(s.lines_dropped, "tile") +
+              " without their lines: simplified onto the tile's grid, they overlap "
               "(coarse tiles over small data)");
   if (s.outlines_dropped)
-    job.debug("terrain level " + count_text(level) + ": " + count_text(s.outlines_dropped) +
-              " tiles without their holes' outline: simplified onto the tile's grid, it "
+    job.debug("terrain level " + count_text(level) + ": " + count_text(s.outlines_dropped, "tile") +
+              " without their holes' outline: simplified onto the tile's grid, it "
               "overlaps the other lines; their holes follow the triangles' centres");
   if (s.error.max > qm::geometric_error_at_level(level))
     job.warn("terrain level " + count_text(level) + ": vertices up to " +
@@ -236,6 +245,7 @@ struct LevelRun {
 // thread: the coarse levels, one or two tiles over all the data each, are built side by side.
 // A level is logged once its last tile is written.
 void write_levels(Job& job, const TerrainSource& source, int max_level) {
+  constexpr std::size_t kHeavyAtOnce = 2;
   const std::vector<double> shares = level_shares(source, max_level);
   std::vector<LevelRun> levels;
   double start = 0;
@@ -277,10 +287,11 @@ void write_levels(Job& job, const TerrainSource& source, int max_level) {
     for (std::uint32_t x = range.start_x; x <= range.end_x; ++x)
       for (std::uint32_t y = range.start_y; y <= range.end_y; ++y) {
         batch.push_back({level, x, y});
-        // A tile of a coarse level is a pass over every vertex: its batch is one a worker.
+        // A tile of a coarse level is a pass over every vertex: two are built at once, so that
+        // memory does not grow with the threads.
         const LevelRun& l = levels[static_cast<std::size_t>(level)];
         if (batch.size() == 8 * workers ||
-            (batch.size() >= workers && l.share / static_cast<double>(l.count) > 0.01))
+            (batch.size() >= kHeavyAtOnce && l.share / static_cast<double>(l.count) > 0.01))
           flush();
       }
   }
@@ -315,9 +326,9 @@ void remove_earlier_tiles_after_commit(Job& job, std::vector<qm::TileRange> leve
       if (r.removed)
         job.info("terrain: removed " + count_text(r.removed, "tile") + " of the earlier pyramid");
       if (r.failed)
-        job.warn(dir + ": the new pyramid is complete, but " + count_text(r.failed) +
-                 " tiles or folders of the earlier one could not be removed (first: " +
-                 r.first_failure + ")");
+        job.warn(dir + ": the new pyramid is complete, but " +
+                 count_text(r.failed, "tile or folder", "tiles or folders") +
+                 " of the earlier one could not be removed (first: " + r.first_failure + ")");
     } catch (const std::exception& e) {
       job.warn(dir +
                ": the new pyramid is complete, but the earlier one's tiles could not be "

@@ -30,7 +30,9 @@ struct TileError {
   double max = 0;
   double sum_squares = 0;
   std::uint64_t count = 0;
-  std::uint64_t hidden = 0;  // vertices in a hole of the tile, none of the full TIN's
+  // Vertices in a hole of the tile and none of the full TIN's; an estimate: a shown triangle
+  // is looked for in the vertex's cell of the tile's triangle grid only.
+  std::uint64_t hidden = 0;
   void add(const TileError& other);
 };
 
