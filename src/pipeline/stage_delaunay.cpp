@@ -28,8 +28,8 @@ void run(Job& job) {
   if (report.points_kept == 0 && !lines)
     throw GeometryError(
         job.describe_inputs(), "",
-        "the class/return filters kept none of the " + count_text(report.points_read) + " points");
-  job.debug("triangulating " + count_text(job.points.size()) + " points");
+        "the class/return filters kept none of the " + count_text(report.points_read, "point"));
+  job.debug("triangulating " + count_text(job.points.size(), "point"));
   delaunay::DelaunayOptions options;
   options.on_duplicate = job.options.on_duplicate;
   options.keep_point_map = lines;
@@ -41,7 +41,7 @@ void run(Job& job) {
     std::string detail = e.detail();
     if (filtering(job.options.filter) && report.points_kept < report.points_read)
       detail += " (the class/return filters kept " + count_text(report.points_kept) + " of " +
-                count_text(report.points_read) + " points)";
+                count_text(report.points_read, "point") + ")";
     throw GeometryError(e.file().empty() ? job.describe_inputs() : e.file(), e.where(), detail);
   }
   release(job.points);  // moved-from; free whatever is left

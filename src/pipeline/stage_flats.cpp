@@ -37,8 +37,8 @@ void run(Job& job) {
   flats.left_unplaced = f.flats_left_unplaced;
   flats.non_delaunay_edges = f.non_delaunay_edges;
   job.debug("flat triangles: " + count_text(f.flats_before) + " before, " +
-            count_text(f.flats_after) + " after " + count_text(f.swaps) + " swaps and " +
-            count_text(f.vertices_added) + " new vertices");
+            count_text(f.flats_after) + " after " + count_text(f.swaps, "swap") + " and " +
+            count_text(f.vertices_added, "new vertex", "new vertices"));
 }
 
 constexpr OptionSpec kOptions[] = {

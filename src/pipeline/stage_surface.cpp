@@ -39,11 +39,11 @@ void run(Job& job) {
   job.pieces = std::move(sr.constraints.pieces);
   if (job.options.validate)
     job.given_segments.insert(job.given_segments.end(), sr.given.begin(), sr.given.end());
-  job.debug(count_text(report.surface_features) + " surface features: " + count_text(sr.vertices) +
-            " vertices (" + count_text(sr.draped) + " draped, " + count_text(sr.reused) +
-            " on existing vertices), " + count_text(sr.segments) + " segments, " +
-            count_text(c.crossings.size()) + " crossings (" + count_text(sr.crossings_with_hard_z) +
-            " at a hard line's z)");
+  job.debug(count_text(report.surface_features, "surface feature") + ": " +
+            count_text(sr.vertices, "vertex", "vertices") + " (" + count_text(sr.draped) +
+            " draped, " + count_text(sr.reused) + " on existing vertices), " +
+            count_text(sr.segments, "segment") + ", " + count_text(c.crossings.size(), "crossing") +
+            " (" + count_text(sr.crossings_with_hard_z) + " at a hard line's z)");
   if (sr.rings_cut + sr.rings_outside > 0)
     job.debug(count_text(sr.rings_cut) + " clip / erase rings cut to the TIN's hull, " +
               count_text(sr.rings_outside) + " wholly outside it left out");

@@ -81,7 +81,7 @@ void run(Job& job) {
   report.output_bytes = out.bytes_written();
   report.vertices = ws.vertices;
   if (ws.triangles != report.triangles)
-    job.debug("writer reports " + count_text(ws.triangles) + " triangles, the TIN " +
+    job.debug("writer reports " + count_text(ws.triangles, "triangle") + ", the TIN " +
               count_text(report.triangles));
 }
 

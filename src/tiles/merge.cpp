@@ -271,8 +271,8 @@ MergeReport merge_outlines(const MergeOptions& options, const LogFn& log) {
       borders_of(m, t, options.inputs, borders);
     }
     if (log)
-      log(log_debug, options.inputs[t] + ": " + count_text(m.faces.size()) + " triangles, " +
-                         count_text(borders.size()) + " border edges so far");
+      log(log_debug, options.inputs[t] + ": " + count_text(m.faces.size(), "triangle") + ", " +
+                         count_text(borders.size(), "border edge") + " so far");
   }
   std::vector<Border> left = match_borders(std::move(borders), options.inputs, r.seam_edges);
   r.hull_edges = left.size();
@@ -318,7 +318,7 @@ WeldedTiles weld_tiles(const std::vector<std::string>& names, const LogFn& log, 
     }
     for (const io::PlyMesh::Edge& e : m.edges) w.constrained.push_back({id[e.a], id[e.b]});
     ++r.tiles;
-    if (log) log(log_debug, names[t] + ": " + count_text(m.faces.size()) + " triangles");
+    if (log) log(log_debug, names[t] + ": " + count_text(m.faces.size(), "triangle"));
   }
   if (w.tris.empty()) throw InputError(names.front(), "", "the tiles hold no triangle");
   r.vertices = w.welder.points().size();

@@ -357,7 +357,7 @@ void find_rim(const PlanOptions& options, TilePlan& plan, const BBox& all,
       for (const Point3& p : scan.near_outline) near.emplace_back(batch[k], p);
       if (log)
         log(log_debug,
-            in.path + ": " + count_text(scan.points) + " points, " +
+            in.path + ": " + count_text(scan.points, "point") + ", " +
                 count_text(scan.near_outline.size()) + " near its outline" +
                 (scan.nodes == 0 ? std::string()
                                  : "; read " + count_text(scan.nodes - scan.unread_nodes) +

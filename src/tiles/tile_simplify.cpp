@@ -481,8 +481,9 @@ void simplify_tile(TileJob& job) {
   s.max_error = std::max(r.report.max_error, border.error);
   s.rmse = r.report.rmse;
   job.info("tile " + std::to_string(tile.index) + ": simplified to " +
-           count_text(r.report.vertices) + " vertices (" + count_text(points.kept.size()) +
-           " on the border, " + count_text(r.report.points) + " points)");
+           count_text(r.report.vertices, "vertex", "vertices") + " (" +
+           count_text(points.kept.size()) + " on the border, " +
+           count_text(r.report.points, "point") + ")");
 }
 
 }  // namespace tincdt::tiles::detail
