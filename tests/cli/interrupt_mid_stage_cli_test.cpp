@@ -70,9 +70,14 @@ struct Interrupted {
 };
 
 // Whether MESSAGES show the stage titled TITLE PERCENT done: "title 0...10...20...", or with
-// log lines between its marks ("title 0..", a line, "title .10", a line, "title 20.").
+// log lines between its marks ("title 0..", a line, "title .10", a line, "title 20."); a slow
+// start shows "title 0" alone before the stage's first lines.
 bool reached(const std::string& messages, const std::string& title, int percent) {
-  const std::size_t at = messages.find(title + " 0..");
+  const std::string start = title + " 0";
+  std::size_t at = messages.find(start);
+  while (at != std::string::npos && at + start.size() < messages.size() &&
+         messages[at + start.size()] != '.' && messages[at + start.size()] != '\n')
+    at = messages.find(start, at + 1);
   if (at == std::string::npos) return false;
   const std::string mark = std::to_string(percent);
   const auto apart = [](char c) { return c == '.' || c == ' ' || c == '\n'; };
