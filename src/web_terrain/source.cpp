@@ -37,6 +37,8 @@ TerrainSource::TerrainSource(const mesh::Triangulation& tin, const std::string& 
   // Only the vertices of kept triangles are the TIN's, numbered in their order; only they go
   // through PROJ, so that a removed outlier cannot fail the pyramid.
   std::vector<std::uint32_t> number(tin.vertex_count(), UINT32_MAX);
+  vertices_.reserve(tin.vertex_count());
+  triangles_.reserve(tin.triangle_count());
   tin.for_each_triangle([&](TriangleId, const std::array<VertexId, 3>& c) {
     std::array<std::uint32_t, 3> t{};
     for (int i = 0; i < 3; ++i) {
