@@ -71,28 +71,48 @@ double distance_outside(const std::array<Corner, 3>& c, double u, double v) {
   return farthest;
 }
 
+// The weights of U, V in triangle C of AREA, and the height they give.
+SurfacePoint interpolate(const std::array<Corner, 3>& c, double area, double u, double v,
+                         double& worst) {
+  const double wa = orient(c[1], c[2], u, v) / area, wb = orient(c[2], c[0], u, v) / area,
+               wc = orient(c[0], c[1], u, v) / area;
+  worst = std::min({wa, wb, wc});
+  return {wa * c[0].h + wb * c[1].h + wc * c[2].h, false};
+}
+
 // The surface's height at U, V: the triangle of the cell that holds the point best (the least
 // negative barycentric weight, for a point on an edge rounded off it). A point whose triangle is
 // a hole's is in the hole unless a shown triangle is within a grid step (its place is rounded).
 SurfacePoint surface_at(const std::vector<std::array<Corner, 3>>& triangles,
-                        std::span<const std::uint8_t> hole, const TriangleGrid& g, double u,
-                        double v) {
+                        const std::vector<double>& areas, std::span<const std::uint8_t> hole,
+                        const TriangleGrid& g, double u, double v) {
   const std::vector<std::uint32_t>& cell =
       g.cells[std::size_t{g.cell_of(v)} * g.side + g.cell_of(u)];
-  double best = -INFINITY;
-  SurfacePoint out;
   std::uint32_t best_triangle = UINT32_MAX;
+  SurfacePoint out;
+  // Places and corners are whole grid steps, so orient() is exact: a point strictly inside a
+  // triangle is in no other, and that triangle is the one the weights would choose.
   for (const std::uint32_t t : cell) {
     const auto& c = triangles[t];
-    const double area = orient(c[0], c[1], c[2].u, c[2].v);
-    if (!(area > 0)) continue;
-    const double wa = orient(c[1], c[2], u, v) / area, wb = orient(c[2], c[0], u, v) / area,
-                 wc = orient(c[0], c[1], u, v) / area;
-    const double worst = std::min({wa, wb, wc});
-    if (worst <= best) continue;
-    best = worst;
-    best_triangle = t;
-    out.height = wa * c[0].h + wb * c[1].h + wc * c[2].h;
+    if (areas[t] > 0 && orient(c[1], c[2], u, v) > 0 && orient(c[2], c[0], u, v) > 0 &&
+        orient(c[0], c[1], u, v) > 0) {
+      double worst = 0;
+      out = interpolate(c, areas[t], u, v, worst);
+      best_triangle = t;
+      break;
+    }
+  }
+  if (best_triangle == UINT32_MAX) {  // on an edge, or rounded off the triangles
+    double best = -INFINITY;
+    for (const std::uint32_t t : cell) {
+      if (!(areas[t] > 0)) continue;
+      double worst = 0;
+      const SurfacePoint s = interpolate(triangles[t], areas[t], u, v, worst);
+      if (worst <= best) continue;
+      best = worst;
+      best_triangle = t;
+      out = s;
+    }
   }
   if (best_triangle == UINT32_MAX || hole.empty() || !hole[best_triangle]) return out;
   out.in_hole = std::none_of(cell.begin(), cell.end(), [&](std::uint32_t t) {
@@ -117,6 +137,9 @@ TileError measure_tile(const TerrainSource& source, const io::terrain::TileMesh&
               low + (high - low) * (q.height[t[i]] / static_cast<double>(kQuantizedMax))};
     triangles.push_back(c);
   }
+  std::vector<double> areas;
+  areas.reserve(triangles.size());
+  for (const auto& c : triangles) areas.push_back(orient(c[0], c[1], c[2].u, c[2].v));
   const TriangleGrid grid = grid_of(triangles);
   const io::terrain::GeoRectangle& r = mesh.rectangle;
   TileError error;
@@ -129,7 +152,7 @@ TileError measure_tile(const TerrainSource& source, const io::terrain::TileMesh&
     // triangle (the fill's ramp down from the data's outline) half a step sideways is a height.
     const double u = std::round((p.x - r.west) / (r.east - r.west) * kQuantizedMax);
     const double v = std::round((p.y - r.south) / (r.north - r.south) * kQuantizedMax);
-    const SurfacePoint s = surface_at(triangles, hole, grid, u, v);
+    const SurfacePoint s = surface_at(triangles, areas, hole, grid, u, v);
     const double e = std::fabs(p.z - s.height);
     error.hidden += s.in_hole ? 1 : 0;
     error.max = std::max(error.max, e);
