@@ -193,13 +193,13 @@ void build_tiles(Job& job, const TerrainSource& source, std::span<const qm::Tile
 // every vertex of the TIN against the tile that holds it, once per level.
 constexpr double kTileWork = 1000;
 
-std::vector<double> level_shares(const TerrainSource& source, int max_level) {
+std::vector<double> level_shares(const TerrainSource& source,
+                                 const std::vector<qm::TileRange>& levels) {
   std::vector<double> shares;
   double total = 0;
-  for (int level = 0; level <= max_level; ++level) {
-    const double work =
-        kTileWork * static_cast<double>(tile_count(level_tiles(source.bounds(), level))) +
-        static_cast<double>(source.vertices().size());
+  for (const qm::TileRange& range : levels) {
+    const double work = kTileWork * static_cast<double>(tile_count(range)) +
+                        static_cast<double>(source.vertices().size());
     shares.push_back(work);
     total += work;
   }
@@ -236,23 +236,24 @@ void log_level(Job& job, int level, const LevelStats& s) {
 }
 
 struct LevelRun {
+  qm::TileRange range;
   std::uint64_t count;  // tiles
   double start, share;  // of the stage's progress
   LevelStats stats;
 };
 
-// Writes the tiles of levels 0 to MAX_LEVEL in order (level, x, y), built in batches on every
-// thread: the coarse levels, one or two tiles over all the data each, are built side by side.
-// A level is logged once its last tile is written.
-void write_levels(Job& job, const TerrainSource& source, int max_level) {
+// Writes the tiles of LEVELS (from level 0, one range of tiles each) in order (level, x, y),
+// built in batches on every thread: the coarse levels, one or two tiles over all the data each,
+// are built side by side. A level is logged once its last tile is written.
+void write_levels(Job& job, const TerrainSource& source, const std::vector<qm::TileRange>& ranges) {
   constexpr std::size_t kHeavyAtOnce = 2;
-  const std::vector<double> shares = level_shares(source, max_level);
+  const int max_level = static_cast<int>(ranges.size()) - 1;
+  const std::vector<double> shares = level_shares(source, ranges);
   std::vector<LevelRun> levels;
   double start = 0;
-  for (int level = 0; level <= max_level; ++level) {
-    const double share = shares[static_cast<std::size_t>(level)];
-    levels.push_back({tile_count(level_tiles(source.bounds(), level)), start, share, {}});
-    start += share;
+  for (std::size_t level = 0; level < ranges.size(); ++level) {
+    levels.push_back({ranges[level], tile_count(ranges[level]), start, shares[level], {}});
+    start += shares[level];
   }
   const auto fraction = [&levels](const qm::TileKey& key) {
     const LevelRun& l = levels[static_cast<std::size_t>(key.level)];
@@ -283,13 +284,12 @@ void write_levels(Job& job, const TerrainSource& source, int max_level) {
     batch.clear();
   };
   for (int level = 0; level <= max_level; ++level) {
-    const qm::TileRange range = level_tiles(source.bounds(), level);
-    for (std::uint32_t x = range.start_x; x <= range.end_x; ++x)
-      for (std::uint32_t y = range.start_y; y <= range.end_y; ++y) {
+    const LevelRun& l = levels[static_cast<std::size_t>(level)];
+    for (std::uint32_t x = l.range.start_x; x <= l.range.end_x; ++x)
+      for (std::uint32_t y = l.range.start_y; y <= l.range.end_y; ++y) {
         batch.push_back({level, x, y});
         // A tile of a coarse level is a pass over every vertex: two are built at once, so that
         // memory does not grow with the threads.
-        const LevelRun& l = levels[static_cast<std::size_t>(level)];
         if (batch.size() == 8 * workers ||
             (batch.size() >= kHeavyAtOnce && l.share / static_cast<double>(l.count) > 0.01))
           flush();
@@ -365,19 +365,14 @@ void run(Job& job) {
   layer.bounds = source.bounds();
   layer.extensions = {"octvertexnormals", "metadata"};
   layer.metadata_availability = 1;  // every tile's metadata lists its children
-  layer.available.resize(static_cast<std::size_t>(max_level) + 1);
-  for (int level = 0; level <= max_level; ++level)
-    layer.available[level] = {level_tiles(source.bounds(), level)};
-  write_levels(job, source, max_level);
-  write_file(job, o.path + "/layer.json", qm::layer_json(layer));
-  if (replacing) {
-    std::vector<qm::TileRange> levels;
-    for (const std::vector<qm::TileRange>& ranges : layer.available) {
-      assert(ranges.size() == 1);  // a level's tiles are one range
-      levels.push_back(ranges[0]);
-    }
-    remove_earlier_tiles_after_commit(job, std::move(levels));
+  std::vector<qm::TileRange> levels;
+  for (int level = 0; level <= max_level; ++level) {
+    levels.push_back(level_tiles(source.bounds(), level));
+    layer.available.push_back({levels.back()});
   }
+  write_levels(job, source, levels);
+  write_file(job, o.path + "/layer.json", qm::layer_json(layer));
+  if (replacing) remove_earlier_tiles_after_commit(job, std::move(levels));
 }
 
 constexpr const char* kFolderWhat = "the web terrain (--terrain)";
