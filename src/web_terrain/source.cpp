@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numbers>
 #include <span>
+#include <tuple>
 
 #include "core/error.hpp"
 
@@ -56,8 +57,6 @@ TerrainSource::TerrainSource(const mesh::Triangulation& tin, const std::string& 
   for (auto& t : triangles_)
     if (orient(vertices_[t[0]], vertices_[t[1]], vertices_[t[2]].x, vertices_[t[2]].y) < 0)
       std::swap(t[1], t[2]);
-  collect_constraints(tin, number);
-  collect_holes(tin, number, crs_wkt, what);
   if (!vertices_.empty()) {
     bounds_ = {vertices_[0].x, vertices_[0].y, vertices_[0].x, vertices_[0].y};
     for (const Point3& p : vertices_) {
@@ -73,7 +72,45 @@ TerrainSource::TerrainSource(const mesh::Triangulation& tin, const std::string& 
       for (const Point3& p : vertices_) fill_height_ = std::min(fill_height_, p.z);
     }
   }
+  set_cells();
+  number_by_cell(number);
+  collect_constraints(tin, number);
+  collect_holes(tin, number, crs_wkt, what);
   build_index();
+}
+
+void TerrainSource::number_by_cell(std::vector<std::uint32_t>& number) {
+  const std::size_t n = vertices_.size();
+  std::vector<std::uint32_t> cell(n);
+  std::vector<std::uint32_t> begin(std::size_t{vertex_cells_.across} * vertex_cells_.down + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    cell[i] = row(vertices_[i].y) * vertex_cells_.across + column(vertices_[i].x);
+    ++begin[cell[i] + 1];
+  }
+  for (std::size_t c = 1; c < begin.size(); ++c) begin[c] += begin[c - 1];
+  std::vector<std::uint32_t> order(n);  // old numbers, cell by cell
+  for (std::size_t i = 0; i < n; ++i) order[begin[cell[i]]++] = static_cast<std::uint32_t>(i);
+  const auto before = [this](std::uint32_t a, std::uint32_t b) {
+    const Point3 &p = vertices_[a], &q = vertices_[b];
+    return std::tie(p.x, p.y, p.z, a) < std::tie(q.x, q.y, q.z, b);
+  };
+  std::size_t first = 0;
+  for (std::size_t c = 0; c + 1 < begin.size(); ++c) {  // cell c now ends at begin[c]
+    std::sort(order.begin() + static_cast<std::ptrdiff_t>(first),
+              order.begin() + static_cast<std::ptrdiff_t>(begin[c]), before);
+    first = begin[c];
+  }
+  std::vector<std::uint32_t> renumber(n);
+  std::vector<Point3> sorted(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    renumber[order[i]] = static_cast<std::uint32_t>(i);
+    sorted[i] = vertices_[order[i]];
+  }
+  vertices_.swap(sorted);
+  for (auto& t : triangles_)
+    for (std::uint32_t& v : t) v = renumber[v];
+  for (std::uint32_t& v : number)
+    if (v != UINT32_MAX) v = renumber[v];
 }
 
 void TerrainSource::collect_constraints(const mesh::Triangulation& tin,
@@ -198,7 +235,7 @@ std::vector<std::uint32_t> TerrainSource::constrained_edges_in(const GeoRectangl
   return out;
 }
 
-void TerrainSource::build_index() {
+void TerrainSource::set_cells() {
   Cells cells;
   cells.west = bounds_.west;
   cells.south = bounds_.south;
@@ -215,6 +252,9 @@ void TerrainSource::build_index() {
   vertex_cells_ = cells;
   constraint_cells_ = cells;
   hole_cells_ = cells;
+}
+
+void TerrainSource::build_index() {
   const auto fill = [&](Cells& c, std::size_t count, auto&& rect_of) {
     c.begin.assign(std::size_t{c.across} * c.down + 1, 0);
     for (int pass = 0; pass < 2; ++pass) {

@@ -89,7 +89,14 @@ class TerrainSource {
     std::vector<std::uint32_t> begin;  // CSR: cell c holds items[begin[c], begin[c + 1])
     std::vector<std::uint32_t> items;
   };
+  // The cells' geometry over the bounds, the same for the four indexes; then their contents.
+  void set_cells();
   void build_index();
+  // Numbers the vertices cell by cell (rows south to north, each west to east), in a cell by
+  // longitude, then latitude: a tile's vertices are a few runs of the array, read in order, and
+  // the numbers, which break ties between vertices, depend on the TIN alone, not on the order
+  // it stores them in. Renumbers the triangles and NUMBER (the TIN's vertex to ours).
+  void number_by_cell(std::vector<std::uint32_t>& number);
   void collect_holes(const mesh::Triangulation& tin, const std::vector<std::uint32_t>& number,
                      const std::string& crs_wkt, const std::string& what);
   void collect_constraints(const mesh::Triangulation& tin,

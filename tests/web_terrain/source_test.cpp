@@ -1,0 +1,111 @@
+#include "web_terrain/source.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <map>
+#include <random>
+#include <utility>
+#include <vector>
+
+#include "delaunay/delaunay.hpp"
+#include "io/crs.hpp"
+#include "io/terrain/geographic_tiling.hpp"
+#include "web_terrain/tile.hpp"
+
+namespace tincdt::web_terrain {
+namespace {
+
+namespace qm = io::terrain;
+
+// A bumpy 2 km square of random points in UTM zone 32N.
+mesh::Triangulation random_tin(unsigned seed, std::size_t n) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> at(0, 2000);
+  std::vector<Point3> points;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double x = at(rng), y = at(rng);
+    points.push_back({500000 + x, 5000000 + y, 300 + 40 * std::sin(x / 150) * std::cos(y / 90)});
+  }
+  return delaunay::triangulate(std::move(points)).tin;
+}
+
+// TIN with its vertices and its triangles stored in the reverse order: the same TIN.
+mesh::Triangulation reversed(const mesh::Triangulation& tin) {
+  mesh::Triangulation out;
+  const auto n = static_cast<VertexId>(tin.vertex_count());
+  for (VertexId v = n; v-- > 0;) out.add_vertex(tin.point(v), tin.z(v));
+  std::vector<std::array<VertexId, 3>> triangles;
+  tin.for_each_triangle([&](TriangleId, const std::array<VertexId, 3>& c) {
+    triangles.push_back({n - 1 - c[0], n - 1 - c[1], n - 1 - c[2]});
+  });
+  std::map<std::pair<VertexId, VertexId>, EdgeId> edges;
+  for (auto t = triangles.rbegin(); t != triangles.rend(); ++t) {
+    const TriangleId id = out.add_triangle((*t)[0], (*t)[1], (*t)[2]);
+    for (int i = 0; i < 3; ++i) {
+      const EdgeId e = 3 * id + static_cast<EdgeId>(i);
+      const VertexId a = (*t)[i], b = (*t)[(i + 1) % 3];
+      if (const auto twin = edges.find({b, a}); twin != edges.end()) out.link(e, twin->second);
+      edges[{a, b}] = e;
+    }
+  }
+  return out;
+}
+
+std::vector<std::array<Point3, 3>> triangles_of(const qm::TileMesh& m) {
+  std::vector<std::array<Point3, 3>> out;
+  for (const auto& t : m.triangles) {
+    std::array<Point3, 3> c{m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]};
+    std::rotate(c.begin(),
+                std::min_element(c.begin(), c.end(),
+                                 [](const Point3& a, const Point3& b) {
+                                   return std::tie(a.x, a.y) < std::tie(b.x, b.y);
+                                 }),
+                c.end());
+    out.push_back(c);
+  }
+  std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) {
+    return std::tie(a[0].x, a[0].y, a[1].x, a[1].y) < std::tie(b[0].x, b[0].y, b[1].x, b[1].y);
+  });
+  return out;
+}
+
+bool same(const Point3& a, const Point3& b) {
+  return a.x == b.x && a.y == b.y && a.z == b.z;
+}
+
+TEST(TerrainSource, NumbersTheVerticesByPlaceWhateverOrderTheTinStoresThem) {
+  const std::string utm = io::crs_from_user("EPSG:32632");
+  for (const unsigned seed : {1u, 2u, 3u}) {
+    const mesh::Triangulation tin = random_tin(seed, 3000 + 1000 * seed);
+    const mesh::Triangulation other = reversed(tin);
+    ASSERT_EQ(other.triangle_count(), tin.triangle_count());
+    const TerrainSource a(tin, utm, "a", std::nullopt), b(other, utm, "b", std::nullopt);
+    ASSERT_EQ(a.vertices().size(), tin.vertex_count());
+    ASSERT_EQ(b.vertices().size(), a.vertices().size());
+    for (std::size_t i = 0; i < a.vertices().size(); ++i)
+      ASSERT_TRUE(same(a.vertices()[i], b.vertices()[i])) << "seed " << seed << ", vertex " << i;
+    // Cell by cell: the whole data's vertices come in the order of their numbers.
+    const std::vector<std::uint32_t> all = a.vertices_in(a.bounds());
+    ASSERT_EQ(all.size(), a.vertices().size());
+    EXPECT_TRUE(std::is_sorted(all.begin(), all.end()));
+    // So the tiles are the same, down to the order of their vertices.
+    for (int level = 12; level <= 14; ++level) {
+      const qm::TileRange r = qm::tiles_covering(a.bounds(), level);
+      const qm::TileKey key{level, (r.start_x + r.end_x) / 2, (r.start_y + r.end_y) / 2};
+      const double error = qm::geometric_error_at_level(level);
+      const BuiltTile ta = build_tile(a, key, error), tb = build_tile(b, key, error);
+      ASSERT_EQ(ta.mesh.vertices.size(), tb.mesh.vertices.size()) << "level " << level;
+      for (std::size_t i = 0; i < ta.mesh.vertices.size(); ++i)
+        EXPECT_TRUE(same(ta.mesh.vertices[i], tb.mesh.vertices[i])) << "level " << level;
+      const auto sa = triangles_of(ta.mesh), sb = triangles_of(tb.mesh);
+      ASSERT_EQ(sa.size(), sb.size());
+      for (std::size_t t = 0; t < sa.size(); ++t)
+        for (int k = 0; k < 3; ++k) EXPECT_TRUE(same(sa[t][k], sb[t][k])) << "level " << level;
+      EXPECT_EQ(ta.error.max, tb.error.max);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace tincdt::web_terrain
