@@ -88,6 +88,7 @@ void TerrainSource::number_by_cell(std::vector<std::uint32_t>& number) {
     ++begin[cell[i] + 1];
   }
   for (std::size_t c = 1; c < begin.size(); ++c) begin[c] += begin[c - 1];
+  vertex_cells_.begin = begin;  // the vertices of cell c are numbered begin[c] to begin[c + 1]
   std::vector<std::uint32_t> order(n);  // old numbers, cell by cell
   for (std::size_t i = 0; i < n; ++i) order[begin[cell[i]]++] = static_cast<std::uint32_t>(i);
   const auto before = [this](std::uint32_t a, std::uint32_t b) {
@@ -293,9 +294,6 @@ void TerrainSource::build_index() {
         std::min({tri[0].x, tri[1].x, tri[2].x}), std::min({tri[0].y, tri[1].y, tri[2].y}),
         std::max({tri[0].x, tri[1].x, tri[2].x}), std::max({tri[0].y, tri[1].y, tri[2].y})};
   });
-  fill(vertex_cells_, vertices_.size(), [&](std::size_t v) {
-    return GeoRectangle{vertices_[v].x, vertices_[v].y, vertices_[v].x, vertices_[v].y};
-  });
 }
 
 std::uint32_t TerrainSource::column(double lon) const {
@@ -353,9 +351,8 @@ std::vector<std::uint32_t> TerrainSource::vertices_in(const GeoRectangle& r) con
   std::vector<std::uint32_t> out;
   for_cells(r, vertex_cells_, [&](std::size_t cell) {
     for (std::uint32_t i = vertex_cells_.begin[cell]; i < vertex_cells_.begin[cell + 1]; ++i) {
-      const Point3& p = vertices_[vertex_cells_.items[i]];
-      if (p.x >= r.west && p.x <= r.east && p.y >= r.south && p.y <= r.north)
-        out.push_back(vertex_cells_.items[i]);
+      const Point3& p = vertices_[i];
+      if (p.x >= r.west && p.x <= r.east && p.y >= r.south && p.y <= r.north) out.push_back(i);
     }
   });
   return out;

@@ -120,7 +120,7 @@ class TerrainSource {
   io::terrain::HeightUnits units_;
   double fill_height_;
   Cells triangle_cells_;
-  Cells vertex_cells_;
+  Cells vertex_cells_;  // no items: cell c holds the vertices numbered begin[c] to begin[c + 1]
   Cells constraint_cells_;
   Cells hole_cells_;
 };
