@@ -35,8 +35,8 @@ void prefix_sums(std::vector<std::uint32_t>& begin) {
 TerrainSource::TerrainSource(const mesh::Triangulation& tin, const std::string& crs_wkt,
                              const std::string& what, std::optional<double> fill_height)
     : fill_height_(fill_height.value_or(0)) {
-  // Only the vertices of kept triangles are the TIN's, numbered in their order; only they go
-  // through PROJ, so that a removed outlier cannot fail the pyramid.
+  // Only the vertices of kept triangles are the TIN's (numbered by place once transformed); only
+  // they go through PROJ, so that a removed outlier cannot fail the pyramid.
   std::vector<std::uint32_t> number(tin.vertex_count(), UINT32_MAX);
   vertices_.reserve(tin.vertex_count());
   triangles_.reserve(tin.triangle_count());
