@@ -7,6 +7,7 @@
 #include <cstring>
 
 #include "core/parallel.hpp"
+#include "core/radix_sort.hpp"
 
 namespace tincdt::delaunay {
 namespace {
@@ -64,31 +65,6 @@ static_assert(OrderKey::kHilbertBits % 2 == 0);
 std::uint32_t cell(double c) {
   constexpr std::uint32_t top = (1u << OrderKey::kHilbertBits) - 1;
   return c >= top ? top : (c > 0 ? static_cast<std::uint32_t>(c) : 0);
-}
-
-// LSD radix sort of (key << 32 | index) by key: stable, so equal keys keep index order.
-void radix_sort_by_key(std::uint64_t* items, std::uint64_t* buffer, std::size_t n) {
-  constexpr int kPasses = 3;
-  constexpr std::array<int, kPasses> kShift = {32, 43, 54};
-  constexpr std::array<int, kPasses> kWidth = {11, 11, 10};
-  std::array<std::vector<std::size_t>, kPasses> count;
-  for (int p = 0; p < kPasses; ++p) count[p].assign((std::size_t{1} << kWidth[p]) + 1, 0);
-  for (std::size_t i = 0; i < n; ++i)
-    for (int p = 0; p < kPasses; ++p)
-      ++count[p][((items[i] >> kShift[p]) & ((1u << kWidth[p]) - 1)) + 1];
-  std::uint64_t* src = items;
-  std::uint64_t* dst = buffer;
-  for (int p = 0; p < kPasses; ++p) {
-    auto& offset = count[p];
-    for (std::size_t i = 1; i < offset.size(); ++i) offset[i] += offset[i - 1];
-    const std::uint64_t mask = (1u << kWidth[p]) - 1;
-    for (std::size_t i = 0; i < n; ++i) {
-      const std::uint64_t v = src[i];
-      dst[offset[(v >> kShift[p]) & mask]++] = v;
-    }
-    std::swap(src, dst);
-  }
-  if (src != items) std::memcpy(items, src, n * sizeof(std::uint64_t));
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/radix_sort.hpp"
 #include "io/terrain/quantized_mesh_detail.hpp"
 #include "simplify/profile.hpp"
 #include "simplify/simplify.hpp"
@@ -99,23 +100,16 @@ void add_border(const TerrainSource& source, const GeoRectangle& r, double toler
   p.segments.push_back({static_cast<std::uint32_t>(p.xy.size() - 1), 0, 0});
 }
 
-// KEYS (place << 32 | id, the place below 2^30) in order of their places, ids within a place in
-// no particular order. Three counting passes of 10 bits: a coarse tile has every vertex of the
-// TIN as a candidate, where a comparison sort would be most of the tile's work.
+// KEYS (place << 32 | id) in order of their places. A coarse tile has every vertex of the TIN as
+// a candidate, where a comparison sort would be most of the tile's work.
 void sort_by_place(std::vector<std::uint64_t>& keys) {
-  constexpr std::size_t kCountingFrom = 4096;
-  if (keys.size() < kCountingFrom) {
+  constexpr std::size_t kRadixFrom = 4096;
+  if (keys.size() < kRadixFrom) {
     std::sort(keys.begin(), keys.end());
     return;
   }
-  std::vector<std::uint64_t> sorted(keys.size());
-  for (int shift = 32; shift < 62; shift += 10) {
-    std::array<std::uint32_t, 1025> start{};
-    for (const std::uint64_t k : keys) ++start[(k >> shift & 1023) + 1];
-    for (std::size_t b = 1; b < start.size(); ++b) start[b] += start[b - 1];
-    for (const std::uint64_t k : keys) sorted[start[k >> shift & 1023]++] = k;
-    keys.swap(sorted);
-  }
+  std::vector<std::uint64_t> buffer(keys.size());
+  radix_sort_by_key(keys.data(), buffer.data(), keys.size());
 }
 
 // The full TIN's vertices strictly inside the rectangle's grid (of INSIDE, those in R), one per
