@@ -85,9 +85,9 @@ void TerrainSource::number_by_cell(std::vector<std::uint32_t>& number) {
   std::vector<std::uint32_t> begin(std::size_t{vertex_cells_.across} * vertex_cells_.down + 1, 0);
   for (std::size_t i = 0; i < n; ++i) {
     cell[i] = row(vertices_[i].y) * vertex_cells_.across + column(vertices_[i].x);
-    ++begin[cell[i] + 1];
+    ++begin[cell[i]];
   }
-  for (std::size_t c = 1; c < begin.size(); ++c) begin[c] += begin[c - 1];
+  prefix_sums(begin);
   vertex_cells_.begin = begin;  // the vertices of cell c are numbered begin[c] to begin[c + 1]
   std::vector<std::uint32_t> order(n);  // old numbers, cell by cell
   for (std::size_t i = 0; i < n; ++i) order[begin[cell[i]]++] = static_cast<std::uint32_t>(i);
