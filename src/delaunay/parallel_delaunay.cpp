@@ -15,6 +15,7 @@
 #include <sys/mman.h>
 #endif
 
+#include "core/memory.hpp"
 #include "core/parallel.hpp"
 #include "delaunay/half_triangulation.hpp"
 #include "delaunay/spatial_order.hpp"
@@ -39,6 +40,7 @@ class Scratch {
         mmap(nullptr, n * sizeof(T), PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
     if (p == MAP_FAILED) throw std::bad_alloc();
     data_ = static_cast<T*>(p);
+    advise_huge_pages(p, n * sizeof(T));
 #else
     data_ = new T[n];
 #endif
@@ -57,12 +59,12 @@ class Scratch {
 #endif
     data_ = nullptr;
   }
-  // Gives back the whole pages inside elements [begin, end), which must not be used again.
+  // Gives back the whole (huge) pages inside elements [begin, end), which must not be used again.
   void release(std::size_t begin, std::size_t end) {
     assert(begin <= end && end <= size_);
 #if defined(__unix__) || defined(__APPLE__)
     if (!data_) return;
-    const auto page = static_cast<std::uintptr_t>(4096);
+    const auto page = static_cast<std::uintptr_t>(kHugePage);
     const auto from = (reinterpret_cast<std::uintptr_t>(data_ + begin) + page - 1) & ~(page - 1);
     const auto to = reinterpret_cast<std::uintptr_t>(data_ + end) & ~(page - 1);
     if (from < to)

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "core/memory.hpp"
 #include "core/parallel.hpp"
 #include "core/radix_sort.hpp"
 
@@ -138,15 +139,15 @@ std::vector<std::uint32_t> insertion_order(const std::vector<Point3>& points, co
                                            unsigned threads) {
   const std::size_t n = points.size();
   const OrderKey key(box);
-  std::vector<std::uint64_t> items(n);
+  auto items = large_vector<std::uint64_t>(n);
   parallel_chunks(threads, n, [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) items[i] = std::uint64_t{key(points[i])} << 32 | i;
   });
   {
-    std::vector<std::uint64_t> buffer(n);
+    auto buffer = large_vector<std::uint64_t>(n);
     sort_by_key_then_xyz(points, items.data(), buffer.data(), n);
   }
-  std::vector<std::uint32_t> order(n);
+  auto order = large_vector<std::uint32_t>(n);
   for (std::size_t i = 0; i < n; ++i) order[i] = static_cast<std::uint32_t>(items[i]);
   return order;
 }

@@ -23,6 +23,7 @@ void Triangulation::reserve_vertices(std::size_t n) {
   xy_.reserve(n);
   z_.reserve(n);
   advise_huge_pages(xy_);
+  advise_huge_pages(z_);
 }
 
 TriangleId Triangulation::add_triangle(VertexId a, VertexId b, VertexId c) {
