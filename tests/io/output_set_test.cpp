@@ -6,11 +6,13 @@
 #include <pthread.h>
 #include <signal.h>
 
+#include <algorithm>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "core/error.hpp"
 #include "io/output_file.hpp"
@@ -130,6 +132,60 @@ TEST_F(Outputs, TakenPathIsTheWritersOwn) {
   EXPECT_EQ(files(), std::set<std::string>{"d.gpkg"});
   EXPECT_EQ(read("d.gpkg"), "a database");
   EXPECT_EQ(out.bytes_written(), 10u);
+}
+
+// Bytes of a large file (past the size where an OutputFile stops using the page cache), written
+// in pieces of odd sizes, so that the switch falls inside an aligned block.
+std::string large_content() {
+  std::string bytes((std::size_t{80} << 20) + 1234, '\0');
+  for (std::size_t i = 0; i < bytes.size(); ++i)
+    bytes[i] = static_cast<char>((i * 2654435761u) >> 13);
+  return bytes;
+}
+
+void write_in_pieces(OutputFile& out, const std::string& bytes) {
+  constexpr std::size_t kPieces[] = {
+      1, 4095, 4097, 65537, (std::size_t{1} << 20) + 3, (std::size_t{9} << 20) + 5};
+  for (std::size_t at = 0, k = 0; at < bytes.size(); ++k) {
+    const std::size_t n = std::min(kPieces[k % std::size(kPieces)], bytes.size() - at);
+    out.write(bytes.data() + at, n);
+    at += n;
+  }
+}
+
+TEST_F(Outputs, ALargeFileIsWrittenWholeWhereverItGoes) {
+  const std::string bytes = large_content();
+  std::vector<std::string> folders = {dir_};
+  if (std::filesystem::is_directory("/dev/shm"))  // tmpfs: O_DIRECT refused or emulated
+    folders.push_back(test::fresh_dir("/dev/shm/tincdt_output_set_test").string());
+  for (const std::string& folder : folders) {
+    const std::string path = folder + "/large.bin";
+    OutputFile out(path, false);
+    write_in_pieces(out, bytes);
+    EXPECT_EQ(out.bytes_written(), bytes.size());
+    out.commit();
+    EXPECT_EQ(std::filesystem::file_size(path), bytes.size()) << path;
+    EXPECT_TRUE(test::slurp(path) == bytes) << path;
+    std::filesystem::remove(path);
+  }
+  std::filesystem::remove_all("/dev/shm/tincdt_output_set_test");
+}
+
+TEST_F(Outputs, ALargeFileThatCannotBeWrittenSaysSoAndLeavesNothing) {
+  const std::string bytes = large_content();
+  {
+    const test::FileSizeLimit limit(std::size_t{72} << 20);
+    OutputFile out(at("large.bin"), false);
+    try {
+      write_in_pieces(out, bytes);
+      out.commit();
+      ADD_FAILURE() << "a file beyond the size limit was written";
+    } catch (const OutputError& e) {
+      EXPECT_NE(std::string(e.what()).find("large.bin"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("write failed"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_TRUE(files().empty());
 }
 
 // What a signal handler calls before it ends the process: every temporary goes, targets stay.
