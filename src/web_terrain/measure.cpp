@@ -71,13 +71,19 @@ double distance_outside(const std::array<Corner, 3>& c, double u, double v) {
   return farthest;
 }
 
-// The weights of U, V in triangle C of AREA, and the height they give.
-SurfacePoint interpolate(const std::array<Corner, 3>& c, double area, double u, double v,
-                         double& worst) {
-  const double wa = orient(c[1], c[2], u, v) / area, wb = orient(c[2], c[0], u, v) / area,
-               wc = orient(c[0], c[1], u, v) / area;
-  worst = std::min({wa, wb, wc});
-  return {wa * c[0].h + wb * c[1].h + wc * c[2].h, false};
+// The barycentric weights of a point in a triangle, and the height they give.
+struct Weights {
+  double a, b, c;
+  double least() const { return std::min({a, b, c}); }
+  double height(const std::array<Corner, 3>& t) const {
+    return a * t[0].h + b * t[1].h + c * t[2].h;
+  }
+};
+
+// The weights of U, V in triangle C of AREA.
+Weights weights(const std::array<Corner, 3>& c, double area, double u, double v) {
+  return {orient(c[1], c[2], u, v) / area, orient(c[2], c[0], u, v) / area,
+          orient(c[0], c[1], u, v) / area};
 }
 
 // The surface's height at U, V: the triangle of the cell that holds the point best (the least
@@ -96,8 +102,7 @@ SurfacePoint surface_at(const std::vector<std::array<Corner, 3>>& triangles,
     const auto& c = triangles[t];
     if (areas[t] > 0 && orient(c[1], c[2], u, v) > 0 && orient(c[2], c[0], u, v) > 0 &&
         orient(c[0], c[1], u, v) > 0) {
-      double worst = 0;
-      out = interpolate(c, areas[t], u, v, worst);
+      out.height = weights(c, areas[t], u, v).height(c);
       best_triangle = t;
       break;
     }
@@ -106,12 +111,11 @@ SurfacePoint surface_at(const std::vector<std::array<Corner, 3>>& triangles,
     double best = -INFINITY;
     for (const std::uint32_t t : cell) {
       if (!(areas[t] > 0)) continue;
-      double worst = 0;
-      const SurfacePoint s = interpolate(triangles[t], areas[t], u, v, worst);
-      if (worst <= best) continue;
-      best = worst;
+      const Weights w = weights(triangles[t], areas[t], u, v);
+      if (w.least() <= best) continue;
+      best = w.least();
       best_triangle = t;
-      out = s;
+      out.height = w.height(triangles[t]);
     }
   }
   if (best_triangle == UINT32_MAX || hole.empty() || !hole[best_triangle]) return out;
