@@ -24,11 +24,8 @@ namespace {
 
 constexpr std::size_t kStreamBuffer = std::size_t{4} << 20;
 
-// A file that grows past kDirectFrom bytes goes on with O_DIRECT, in blocks of kDirectBlock
-// aligned to kDirectAlign: the device takes the bytes from the block itself, where a buffered
-// write copies each byte into the page cache first, on the one thread that writes, and fsync then
-// writes the whole file out at the end (for a 2.5 GB PLY that copy was most of the write stage).
-// Where the file system refuses O_DIRECT, the file stays buffered.
+// A file past kDirectFrom bytes goes on with O_DIRECT in aligned blocks, sparing the copy into the
+// page cache on the writing thread and the write-out at fsync (docs/design.md).
 constexpr std::size_t kDirectFrom = std::size_t{64} << 20;
 constexpr std::size_t kDirectBlock = std::size_t{8} << 20;
 constexpr std::size_t kDirectAlign = 4096;
@@ -101,6 +98,11 @@ class WriterLock {
 }  // namespace
 
 namespace detail {
+
+PositionalWrite& direct_write() {
+  static PositionalWrite write = ::pwrite;
+  return write;
+}
 
 int track_temporary(const std::string& path) noexcept {
   if (path.empty() || path.size() >= kMaxPath) return -1;
@@ -236,6 +238,7 @@ void OutputFile::forget_temporary() {
 void OutputFile::write(const void* data, std::size_t n) {
   if (n == 0) return;
   if (file_ == nullptr) throw OutputError(path_, "", "write after the file was closed");
+  failed_ = true;  // until this write is through: a file missing bytes is never closed
   if (!direct_tried_ && bytes_ + n > kDirectFrom) start_direct();
   if (direct_fd_ >= 0) {
     put_direct(static_cast<const char*>(data), n);
@@ -244,6 +247,7 @@ void OutputFile::write(const void* data, std::size_t n) {
     throw OutputError(path_, "byte " + count_text(bytes_), "write failed: " + error_text(err));
   }
   bytes_ += n;
+  failed_ = false;
 }
 
 // From here on the file is written through a second descriptor opened with O_DIRECT; the first
@@ -254,7 +258,11 @@ void OutputFile::start_direct() {
     const int err = errno;
     throw OutputError(path_, "byte " + count_text(bytes_), "write failed: " + error_text(err));
   }
+#ifdef O_DIRECT
   const int fd = ::open(temp_path_.c_str(), O_WRONLY | O_DIRECT | O_CLOEXEC);
+#else
+  const int fd = -1;
+#endif
   if (fd < 0) return;
   std::unique_ptr<char, FreeAligned> blocks(
       static_cast<char*>(std::aligned_alloc(kDirectAlign, 2 * kDirectBlock)));
@@ -297,10 +305,10 @@ void OutputFile::write_direct_block(std::size_t n) {
     write_at(direct_offset_, block, direct_fill_);
   } else {
     written_ = {direct_offset_, n, direct_fill_, 0};
-    writing_.emplace(true, [this, block] {
+    const auto write_block = [this, block] {
       for (std::size_t done = 0; done < written_.bytes;) {
-        const ssize_t w = ::pwrite(direct_fd_, block + done, written_.bytes - done,
-                                   static_cast<off_t>(written_.offset + done));
+        const ssize_t w = detail::direct_write()(direct_fd_, block + done, written_.bytes - done,
+                                                 static_cast<off_t>(written_.offset + done));
         if (w < 0 && errno == EINTR) continue;
         if (w <= 0) {
           written_.error = w < 0 ? errno : ENOSPC;
@@ -308,7 +316,12 @@ void OutputFile::write_direct_block(std::size_t n) {
         }
         done += static_cast<std::size_t>(w);
       }
-    });
+    };
+    try {
+      writing_.emplace(true, write_block);
+    } catch (const std::system_error&) {  // no thread to be had: write it now
+      writing_.emplace(false, write_block);
+    }
     filling_ ^= 1;
   }
   direct_offset_ += n;
@@ -340,7 +353,10 @@ void OutputFile::write_at(std::size_t offset, const char* data, std::size_t n) {
 
 // The last block, padded to the alignment (close() cuts the padding off), and the wait for it.
 void OutputFile::finish_direct() {
-  if (direct_fd_ < 0) return;
+  if (direct_fd_ < 0) {
+    direct_blocks_.reset();  // O_DIRECT was refused on the way
+    return;
+  }
   char* block = direct_blocks_.get() + filling_ * kDirectBlock;
   const std::size_t padded = (direct_fill_ + kDirectAlign - 1) / kDirectAlign * kDirectAlign;
   std::memset(block + direct_fill_, 0, padded - direct_fill_);
@@ -397,6 +413,8 @@ void OutputFile::close() {
     return;
   }
   if (file_ == nullptr) throw OutputError(path_, "", "the file is not open");
+  if (failed_) throw OutputError(path_, "", "an earlier write failed: the file is incomplete");
+  failed_ = true;  // until the file is complete on disk
   finish_direct();
   if (std::fflush(file_) != 0 ||
       (direct_tried_ && ::ftruncate(::fileno(file_), static_cast<off_t>(bytes_)) != 0)) {
@@ -413,6 +431,7 @@ void OutputFile::close() {
     throw OutputError(path_, "", "cannot close: " + error_text(err));
   }
   buffer_.reset();  // a job may hold thousands of closed outputs (web-terrain tiles)
+  failed_ = false;
   closed_ = true;
 }
 

@@ -24,7 +24,9 @@ class OutputFile {
   OutputFile(const OutputFile&) = delete;
   OutputFile& operator=(const OutputFile&) = delete;
 
-  void write(const void* data, std::size_t n);  // buffered; throws OutputError on failure
+  // Buffered, past 64 MB with O_DIRECT where the file system takes it; throws OutputError on
+  // failure, after which the file cannot be closed or committed.
+  void write(const void* data, std::size_t n);
   void write(const std::string& s) { write(s.data(), s.size()); }
   const std::string& path() const { return path_; }
   const std::string& temp_path() const { return temp_path_; }
@@ -82,6 +84,7 @@ class OutputFile {
   std::size_t bytes_ = 0;
   mode_t mode_ = 0644;
   bool overwrite_ = false;
+  bool failed_ = false;  // a write() failed
   bool closed_ = false;
   bool committed_ = false;
 };
@@ -92,5 +95,11 @@ class OutputFile {
 // handler should then let the few renames finish (they run with the usual termination signals
 // blocked, so the signal is delivered right after).
 bool remove_temporaries_for_exit() noexcept;
+
+namespace detail {
+// The pwrite(2) of the O_DIRECT blocks; tests put another in its place to refuse writes.
+using PositionalWrite = ssize_t (*)(int fd, const void* data, std::size_t n, off_t offset);
+PositionalWrite& direct_write();
+}  // namespace detail
 
 }  // namespace tincdt::io

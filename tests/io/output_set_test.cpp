@@ -5,8 +5,11 @@
 #include <gtest/gtest.h>
 #include <pthread.h>
 #include <signal.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
+#include <cerrno>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
@@ -156,7 +159,7 @@ void write_in_pieces(OutputFile& out, const std::string& bytes) {
 TEST_F(Outputs, ALargeFileIsWrittenWholeWhereverItGoes) {
   const std::string bytes = large_content();
   std::vector<std::string> folders = {dir_};
-  if (std::filesystem::is_directory("/dev/shm"))  // tmpfs: O_DIRECT refused or emulated
+  if (std::filesystem::is_directory("/dev/shm"))  // tmpfs, which may refuse O_DIRECT
     folders.push_back(test::fresh_dir("/dev/shm/tincdt_output_set_test").string());
   for (const std::string& folder : folders) {
     const std::string path = folder + "/large.bin";
@@ -169,6 +172,72 @@ TEST_F(Outputs, ALargeFileIsWrittenWholeWhereverItGoes) {
     std::filesystem::remove(path);
   }
   std::filesystem::remove_all("/dev/shm/tincdt_output_set_test");
+}
+
+// In place of pwrite(2) for the O_DIRECT blocks: the REFUSED-th call fails with ERROR (EINVAL: a
+// file system that opens with O_DIRECT but takes no such write; ENOSPC: a full disk, for a while).
+class RefusedDirectWrites {
+ public:
+  RefusedDirectWrites(int refused, int error) : old_(detail::direct_write()) {
+    calls_ = 0;
+    refused_ = refused;
+    error_ = error;
+    detail::direct_write() = &write;
+  }
+  ~RefusedDirectWrites() { detail::direct_write() = old_; }
+  RefusedDirectWrites(const RefusedDirectWrites&) = delete;
+  RefusedDirectWrites& operator=(const RefusedDirectWrites&) = delete;
+  static int calls() { return calls_; }
+
+ private:
+  static ssize_t write(int fd, const void* data, std::size_t n, off_t offset) {
+    if (++calls_ == refused_) {
+      errno = error_;
+      return -1;
+    }
+    return ::pwrite(fd, data, n, offset);
+  }
+  static inline std::atomic<int> calls_{0};
+  static inline int refused_ = 0;
+  static inline int error_ = 0;
+  detail::PositionalWrite old_;
+};
+
+TEST_F(Outputs, ALargeFileWhoseDirectWritesAreRefusedGoesOnThroughTheStream) {
+  const std::string bytes = large_content();
+  for (const int refused : {1, 2, 3}) {
+    const std::string path = at("large" + std::to_string(refused) + ".bin");
+    {
+      const RefusedDirectWrites refuse(refused, EINVAL);
+      OutputFile out(path, false);
+      write_in_pieces(out, bytes);
+      out.commit();
+      EXPECT_EQ(RefusedDirectWrites::calls(), refused);  // none after the first refusal
+    }
+    EXPECT_EQ(std::filesystem::file_size(path), bytes.size()) << refused;
+    EXPECT_TRUE(test::slurp(path) == bytes) << refused;
+  }
+}
+
+TEST_F(Outputs, ALargeFileWhoseDirectWriteFailsIsNeverCommitted) {
+  const std::string bytes = large_content();
+  {
+    const RefusedDirectWrites refuse(2, ENOSPC);
+    OutputFile out(at("large.bin"), false);
+    EXPECT_THROW(
+        {
+          write_in_pieces(out, bytes);
+          out.commit();
+        },
+        OutputError);
+    try {
+      out.commit();  // again: still refused, never a file with a hole
+      ADD_FAILURE() << "committed after a failed write";
+    } catch (const OutputError& e) {
+      EXPECT_NE(std::string(e.what()).find("earlier write failed"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_TRUE(files().empty());
 }
 
 TEST_F(Outputs, ALargeFileThatCannotBeWrittenSaysSoAndLeavesNothing) {
