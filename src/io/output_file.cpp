@@ -12,11 +12,14 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <memory>
+#include <optional>
 #include <system_error>
 #include <utility>
 
 #include "core/error.hpp"
 #include "core/number_text.hpp"
+#include "core/parallel.hpp"
 #include "io/temporary_registry.hpp"
 
 namespace tincdt::io {
@@ -99,11 +102,6 @@ class WriterLock {
 
 namespace detail {
 
-PositionalWrite& direct_write() {
-  static PositionalWrite write = ::pwrite;
-  return write;
-}
-
 int track_temporary(const std::string& path) noexcept {
   if (path.empty() || path.size() >= kMaxPath) return -1;
   const WriterLock lock;
@@ -168,6 +166,178 @@ bool remove_temporaries_for_exit() noexcept {
   return true;
 }
 
+// ---- large files, past the page cache -----------------------------------------------------------
+
+namespace detail {
+
+PositionalWrite& direct_write() {
+  static PositionalWrite write = ::pwrite;
+  return write;
+}
+
+// The part of a large file past kDirectFrom, written through a second descriptor opened with
+// O_DIRECT in two aligned blocks: one is filled while the other is written in the background.
+// A file system that opens with O_DIRECT but refuses the write (EINVAL) gets that block, and the
+// rest of the file, through the stream instead.
+class DirectBlocks {
+ public:
+  // Null when the file cannot be opened with O_DIRECT. The first block starts with the bytes of
+  // the last partial aligned block the (flushed) stream wrote, read back.
+  static std::unique_ptr<DirectBlocks> open(const std::string& path, const std::string& temp_path,
+                                            std::FILE* stream, std::size_t bytes);
+  ~DirectBlocks();  // waits for the write under way
+  DirectBlocks(const DirectBlocks&) = delete;
+  DirectBlocks& operator=(const DirectBlocks&) = delete;
+
+  void put(const char* data, std::size_t n);
+  // Writes the last block padded to the alignment (the caller cuts the file to its size) and
+  // waits for it.
+  void finish();
+
+ private:
+  struct FreeAligned {
+    void operator()(char* p) const { std::free(p); }
+  };
+  struct Write {
+    std::size_t offset = 0;
+    std::size_t bytes = 0;  // aligned: what is written
+    std::size_t fill = 0;   // of which the file's
+    int error = 0;          // errno of the write, once waited for
+  };
+
+  DirectBlocks(const std::string& path, std::FILE* stream, int fd,
+               std::unique_ptr<char, FreeAligned> blocks, std::size_t tail, std::size_t offset)
+      : path_(path),
+        stream_(stream),
+        fd_(fd),
+        blocks_(std::move(blocks)),
+        fill_(tail),
+        offset_(offset) {}
+  char* block(int i) const { return blocks_.get() + i * kDirectBlock; }
+  void write_block(std::size_t n);
+  void wait();
+  void write_through_stream(std::size_t offset, const char* data, std::size_t n);
+
+  std::string path_;
+  std::FILE* stream_;
+  int fd_;  // -1 once O_DIRECT was refused: the stream takes the rest
+  std::unique_ptr<char, FreeAligned> blocks_;
+  int filling_ = 0;         // the block being filled
+  std::size_t fill_ = 0;    // its bytes in use
+  std::size_t offset_ = 0;  // where it goes in the file
+  Write written_;           // the other block's write, while writing_ runs
+  std::optional<BackgroundJob> writing_;
+};
+
+std::unique_ptr<DirectBlocks> DirectBlocks::open([[maybe_unused]] const std::string& path,
+                                                 [[maybe_unused]] const std::string& temp_path,
+                                                 [[maybe_unused]] std::FILE* stream,
+                                                 [[maybe_unused]] std::size_t bytes) {
+#ifdef O_DIRECT
+  const int fd = ::open(temp_path.c_str(), O_WRONLY | O_DIRECT | O_CLOEXEC);
+  if (fd < 0) return nullptr;
+  std::unique_ptr<char, FreeAligned> blocks(
+      static_cast<char*>(std::aligned_alloc(kDirectAlign, 2 * kDirectBlock)));
+  const std::size_t tail = bytes % kDirectAlign;
+  const auto offset = static_cast<off_t>(bytes - tail);
+  if (!blocks ||
+      ::pread(::fileno(stream), blocks.get(), tail, offset) != static_cast<ssize_t>(tail)) {
+    (void)::close(fd);
+    return nullptr;
+  }
+  return std::unique_ptr<DirectBlocks>(
+      new DirectBlocks(path, stream, fd, std::move(blocks), tail, bytes - tail));
+#else
+  return nullptr;
+#endif
+}
+
+DirectBlocks::~DirectBlocks() {
+  writing_.reset();
+  if (fd_ >= 0) (void)::close(fd_);
+}
+
+void DirectBlocks::put(const char* data, std::size_t n) {
+  while (n > 0 && fd_ >= 0) {
+    const std::size_t part = std::min(n, kDirectBlock - fill_);
+    std::memcpy(block(filling_) + fill_, data, part);
+    fill_ += part;
+    data += part;
+    n -= part;
+    if (fill_ == kDirectBlock) write_block(kDirectBlock);
+  }
+  if (n == 0) return;
+  // O_DIRECT was refused on the way: the stream is at the end of the file.
+  if (std::fwrite(data, 1, n, stream_) != n) {
+    const int err = errno;
+    throw OutputError(path_, "byte " + count_text(offset_), "write failed: " + error_text(err));
+  }
+  offset_ += n;
+}
+
+// Hands the first N bytes of the block being filled (N a multiple of kDirectAlign) to a
+// background write at offset_, once the other block's write is done, and fills the other.
+void DirectBlocks::write_block(std::size_t n) {
+  assert(n % kDirectAlign == 0 && n >= fill_);
+  wait();
+  if (fd_ < 0) {  // the other block's write was refused
+    write_through_stream(offset_, block(filling_), fill_);
+  } else {
+    written_ = {offset_, n, fill_, 0};
+    const auto write = [this, data = block(filling_)] {
+      for (std::size_t done = 0; done < written_.bytes;) {
+        const ssize_t w = direct_write()(fd_, data + done, written_.bytes - done,
+                                         static_cast<off_t>(written_.offset + done));
+        if (w < 0 && errno == EINTR) continue;
+        if (w <= 0) {
+          written_.error = w < 0 ? errno : ENOSPC;
+          return;
+        }
+        done += static_cast<std::size_t>(w);
+      }
+    };
+    try {
+      writing_.emplace(true, write);
+    } catch (const std::system_error&) {  // no thread to be had: write it now
+      writing_.emplace(false, write);
+    }
+    filling_ ^= 1;
+  }
+  offset_ += fd_ < 0 ? fill_ : n;
+  fill_ = 0;
+}
+
+void DirectBlocks::wait() {
+  if (!writing_) return;
+  writing_.reset();
+  const Write w = std::exchange(written_, {});
+  if (w.error == 0) return;
+  if (w.error != EINVAL)
+    throw OutputError(path_, "byte " + count_text(w.offset),
+                      "write failed: " + error_text(w.error));
+  (void)::close(std::exchange(fd_, -1));
+  write_through_stream(w.offset, block(filling_ ^ 1), w.fill);
+}
+
+void DirectBlocks::write_through_stream(std::size_t offset, const char* data, std::size_t n) {
+  if (::fseeko(stream_, static_cast<off_t>(offset), SEEK_SET) != 0 ||
+      std::fwrite(data, 1, n, stream_) != n) {
+    const int err = errno;
+    throw OutputError(path_, "byte " + count_text(offset), "write failed: " + error_text(err));
+  }
+}
+
+void DirectBlocks::finish() {
+  if (fd_ >= 0) {
+    const std::size_t padded = (fill_ + kDirectAlign - 1) / kDirectAlign * kDirectAlign;
+    std::memset(block(filling_) + fill_, 0, padded - fill_);
+    if (padded > 0) write_block(padded);
+  }
+  wait();
+}
+
+}  // namespace detail
+
 OutputFile::OutputFile(std::string path, bool overwrite)
     : path_(std::move(path)), overwrite_(overwrite) {
   if (path_.empty()) throw OutputError("", "", "the output path is empty");
@@ -212,13 +382,8 @@ OutputFile::OutputFile(std::string path, bool overwrite)
   }
 }
 
-void OutputFile::FreeAligned::operator()(char* p) const {
-  std::free(p);
-}
-
 OutputFile::~OutputFile() {
-  writing_.reset();  // its block and descriptor go below
-  if (direct_fd_ >= 0) (void)::close(direct_fd_);
+  direct_.reset();  // waits for its write before the stream closes
   if (file_ != nullptr) (void)std::fclose(file_);
   if (!committed_) {
     if (!temp_path_.empty()) (void)::unlink(temp_path_.c_str());
@@ -240,8 +405,8 @@ void OutputFile::write(const void* data, std::size_t n) {
   if (file_ == nullptr) throw OutputError(path_, "", "write after the file was closed");
   failed_ = true;  // until this write is through: a file missing bytes is never closed
   if (!direct_tried_ && bytes_ + n > kDirectFrom) start_direct();
-  if (direct_fd_ >= 0) {
-    put_direct(static_cast<const char*>(data), n);
+  if (direct_) {
+    direct_->put(static_cast<const char*>(data), n);
   } else if (std::fwrite(data, 1, n, file_) != n) {
     const int err = errno;
     throw OutputError(path_, "byte " + count_text(bytes_), "write failed: " + error_text(err));
@@ -250,120 +415,15 @@ void OutputFile::write(const void* data, std::size_t n) {
   failed_ = false;
 }
 
-// From here on the file is written through a second descriptor opened with O_DIRECT; the first
-// block starts with the bytes of the last partial aligned block the stream wrote, read back.
+// From here on the file is written through a second descriptor opened with O_DIRECT, where the
+// file system takes it.
 void OutputFile::start_direct() {
   direct_tried_ = true;
   if (std::fflush(file_) != 0) {
     const int err = errno;
     throw OutputError(path_, "byte " + count_text(bytes_), "write failed: " + error_text(err));
   }
-#ifdef O_DIRECT
-  const int fd = ::open(temp_path_.c_str(), O_WRONLY | O_DIRECT | O_CLOEXEC);
-#else
-  const int fd = -1;
-#endif
-  if (fd < 0) return;
-  std::unique_ptr<char, FreeAligned> blocks(
-      static_cast<char*>(std::aligned_alloc(kDirectAlign, 2 * kDirectBlock)));
-  const std::size_t tail = bytes_ % kDirectAlign;
-  const auto offset = static_cast<off_t>(bytes_ - tail);
-  if (!blocks ||
-      ::pread(::fileno(file_), blocks.get(), tail, offset) != static_cast<ssize_t>(tail)) {
-    (void)::close(fd);
-    return;
-  }
-  direct_fd_ = fd;
-  direct_blocks_ = std::move(blocks);
-  filling_ = 0;
-  direct_fill_ = tail;
-  direct_offset_ = bytes_ - tail;
-}
-
-void OutputFile::put_direct(const char* data, std::size_t n) {
-  while (n > 0 && direct_fd_ >= 0) {
-    const std::size_t part = std::min(n, kDirectBlock - direct_fill_);
-    std::memcpy(direct_blocks_.get() + filling_ * kDirectBlock + direct_fill_, data, part);
-    direct_fill_ += part;
-    data += part;
-    n -= part;
-    if (direct_fill_ == kDirectBlock) write_direct_block(kDirectBlock);
-  }
-  if (n > 0 && std::fwrite(data, 1, n, file_) != n) {  // O_DIRECT was refused on the way
-    const int err = errno;
-    throw OutputError(path_, "byte " + count_text(bytes_), "write failed: " + error_text(err));
-  }
-}
-
-// Hands the first N bytes of the block being filled (N a multiple of kDirectAlign) to a
-// background write at direct_offset_, once the other block's write is done, and fills the other.
-void OutputFile::write_direct_block(std::size_t n) {
-  assert(n % kDirectAlign == 0 && n >= direct_fill_);
-  finish_direct_write();
-  const char* block = direct_blocks_.get() + filling_ * kDirectBlock;
-  if (direct_fd_ < 0) {  // the other block's write was refused
-    write_at(direct_offset_, block, direct_fill_);
-  } else {
-    written_ = {direct_offset_, n, direct_fill_, 0};
-    const auto write_block = [this, block] {
-      for (std::size_t done = 0; done < written_.bytes;) {
-        const ssize_t w = detail::direct_write()(direct_fd_, block + done, written_.bytes - done,
-                                                 static_cast<off_t>(written_.offset + done));
-        if (w < 0 && errno == EINTR) continue;
-        if (w <= 0) {
-          written_.error = w < 0 ? errno : ENOSPC;
-          return;
-        }
-        done += static_cast<std::size_t>(w);
-      }
-    };
-    try {
-      writing_.emplace(true, write_block);
-    } catch (const std::system_error&) {  // no thread to be had: write it now
-      writing_.emplace(false, write_block);
-    }
-    filling_ ^= 1;
-  }
-  direct_offset_ += n;
-  direct_fill_ = 0;
-}
-
-// Waits for the background write. A file system that opens with O_DIRECT but refuses the write
-// (EINVAL) gets the block, and the rest of the file, through the stream instead.
-void OutputFile::finish_direct_write() {
-  if (!writing_) return;
-  writing_.reset();
-  const DirectWrite w = std::exchange(written_, {});
-  if (w.error == 0) return;
-  if (w.error != EINVAL)
-    throw OutputError(path_, "byte " + count_text(w.offset),
-                      "write failed: " + error_text(w.error));
-  (void)::close(std::exchange(direct_fd_, -1));
-  write_at(w.offset, direct_blocks_.get() + (filling_ ^ 1) * kDirectBlock, w.fill);
-}
-
-// Through the stream, at OFFSET.
-void OutputFile::write_at(std::size_t offset, const char* data, std::size_t n) {
-  if (::fseeko(file_, static_cast<off_t>(offset), SEEK_SET) != 0 ||
-      std::fwrite(data, 1, n, file_) != n) {
-    const int err = errno;
-    throw OutputError(path_, "byte " + count_text(offset), "write failed: " + error_text(err));
-  }
-}
-
-// The last block, padded to the alignment (close() cuts the padding off), and the wait for it.
-void OutputFile::finish_direct() {
-  if (direct_fd_ < 0) {
-    direct_blocks_.reset();  // O_DIRECT was refused on the way
-    return;
-  }
-  char* block = direct_blocks_.get() + filling_ * kDirectBlock;
-  const std::size_t padded = (direct_fill_ + kDirectAlign - 1) / kDirectAlign * kDirectAlign;
-  std::memset(block + direct_fill_, 0, padded - direct_fill_);
-  if (padded > 0) write_direct_block(padded);
-  finish_direct_write();
-  if (direct_fd_ >= 0) (void)::close(std::exchange(direct_fd_, -1));
-  direct_blocks_.reset();
+  direct_ = detail::DirectBlocks::open(path_, temp_path_, file_, bytes_);
 }
 
 const std::string& OutputFile::take_path() {
@@ -415,7 +475,10 @@ void OutputFile::close() {
   if (file_ == nullptr) throw OutputError(path_, "", "the file is not open");
   if (failed_) throw OutputError(path_, "", "an earlier write failed: the file is incomplete");
   failed_ = true;  // until the file is complete on disk
-  finish_direct();
+  if (direct_) {
+    direct_->finish();
+    direct_.reset();
+  }
   if (std::fflush(file_) != 0 ||
       (direct_tried_ && ::ftruncate(::fileno(file_), static_cast<off_t>(bytes_)) != 0)) {
     const int err = errno;

@@ -9,12 +9,13 @@
 #include <cstddef>
 #include <cstdio>
 #include <memory>
-#include <optional>
 #include <string>
 
-#include "core/parallel.hpp"
-
 namespace tincdt::io {
+
+namespace detail {
+class DirectBlocks;
+}
 
 class OutputFile {
  public:
@@ -49,13 +50,7 @@ class OutputFile {
   friend class OutputSet;
   void finish_taken();
   void forget_temporary();  // the temporary is gone (renamed or removed): stop tracking it
-  // Large files go on past the page cache (see output_file.cpp).
-  void start_direct();
-  void put_direct(const char* data, std::size_t n);
-  void write_direct_block(std::size_t n);
-  void finish_direct_write();
-  void finish_direct();
-  void write_at(std::size_t offset, const char* data, std::size_t n);
+  void start_direct();      // a large file goes on past the page cache (output_file.cpp)
 
   std::string path_;
   std::string temp_path_;
@@ -63,24 +58,9 @@ class OutputFile {
   int temp_slot_ = -1;      // temporary_registry slots (signal-safe clean-up)
   int taken_slots_[4] = {-1, -1, -1, -1};
   std::FILE* file_ = nullptr;
-  std::unique_ptr<char[]> buffer_;  // the stream's buffer (setvbuf)
-  struct FreeAligned {
-    void operator()(char* p) const;
-  };
-  // Two blocks: one is filled while the other is written, with O_DIRECT, in the background.
-  std::unique_ptr<char, FreeAligned> direct_blocks_;
-  int direct_fd_ = -1;
+  std::unique_ptr<char[]> buffer_;                // the stream's buffer (setvbuf)
+  std::unique_ptr<detail::DirectBlocks> direct_;  // null: everything goes through file_
   bool direct_tried_ = false;
-  int filling_ = 0;                // the block being filled
-  std::size_t direct_fill_ = 0;    // its bytes in use
-  std::size_t direct_offset_ = 0;  // where it goes in the file
-  struct DirectWrite {
-    std::size_t offset = 0;
-    std::size_t bytes = 0;  // aligned: what is written
-    std::size_t fill = 0;   // of which the file's
-    int error = 0;          // errno of the write, once waited for
-  } written_;               // the other block's write, while writing_ runs
-  std::optional<BackgroundJob> writing_;
   std::size_t bytes_ = 0;
   mode_t mode_ = 0644;
   bool overwrite_ = false;
