@@ -8,12 +8,7 @@
 #include <cassert>
 #include <cstdint>
 #include <exception>
-#include <new>
 #include <optional>
-
-#if defined(__unix__) || defined(__APPLE__)
-#include <sys/mman.h>
-#endif
 
 #include "core/memory.hpp"
 #include "core/parallel.hpp"
@@ -27,68 +22,9 @@ using namespace mesh;  // the half-edge vocabulary: kInfinite, kNoId, ...
 using detail::internal_error;
 using detail::LeftOfPivot;
 
-// Scratch memory for the big temporary arrays, mapped and unmapped directly so that it goes back
-// to the system when released: malloc keeps freed blocks below its mmap threshold, which it
-// raises after large frees, and they would then add to the peak memory.
-template <class T>
-class Scratch {
- public:
-  explicit Scratch(std::size_t n) : size_(n) {
-    if (n == 0) return;
-#if defined(__unix__) || defined(__APPLE__)
-    void* p =
-        mmap(nullptr, n * sizeof(T), PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
-    if (p == MAP_FAILED) throw std::bad_alloc();
-    data_ = static_cast<T*>(p);
-    advise_huge_pages(p, n * sizeof(T));
-#else
-    data_ = new T[n];
-#endif
-  }
-  Scratch(const Scratch&) = delete;
-  Scratch& operator=(const Scratch&) = delete;
-  ~Scratch() {
-    release();
-  }
-  void release() {
-    if (!data_) return;
-#if defined(__unix__) || defined(__APPLE__)
-    munmap(data_, size_ * sizeof(T));
-#else
-    delete[] data_;
-#endif
-    data_ = nullptr;
-  }
-  // Gives back the whole (huge) pages inside elements [begin, end), which must not be used again.
-  void release(std::size_t begin, std::size_t end) {
-    assert(begin <= end && end <= size_);
-#if defined(__unix__) || defined(__APPLE__)
-    if (!data_) return;
-    const auto page = static_cast<std::uintptr_t>(kHugePage);
-    const auto from = (reinterpret_cast<std::uintptr_t>(data_ + begin) + page - 1) & ~(page - 1);
-    const auto to = reinterpret_cast<std::uintptr_t>(data_ + end) & ~(page - 1);
-    if (from < to)
-      munmap(reinterpret_cast<void*>(from), to - from);  // release() unmaps again: fine
-#else
-    (void)begin;
-    (void)end;
-#endif
-  }
-  T* data() const {
-    return data_;
-  }
-  T& operator[](std::size_t i) const {
-    return data_[i];
-  }
-
- private:
-  std::size_t size_;
-  T* data_ = nullptr;
-};
-
 // Sorts one half's items into insertion order.
 void sort_half(const std::vector<Point3>& input, std::uint64_t* items, std::size_t m) {
-  Scratch<std::uint64_t> buffer(m);
+  ScratchArray<std::uint64_t> buffer(m);
   sort_by_key_then_xyz(input, items, buffer.data(), m);
 }
 
@@ -169,7 +105,7 @@ void make_slots(Triangulation& tin, std::size_t vertices) {
 // Fills ITEMS with the (key, index) items of the points, left ones first, each side in input
 // order, then sorts each side into insertion order. Returns the number of left items.
 std::size_t sort_items(const std::vector<Point3>& input, const BBox& box, LeftOfPivot is_left,
-                       bool concurrent, Scratch<std::uint64_t>& items) {
+                       bool concurrent, ScratchArray<std::uint64_t>& items) {
   const std::size_t n = input.size();
   const std::size_t mid = n / 2;
   std::size_t left_in_chunk[2] = {0, 0};
@@ -209,7 +145,7 @@ std::size_t sort_items(const std::vector<Point3>& input, const BBox& box, LeftOf
 // Items are given back as they are read. Fills the result's point map and merged duplicates
 // (vertex ids of the right half shifted past the left's). Returns the two halves' vertex counts.
 std::array<VertexId, 2> gather_halves(const std::vector<Point3>& input,
-                                      Scratch<std::uint64_t>& items, std::size_t left_items,
+                                      ScratchArray<std::uint64_t>& items, std::size_t left_items,
                                       const DelaunayOptions& options, bool concurrent,
                                       BackgroundJob& slots, PointStash& stash,
                                       DelaunayResult& result) {
@@ -350,7 +286,7 @@ bool triangulate_in_two(std::vector<Point3>& input, const BBox& box, const Delau
   tin.reserve_vertices(n);
   BackgroundJob slots(concurrent, [&tin, n] { make_slots(tin, n); });
 
-  Scratch<std::uint64_t> items(n);
+  ScratchArray<std::uint64_t> items(n);
   const std::size_t left_items = sort_items(input, box, *is_left, concurrent, items);
   PointStash stash(tin, n);
   const auto [nl, nr] =
