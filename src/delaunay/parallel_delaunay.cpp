@@ -199,26 +199,15 @@ std::array<VertexId, 2> gather_halves(const std::vector<Point3>& input,
 }
 
 // Adds the NR right vertices from STASH after the NL left ones. The slots were made for N
-// distinct points: if some coincided, the triangulation is made again with the right number.
+// distinct points: if some coincided, those the triangulation will not use are dropped (their
+// memory stays with the triangulation, which the constraint stage may fill).
 void add_right_vertices(Triangulation& tin, const PointStash& stash, std::size_t left_items,
-                        VertexId nl, VertexId nr, std::size_t n) {
-  const VertexId nv = nl + nr;
-  const auto add_right = [&](Triangulation& to) {
-    for (std::size_t k = 0; k < nr; ++k) {
-      const Point3 p = stash.get(left_items + k);
-      to.add_vertex({p.x, p.y}, p.z);
-    }
-  };
-  if (nv == n) {
-    add_right(tin);
-    return;
+                        VertexId nl, VertexId nr) {
+  for (std::size_t k = 0; k < nr; ++k) {
+    const Point3 p = stash.get(left_items + k);
+    tin.add_vertex({p.x, p.y}, p.z);
   }
-  Triangulation exact;
-  exact.reserve_vertices(nv);
-  for (VertexId v = 0; v < nl; ++v) exact.add_vertex(tin.point(v), tin.z(v));
-  add_right(exact);
-  tin = std::move(exact);
-  make_slots(tin, nv);
+  tin.truncate_triangles(2 * std::size_t{nl + nr} - 2);
 }
 
 // Triangulates vertices [0, NL) and [NL, NV) of TIN at once, in slots [0, 2nl - 2) and
@@ -293,7 +282,7 @@ bool triangulate_in_two(std::vector<Point3>& input, const BBox& box, const Delau
       gather_halves(input, items, left_items, options, concurrent, slots, stash, result);
   items.release();
   std::vector<Point3>().swap(input);
-  add_right_vertices(tin, stash, left_items, nl, nr, n);
+  add_right_vertices(tin, stash, left_items, nl, nr);
   triangulate_and_merge(tin, nl, nl + nr, concurrent, progress, result);
   return true;
 }

@@ -49,6 +49,17 @@ void Triangulation::reserve_triangles(std::size_t n) {
   advise_huge_pages(twin_);
 }
 
+void Triangulation::truncate_triangles(std::size_t slots) {
+  assert(slots <= triangle_slots());
+#ifndef NDEBUG
+  for (std::size_t e = 3 * slots; e < twin_.size(); ++e) assert(twin_[e] == kNoId);
+#endif
+  corner_.resize(3 * slots);
+  twin_.resize(3 * slots);
+  if (!constrained_.empty()) constrained_.resize(3 * slots);
+  if (!removed_.empty()) removed_.resize(slots);
+}
+
 void Triangulation::set_removed(TriangleId t, bool on) {
   if (removed_.empty()) {
     if (!on) return;

@@ -106,6 +106,9 @@ class Triangulation {
     twin_[f] = e;
   }
   void reserve_triangles(std::size_t n);
+  // Drops the slots from SLOTS on, which must be unused: no twin set, not counted as triangles
+  // (slots made for more points than turned out distinct).
+  void truncate_triangles(std::size_t slots);
   void set_corner(EdgeId e, VertexId v) { corner_[e] = v; }
   // Flips the diagonal of the convex quadrilateral around e. With e = a -> b in triangle
   // (a, b, c) and its twin b -> a in (b, a, d), the two slots become (d, c, a) and (c, d, b),
