@@ -36,6 +36,14 @@ TriangleId Triangulation::add_triangle(VertexId a, VertexId b, VertexId c) {
   return t;
 }
 
+void Triangulation::add_empty_triangles(std::size_t count) {
+  const std::size_t slots = triangle_slots() + count;
+  corner_.resize(3 * slots, kNoId);
+  twin_.resize(3 * slots, kNoId);
+  if (!constrained_.empty()) constrained_.resize(3 * slots, 0);
+  if (!removed_.empty()) removed_.resize(slots, 0);
+}
+
 void Triangulation::set_corners(TriangleId t, VertexId a, VertexId b, VertexId c) {
   corner_[3 * t] = a;
   corner_[3 * t + 1] = b;

@@ -100,6 +100,8 @@ class Triangulation {
   // ---- editing (used by the Delaunay and constraint stages) -------------------------------
   // Appends a triangle with corners a, b, c (CCW) and no twins yet; returns its id.
   TriangleId add_triangle(VertexId a, VertexId b, VertexId c);
+  // Appends COUNT slots with no corners and no twins (kNoId), for a builder that fills them.
+  void add_empty_triangles(std::size_t count);
   void set_corners(TriangleId t, VertexId a, VertexId b, VertexId c);
   void link(EdgeId e, EdgeId f) {
     twin_[e] = f;

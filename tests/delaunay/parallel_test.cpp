@@ -246,6 +246,9 @@ TEST(ParallelDelaunay, KeepDuplicatesMatchesTheSequentialPath) {
     options.keep_duplicates = true;
     options.parallel_min_points = 0;
     const DelaunayResult par = triangulate(std::vector<Point3>(pts), options);
+    // The slots were made for every point; those the duplicates leave unused must be gone.
+    EXPECT_EQ(par.tin.triangle_slots(), 2 * par.tin.vertex_count() - 2);
+    EXPECT_EQ(par.tin.validate(), "");
     options.parallel_min_points = kNever;
     const DelaunayResult seq = triangulate(std::vector<Point3>(pts), options);
     ASSERT_EQ(par.duplicates.size(), seq.duplicates.size());

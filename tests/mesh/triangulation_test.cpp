@@ -84,6 +84,27 @@ TEST(Triangulation, FlipCarriesConstraintFlags) {
   EXPECT_EQ(constrained, 1);
 }
 
+TEST(Triangulation, EmptySlotsAreAddedAndDroppedWithTheirFlags) {
+  Triangulation tin = square(0.9);
+  tin.set_constrained(0, true);
+  tin.set_removed(1, true);
+  tin.add_empty_triangles(3);
+  ASSERT_EQ(tin.triangle_slots(), 9u);
+  EXPECT_EQ(tin.triangle_count(), 1u);  // one removed; empty slots are no triangles
+  for (TriangleId t = 6; t < 9; ++t) {
+    EXPECT_FALSE(tin.is_removed(t));
+    for (EdgeId e = 3 * t; e < 3 * t + 3; ++e) {
+      EXPECT_EQ(tin.origin(e), kNoId);
+      EXPECT_EQ(tin.twin(e), kNoId);
+      EXPECT_FALSE(tin.is_constrained(e));
+    }
+  }
+  tin.truncate_triangles(6);
+  tin.set_removed(1, false);
+  EXPECT_EQ(tin.validate(), "");
+  EXPECT_TRUE(tin.is_constrained(0));
+}
+
 TEST(Triangulation, ValidateFindsBrokenTopologyAndOrientation) {
   {
     Triangulation tin = square();
