@@ -20,9 +20,7 @@ bench_defaults ROUNDS=5 DATASETS="uniform_4M grid_4M" THREADS_LIST="0 1" WARM=20
 /usr/bin/python3 "$SHARED/bench/gen.py" "$DATA" $DATASETS >/dev/null
 cmake -S "$SHARED/bench/cgal" -B "$CGAL_BUILD" -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$CGAL_BUILD" -j"$(nproc)" >/dev/null
-cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DTINCDT_BUILD_TESTS=ON \
-  -DTINCDT_BUILD_BENCH=ON >/dev/null
-cmake --build "$BUILD" -j"$(nproc)" --target tincdt_tin_driver first_touch >/dev/null
+build_bench_targets tincdt_tin_driver first_touch
 
 tri_seconds() {  # tri_seconds COMMAND...: the RESULT line's tri_s, after warming the memory
   [[ $WARM == 0 ]] || "$BUILD/tests/bench/first_touch" "$WARM" 2 1 0 >/dev/null

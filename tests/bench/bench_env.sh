@@ -21,3 +21,12 @@ build_test_targets() {
   if [[ ! -f $BUILD/build.ninja ]]; then cmake --preset test -S "$ROOT" >/dev/null; fi
   cmake --build "$BUILD" --target "$@" >/dev/null
 }
+
+# build_bench_targets TARGET...: configures BUILD as a Release tree with the tests and the bench
+# programs (one configuration for every script that shares BUILD, so none rebuilds the others'
+# targets by flipping an option) and builds TARGET... on every core.
+build_bench_targets() {
+  cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DTINCDT_BUILD_TESTS=ON \
+    -DTINCDT_BUILD_BENCH=ON >/dev/null
+  cmake --build "$BUILD" -j"$(nproc)" --target "$@" >/dev/null
+}

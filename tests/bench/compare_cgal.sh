@@ -27,9 +27,7 @@ THREADS="${THREADS:-0}"
 CGAL_TIN="${CGAL_BUILD:-/tmp/tinbench_cgal}/cgal_tin"  # built by run_cgal.sh before any job runs
 
 "$ROOT/cmake/setup.sh" libcgal-dev python3-numpy python3-gdal gdal-bin time
-cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DTINCDT_BUILD_TESTS=ON \
-  -DTINCDT_BUILD_BENCH=ON >/dev/null
-cmake --build "$BUILD" -j"$(nproc)" --target tincdt tincdt_tin_driver make_real_points >/dev/null
+build_bench_targets tincdt tincdt_tin_driver make_real_points
 DRIVER="$BUILD/tests/bench/tincdt_tin_driver"
 TINCDT="$BUILD/tincdt"
 

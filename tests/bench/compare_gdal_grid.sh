@@ -14,8 +14,6 @@ source "$(dirname "${BASH_SOURCE[0]}")/bench_env.sh"
 OUT="${OUT:-/tmp/tincdt_gdal_grid}"
 
 "$ROOT/cmake/setup.sh" python3-numpy python3-gdal gdal-bin time
-cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DTINCDT_BUILD_TESTS=OFF \
-  -DTINCDT_BUILD_BENCH=OFF >/dev/null
-cmake --build "$BUILD" -j"$(nproc)" --target tincdt >/dev/null
+build_bench_targets tincdt
 /usr/bin/python3 "$SHARED/bench/gen.py" "$DATA" uniform_1M uniform_4M >/dev/null
 /usr/bin/python3 "$ROOT/tests/bench/compare_gdal_grid.py" "$BUILD/tincdt" "$SHARED" "$DATA" "$OUT" "$@"
