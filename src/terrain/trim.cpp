@@ -9,24 +9,25 @@
 
 namespace tincdt::terrain {
 
+bool has_long_edge(const mesh::Triangulation& tin, TriangleId t, double max_edge,
+                   const TrimOptions& options) {
+  const double limit2 = max_edge * max_edge;  // compare squared lengths: no sqrt per edge
+  const auto c = tin.triangle(t);
+  for (int i = 0; i < 3; ++i) {
+    if (!options.constrained_edges_count && tin.is_constrained(3 * t + static_cast<EdgeId>(i)))
+      continue;
+    const Point2 p = tin.point(c[i]), q = tin.point(c[(i + 1) % 3]);
+    const double dx = p.x - q.x, dy = p.y - q.y;
+    if (dx * dx + dy * dy > limit2) return true;
+  }
+  return false;
+}
+
 std::uint64_t trim_long_edges(mesh::Triangulation& tin, double max_edge,
                               const TrimOptions& options) {
   if (!(max_edge > 0))
     throw Error("max edge length must be positive, not " + number_text(max_edge));
   if (std::isinf(max_edge)) return 0;
-  const double limit2 = max_edge * max_edge;  // compare squared lengths: no sqrt per edge
-
-  const auto long_edged = [&](TriangleId t) {
-    const auto c = tin.triangle(t);
-    for (int i = 0; i < 3; ++i) {
-      if (!options.constrained_edges_count && tin.is_constrained(3 * t + static_cast<EdgeId>(i)))
-        continue;
-      const Point2 p = tin.point(c[i]), q = tin.point(c[(i + 1) % 3]);
-      const double dx = p.x - q.x, dy = p.y - q.y;
-      if (dx * dx + dy * dy > limit2) return true;
-    }
-    return false;
-  };
   const auto neighbour = [&](TriangleId t, int i) {
     return mesh::triangle_of(tin.twin(3 * t + static_cast<EdgeId>(i)));
   };
@@ -50,7 +51,7 @@ std::uint64_t trim_long_edges(mesh::Triangulation& tin, double max_edge,
     const TriangleId t = queue.back();
     queue.pop_back();
     // A triangle may be queued once per removed neighbour: the kept check makes repeats free.
-    if (!tin.is_kept(t) || !long_edged(t)) continue;
+    if (!tin.is_kept(t) || !has_long_edge(tin, t, max_edge, options)) continue;
     tin.set_removed(t, true);
     ++removed;
     for (int i = 0; i < 3; ++i) {

@@ -16,6 +16,11 @@ struct TrimOptions {
   bool constrained_edges_count = false;
 };
 
+// Whether real triangle T has an edge longer than MAX_EDGE (horizontal length; constrained edges
+// only with OPTIONS.constrained_edges_count): the triangles trim_long_edges() may remove.
+bool has_long_edge(const mesh::Triangulation& tin, TriangleId t, double max_edge,
+                   const TrimOptions& options = {});
+
 // Removes (Triangulation::set_removed) every boundary triangle that has an edge longer than
 // `max_edge` (horizontal length), then the triangles this exposes, until every kept triangle on
 // the boundary has all edges <= max_edge. A triangle is on the boundary when a neighbour is a
@@ -23,7 +28,9 @@ struct TrimOptions {
 // (clip / erase) alike, and it never opens a hole inside the data: a long-edged triangle
 // surrounded by short-edged ones stays. A triangle whose edges are all <= max_edge is never
 // removed. The topology is untouched (validate() passes as before); the kept part may come
-// apart into several pieces, with holes. Returns the number of triangles removed.
+// apart into several pieces, with holes. So the removed triangles are the components of
+// long-edged triangles (has_long_edge(), joined across any edge) that touch the hull or an
+// earlier removal. Returns the number of triangles removed.
 // Throws tincdt::Error unless max_edge > 0 (+infinity removes nothing).
 std::uint64_t trim_long_edges(mesh::Triangulation& tin, double max_edge,
                               const TrimOptions& options = {});

@@ -252,15 +252,37 @@ void check_hull(std::vector<Border> hull, const std::vector<std::string>& names)
                          " loops, not one (a hole between tiles, or tiles of different runs)");
 }
 
+// The border edges left over from trimmed tiles: the hull where nothing was trimmed, and the
+// outlines of the trimmed areas. No more than closed loops can be checked (a missing tile leaves a
+// loop too): at every vertex as many edges arrive as leave.
+void check_loops(std::vector<Border> left, const std::vector<std::string>& names) {
+  if (left.empty()) throw InputError(names.front(), "", "the tiles hold no triangle");
+  std::vector<std::pair<Point2, int>> ends;  // +1 per edge leaving, -1 per edge arriving
+  for (const Border& b : left) ends.insert(ends.end(), {{xy(b.a), 1}, {xy(b.b), -1}});
+  std::sort(ends.begin(), ends.end(),
+            [](const auto& p, const auto& q) { return xy_less(p.first, q.first); });
+  for (std::size_t i = 0; i < ends.size();) {
+    int balance = 0;
+    std::size_t j = i;
+    for (; j < ends.size() && ends[j].first == ends[i].first; ++j) balance += ends[j].second;
+    if (balance != 0)
+      throw InputError(names.front(), "vertex at " + at(ends[i].first),
+                       "a crack: the outline of the tiles stops here");
+    i = j;
+  }
+}
+
 // ---- the whole merge --------------------------------------------------------------------------
 
 MergeReport merge_outlines(const MergeOptions& options, const LogFn& log) {
   MergeReport r;
   std::vector<Border> borders;
   std::string crs;
+  bool trimmed = false;
   for (std::uint32_t t = 0; t < options.inputs.size(); ++t) {
     const io::PlyMesh m = io::read_ply(options.inputs[t]);
     if (crs.empty()) crs = m.crs;
+    trimmed = trimmed || m.trimmed;
     ++r.tiles;
     r.vertices += m.vertices.size();
     r.triangles += m.faces.size();
@@ -278,8 +300,14 @@ MergeReport merge_outlines(const MergeOptions& options, const LogFn& log) {
   r.hull_edges = left.size();
   if (options.outline) {
     io::OutputSet set(options.overwrite);
-    detail::write_outline(set.add(options.output, "outline"), left, crs);
+    detail::write_outline(set.add(options.output, "outline"), left, crs, trimmed);
     set.commit();
+  } else if (trimmed) {
+    if (log)
+      log(log_warn,
+          "the tiles were trimmed (--max-edge): their outline is checked for closed loops, not "
+          "against the convex hull, so a missing tile is not found");
+    check_loops(std::move(left), options.inputs);
   } else {
     check_hull(std::move(left), options.inputs);
   }
@@ -303,6 +331,11 @@ WeldedTiles weld_tiles(const std::vector<std::string>& names, const LogFn& log, 
     const io::PlyMesh m = io::read_ply(names[t]);
     if (m.outline)
       throw InputError(names[t], "", "is a tile outline: merge outlines with --check or --outline");
+    if (m.trimmed)
+      throw InputError(names[t], "",
+                       "was trimmed (--max-edge), and merge joins only untrimmed tiles into one "
+                       "TIN: check the seams with --check, and use the tiles as they are (their "
+                       "DEMs join with gdalbuildvrt)");
     if (t == 0) {
       w.crs = m.crs;
       w.offset = m.offset;

@@ -9,6 +9,9 @@
 // tile, with the same z at both ends and the Delaunay property across, and the edges left over
 // must form the convex hull. `--outline` writes that outline of some tiles, so that the tiles can
 // be deleted as the jobs go and checked together at the end.
+//
+// Tiles trimmed with --max-edge (a "comment trimmed" PLY line) have borders that are neither seams
+// nor hull: their outlines are checked for closed loops only, and they are not merged into one TIN.
 #pragma once
 
 #include <cstdint>

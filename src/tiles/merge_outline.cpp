@@ -6,7 +6,8 @@
 
 namespace tincdt::tiles::detail {
 
-void write_outline(io::OutputFile& file, const std::vector<Border>& edges, const std::string& crs) {
+void write_outline(io::OutputFile& file, const std::vector<Border>& edges, const std::string& crs,
+                   bool trimmed) {
   std::vector<Point3> points;
   for (const Border& b : edges) points.insert(points.end(), {b.a, b.b, b.apex});
   const auto less = [](const Point3& p, const Point3& q) {
@@ -20,6 +21,7 @@ void write_outline(io::OutputFile& file, const std::vector<Border>& edges, const
   };
   std::string out = "ply\nformat binary_little_endian 1.0\ncomment tincdt tile outline\n";
   if (!crs.empty()) out += "comment crs " + crs + "\n";
+  if (trimmed) out += "comment trimmed\n";
   out += "element vertex " + std::to_string(points.size()) +
          "\nproperty double x\nproperty double y\nproperty double z\n";
   out += "element edge " + std::to_string(edges.size()) +

@@ -21,6 +21,8 @@ struct Border {
 
 // EDGES as a binary PLY: the vertices (x, y, z doubles) and an edge element with vertex1,
 // vertex2, apex and constrained; CRS: a "comment crs" text, "" for none.
-void write_outline(io::OutputFile& out, const std::vector<Border>& edges, const std::string& crs);
+// TRIMMED: the outline of trimmed tiles (a "comment trimmed" line), not only seams and hull.
+void write_outline(io::OutputFile& out, const std::vector<Border>& edges, const std::string& crs,
+                   bool trimmed = false);
 
 }  // namespace tincdt::tiles::detail

@@ -1,5 +1,7 @@
 // tile: in a tiled job (--plan), keeps the triangles the tile owns and proves that each of them,
 // and every other triangle near the tile, is final: a triangle of the whole TIN (tile_rules.hpp).
+// With --max-edge it then removes those the whole job trims (TileTrim), with --max-error it
+// simplifies the tile (tile_simplify.hpp).
 //
 // A triangle is final when no point or line the tile lacks can change it: its circumdisk meets
 // none of the regions where such data may lie (TileSetup::missing). Across a constrained edge
@@ -29,6 +31,7 @@
 #include "core/number_text.hpp"
 #include "pipeline/stage.hpp"
 #include "predicates/predicates.hpp"
+#include "terrain/trim.hpp"
 #include "tiles/merge_outline.hpp"
 #include "tiles/tile_job.hpp"
 #include "tiles/tile_simplify.hpp"
@@ -173,11 +176,122 @@ bool is_final(const mesh::Triangulation& tin, const TileSetup& tile, TriangleId 
 // What the checks found, for the summary or for the error that names a large enough buffer.
 struct FinalityTally {
   std::uint64_t owned = 0, checked = 0, failed = 0;
-  std::uint64_t beyond = 0;  // final with a circumcircle beyond the buffered box
-  double reach = 0;          // how far the other circumcircles reach beyond the tile
-  double failed_reach = 0;   // how far those of the failures do
-  bool unbounded = false;    // a failure no estimate covers (hull edge, flat triangle)
-  Point2 at{0, 0};           // a failure, for the message
+  std::uint64_t beyond = 0;   // final with a circumcircle beyond the buffered box
+  std::uint64_t trimmed = 0;  // owned and removed by --max-edge
+  double reach = 0;           // how far the other circumcircles reach beyond the tile
+  double failed_reach = 0;    // how far those of the failures do
+  bool unbounded = false;     // a failure no estimate covers (hull edge, flat triangle)
+  Point2 at{0, 0};            // a failure, for the message
+};
+
+// Whether the hull edge with the ghost (u, v, inf) is one of the whole TIN's: no data the tile
+// lacks may lie on its outer side, the open half-plane left of U -> V.
+bool is_final_hull_edge(const TileSetup& tile, Point2 u, Point2 v) {
+  return std::none_of(tile.missing.begin(), tile.missing.end(), [&](const tiles::Polygon& piece) {
+    return tiles::may_meet_left(u, v, piece, tile.margin);
+  });
+}
+
+void add(FinalityTally& tally, const FinalityTally& more) {
+  tally.failed += more.failed;
+  tally.unbounded = tally.unbounded || more.unbounded;
+  if (more.failed_reach >= tally.failed_reach && more.failed_reach > 0) {
+    tally.failed_reach = more.failed_reach;
+    tally.at = more.at;
+  }
+}
+
+// A failure of the finality proof at real triangle T, whose circumdisk lies within D.
+void count_failure(const mesh::Triangulation& tin, const TileSetup& tile, TriangleId t,
+                   const tiles::Disk& d, FinalityTally& tally) {
+  ++tally.failed;
+  const double r = tiles::reach_beyond(d, tile.box);
+  if (!std::isfinite(r)) {
+    tally.unbounded = true;
+  } else if (r >= tally.failed_reach) {
+    const auto c = tin.triangle(t);
+    const Point2 a = tin.point(c[0]), b = tin.point(c[1]), p = tin.point(c[2]);
+    tally.failed_reach = r;
+    tally.at = {(a.x + b.x + p.x) / 3, (a.y + b.y + p.y) / 3};
+  }
+}
+
+// --max-edge in a tile. The whole job removes each component of long-edged triangles (joined
+// across any edge) that touches the hull (terrain/trim.hpp). The tile follows a final
+// triangle's component through its TIN: the component and its fate are the whole TIN's when
+// every triangle of it is final, and so is every neighbour around it (a final triangle's edges
+// are the whole TIN's, but the triangle across one is only when final too) and every hull edge
+// it touches; otherwise the buffer is too small.
+class TileTrim {
+ public:
+  TileTrim(const mesh::Triangulation& tin, const TileSetup& tile, double max_edge)
+      : tin_(tin), tile_(tile), max_edge_(max_edge), component_(tin.triangle_slots(), kNone) {}
+
+  // Whether the whole job trims final real triangle T; false, with the failure counted in
+  // TALLY, when the tile cannot tell.
+  bool trimmed(TriangleId t, FinalityTally& tally) {
+    if (!terrain::has_long_edge(tin_, t, max_edge_)) return false;
+    if (component_[t] == kNone) follow(t, tally);
+    return fate_[component_[t]] == Fate::trimmed;
+  }
+
+ private:
+  enum class Fate : std::uint8_t { kept, trimmed, unknown };
+  static constexpr std::uint32_t kNone = kNoId;
+
+  bool is_final_triangle(TriangleId t, FinalityTally& tally) const {
+    const auto c = tin_.triangle(t);
+    const tiles::Disk d =
+        tiles::circumdisk_bound(tin_.point(c[0]), tin_.point(c[1]), tin_.point(c[2]));
+    if (is_final(tin_, tile_, t, d)) return true;
+    count_failure(tin_, tile_, t, d, tally);
+    return false;
+  }
+
+  // The component of SEED, breadth first from it. One final hull edge reached through final
+  // triangles proves it trimmed; kept needs the whole component and its surroundings final. The
+  // failures of the proof count only when neither holds (the job then reads more).
+  void follow(TriangleId seed, FinalityTally& tally) {
+    const auto id = static_cast<std::uint32_t>(fate_.size());
+    FinalityTally doubts;
+    const auto fate = [&] {
+      std::vector<TriangleId> queue{seed};
+      component_[seed] = id;
+      for (std::size_t head = 0; head < queue.size(); ++head) {
+        const TriangleId t = queue[head];
+        if (t != seed && !is_final_triangle(t, doubts)) continue;
+        for (std::uint32_t i = 0; i < 3; ++i) {
+          const EdgeId e = 3 * t + i;
+          const TriangleId n = mesh::triangle_of(tin_.twin(e));
+          if (tin_.is_ghost(n)) {
+            // The ghost runs the other way: dest -> origin.
+            if (is_final_hull_edge(tile_, tin_.point(tin_.dest(e)), tin_.point(tin_.origin(e))))
+              return Fate::trimmed;
+            ++doubts.failed;
+            doubts.unbounded = true;
+          } else if (terrain::has_long_edge(tin_, n, max_edge_)) {
+            // A walk that stopped early proved its part trimmed, and this is the same component.
+            if (component_[n] != kNone && component_[n] != id) return fate_[component_[n]];
+            if (component_[n] == kNone) {
+              component_[n] = id;
+              queue.push_back(n);
+            }
+          } else {
+            is_final_triangle(n, doubts);
+          }
+        }
+      }
+      return doubts.failed > 0 ? Fate::unknown : Fate::kept;
+    }();
+    if (fate == Fate::unknown) add(tally, doubts);
+    fate_.push_back(fate);
+  }
+
+  const mesh::Triangulation& tin_;
+  const TileSetup& tile_;
+  double max_edge_;
+  std::vector<std::uint32_t> component_;  // per triangle slot
+  std::vector<Fate> fate_;                // per component
 };
 
 // Ghost (u, v, inf): the outer side of hull edge v -> u is the open half-plane left of u -> v.
@@ -188,9 +302,7 @@ void check_hull_edge(const mesh::Triangulation& tin, const TileSetup& tile, cons
   const Point2 u = tin.point(c[i]), v = tin.point(c[(i + 1) % 3]);
   if (!tiles::reaches_left_of(u, v, near)) return;
   ++tally.checked;
-  const bool final = std::none_of(
-      tile.missing.begin(), tile.missing.end(),
-      [&](const tiles::Polygon& piece) { return tiles::may_meet_left(u, v, piece, tile.margin); });
+  const bool final = is_final_hull_edge(tile, u, v);
   ++tally.beyond;
   if (!final) {
     ++tally.failed;
@@ -202,7 +314,7 @@ void check_hull_edge(const mesh::Triangulation& tin, const TileSetup& tile, cons
 // A real triangle: removed when it does not meet NEAR; else checked final, and kept when the
 // tile owns it (the others go to job.dem_extra_triangles, for the DEM).
 void check_triangle(TileJob& job, const BBox& near, const tiles::Polygon& near_polygon,
-                    TriangleId t, FinalityTally& tally) {
+                    TileTrim* trim, TriangleId t, FinalityTally& tally) {
   const TileSetup& tile = job.tile;
   mesh::Triangulation& tin = job.tin();
   const auto c = tin.triangle(t);
@@ -226,16 +338,15 @@ void check_triangle(TileJob& job, const BBox& near, const tiles::Polygon& near_p
     tally.reach = std::max(tally.reach, r);
   else
     ++tally.beyond;
+  const bool owned = tile.grid.holds(tile.col, tile.row, tiles::owner_point(a, b, p));
   if (!is_final(tin, tile, t, d)) {
-    ++tally.failed;
-    if (!std::isfinite(r)) {
-      tally.unbounded = true;
-    } else if (r >= tally.failed_reach) {
-      tally.failed_reach = r;
-      tally.at = {(a.x + b.x + p.x) / 3, (a.y + b.y + p.y) / 3};
-    }
+    count_failure(tin, tile, t, d, tally);
+  } else if (trim && trim->trimmed(t, tally)) {
+    tally.trimmed += owned;
+    tin.set_removed(t, true);  // neither the tile's nor its DEM's
+    return;
   }
-  if (tile.grid.holds(tile.col, tile.row, tiles::owner_point(a, b, p))) {
+  if (owned) {
     ++tally.owned;
   } else {
     tin.set_removed(t, true);
@@ -273,21 +384,28 @@ void run(TileJob& job) {
   const BBox near = checked_region(tile);
   const tiles::Polygon near_polygon = tiles::box_polygon(near);
   FinalityTally tally;
+  std::optional<TileTrim> trim;
+  if (job.options.max_edge > 0) trim.emplace(tin, tile, job.options.max_edge);
   const std::size_t slots = tin.triangle_slots();
   for (std::size_t s = 0; s < slots; ++s) {
     const auto t = static_cast<TriangleId>(s);
     if (tin.is_ghost(t))
       check_hull_edge(tin, tile, near, tin.triangle(t), tally);
     else
-      check_triangle(job, near, near_polygon, t, tally);
+      check_triangle(job, near, near_polygon, trim ? &*trim : nullptr, t, tally);
   }
 
   const std::string name = "tile " + std::to_string(tile.index);
   if (tally.failed > 0) throw_buffer_too_small(tile, name, tally);
+  job.report.trimmed_triangles = tally.trimmed;
+  // Its border may then be the edge of a trimmed area, which tincdt merge must not take for a
+  // crack (even when this tile trimmed nothing, its neighbour may have).
+  const bool trimmed = job.options.max_edge > 0;
+  job.write.ply_trimmed = trimmed;
   if (job.options.max_error) detail::simplify_tile(job);  // from the final triangles only
   if (!job.outline.empty()) {
     io::OutputFile& out = job.add_output(job.outline, "outline");
-    detail::write_outline(out, outline_of(tin), "");
+    detail::write_outline(out, outline_of(tin), "", trimmed);
     job.finish_output(out);
   }
   job.info(name + ": " + count_text(tally.owned, "triangle") + " owned, " +

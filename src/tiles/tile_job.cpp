@@ -256,11 +256,10 @@ void check_tile_options(const TileOptions& t, const BuildOptions& o) {
   // Each of these is a function of more of the whole TIN than a tile can prove final today; the
   // way out is the build without --plan (docs/tiling.md says what each would need).
   const std::string whole_job = " (build without --plan for it)";
-  if (o.max_edge > 0)
-    refuse("--max-edge",
-           "it trims inward from the whole TIN's hull, through as many triangles as are long, "
-           "which a tile does not see" +
-               whole_job);
+  if (o.max_edge > 0 && o.max_error)
+    refuse("--max-edge with --max-error",
+           "the whole job trims the simplified TIN, whose long triangles reach across tiles "
+           "that each simplify their own (give one of them, or build without --plan)");
   if (o.fix_flats)
     refuse("--fix-flats",
            "a flat area and the vertices that fix it span as far as the contours around it, "
@@ -359,8 +358,9 @@ TileJob::TileJob(const BuildOptions& job_options, const pipeline::CheckedOptions
 std::vector<const pipeline::Stage*> tile_stages() {
   std::vector<const pipeline::Stage*> list;
   for (const pipeline::Stage* stage : pipeline::stages()) {
-    // A tile simplifies in the tile stage, once the triangles near it are proven final.
-    if (stage->name == "simplify") continue;
+    // A tile simplifies and trims in the tile stage, once the triangles near it are proven
+    // final.
+    if (stage->name == "simplify" || stage->name == "trim") continue;
     list.push_back(stage);
     if (stage->name == "erase") list.push_back(&tile_stage);
   }

@@ -85,8 +85,9 @@ struct TileSetup {
 };
 
 // The rules of tiled jobs that need no file: --tile, --buffer and --outline need --plan, --plan
-// needs --tile, and the options that cannot give the same triangles in every tile (--max-edge,
-// --max-vertices, --fix-flats, surface features, --restore other than delaunay) are refused, as
+// needs --tile, and the options that cannot give the same triangles in every tile (--max-edge
+// with --max-error, --max-vertices, --fix-flats, surface features, --restore other than
+// delaunay) are refused, as
 // are inputs and their read options given beside a plan. Throws UsageError.
 void check_tile_options(const TileOptions& tiling, const pipeline::BuildOptions& options);
 

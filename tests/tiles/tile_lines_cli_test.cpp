@@ -52,7 +52,7 @@ TEST(TileLinesCli, OptionsATileCannotProveAreRefusedEachByName) {
       {"--erase e.geojson", "--erase cannot be used with --plan: its rings are cut to the whole"},
       {"--replace r.geojson", "--replace cannot be used with --plan: its rings are draped"},
       {"--soft-lines s.geojson", "--soft-lines cannot be used with --plan: a soft line's"},
-      {"--max-edge 5", "--max-edge cannot be used with --plan: it trims inward"},
+      {"--max-edge 5 --max-error 0.1", "--max-edge with --max-error cannot be used with --plan"},
       {"--fix-flats", "--fix-flats cannot be used with --plan: a flat area"},
       {"--restore aspect", "--restore aspect cannot be used with --plan: the triangles it leaves"},
       {"--restore none", "(build without --plan for it)"},

@@ -153,10 +153,10 @@ TEST_F(TilesCli, BadPlansGiveOneLineAndExitOne) {
                    "cloud.xyz has changed since the plan was made");
   EXPECT_FALSE(fs::exists(dir_ / "t.ply"));
   // Options a tile cannot honour are usage errors.
-  const Outcome r =
-      tincdt_run(dir_, {"--plan", "plan.json", "--tile", "0", "--max-edge", "5", "-o", "t.ply"});
+  const Outcome r = tincdt_run(
+      dir_, {"--plan", "plan.json", "--tile", "0", "--max-vertices", "50", "-o", "t.ply"});
   EXPECT_EQ(r.exit_code, 2) << r.err;
-  EXPECT_NE(r.err.find("--max-edge cannot be used with --plan"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--max-vertices cannot be used with --plan"), std::string::npos) << r.err;
   EXPECT_EQ(tincdt_run(dir_, {"--plan", "plan.json", "-o", "t.ply"}).exit_code, 2);
   EXPECT_EQ(tincdt_run(dir_, {"merge", "a.ply"}).exit_code, 2);  // neither -o nor --check
 }

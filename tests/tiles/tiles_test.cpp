@@ -291,9 +291,13 @@ TEST(Tiles, OptionsThatCannotBeTiledAreRefused) {
   pipeline::BuildOptions o;
   o.output = (dir / "t.ply").string();
   o.max_edge = 10;
-  EXPECT_NE(error_of<UsageError>([&] { tiles::build_tile(t, o); }).find("--max-edge"),
+  o.max_error = 0.5;
+  EXPECT_NE(error_of<UsageError>([&] {
+              tiles::build_tile(t, o);
+            }).find("--max-edge with --max-error cannot be used with --plan"),
             std::string::npos);
   o.max_edge = 0;
+  o.max_error.reset();
   o.max_vertices = 100;
   EXPECT_NE(error_of<UsageError>([&] { tiles::build_tile(t, o); }).find("--max-vertices"),
             std::string::npos);
@@ -301,6 +305,58 @@ TEST(Tiles, OptionsThatCannotBeTiledAreRefused) {
   o.inputs = {"p.xyz"};
   EXPECT_NE(error_of<UsageError>([&] { tiles::build_tile(t, o); }).find("come from the plan"),
             std::string::npos);
+}
+
+// --max-edge: uniform points with a round void inside (kept: its long triangles do not reach the
+// hull), a bay cut in from the east side and a gap along the north (trimmed from the hull, across
+// tile borders). The tiles' triangles together are the whole job's; the seams check.
+TEST(Tiles, TrimmedTilesHoldTheWholeTrimmedTin) {
+  const fs::path dir = scratch();
+  std::vector<Point3> points;
+  for (const Point3& p : random_points(6000, 500000, 4000000, 300, 11)) {
+    const double x = p.x - 500000, y = p.y - 4000000;
+    const bool void_inside = std::hypot(x - 120, y - 130) < 30;
+    const bool bay = x > 170 && std::fabs(y - 150) < 25;
+    const bool gap = y > 260 && std::fabs(x - 90) < 40;
+    if (!void_inside && !bay && !gap) points.push_back(p);
+  }
+  const Inputs in{{write_xyz(dir / "points.xyz", points)}, {}};
+  pipeline::BuildOptions trim;
+  trim.max_edge = 12;
+  const std::string w = whole(in, dir, trim);
+  fs::create_directories(dir / "untrimmed");
+  const std::set<Triangle> untrimmed = triangles(whole(in, dir / "untrimmed"));
+  const std::set<Triangle> whole_trimmed = triangles(w);
+  ASSERT_GT(untrimmed.size(), whole_trimmed.size() + 100);  // the bay and the gap are trimmed
+  for (const double size : {100.0, 70.0}) {
+    SCOPED_TRACE(size);
+    const std::string p = plan(in, dir, size, 10);
+    const std::size_t n = tiles::read_plan(p).tiles.size();
+    std::set<Triangle> together;
+    tiles::MergeOptions check;
+    check.check_only = true;
+    for (std::size_t i = 0; i < n; ++i) {
+      check.inputs.push_back(build_tile(p, static_cast<std::int64_t>(i), dir, 0, trim));
+      const std::set<Triangle> tile = triangles(check.inputs.back());
+      together.insert(tile.begin(), tile.end());
+    }
+    EXPECT_EQ(together, whole_trimmed);
+    std::vector<std::string> warnings;
+    const tiles::MergeReport r = tiles::merge_tiles(check, [&](int level, const std::string& m) {
+      if (level == pipeline::log_warn) warnings.push_back(m);
+    });
+    EXPECT_GT(r.seam_edges, 0u);
+    ASSERT_EQ(warnings.size(), 1u);
+    EXPECT_NE(warnings[0].find("a missing tile is not found"), std::string::npos);
+    // The merge into one TIN is refused, naming why.
+    tiles::MergeOptions whole_merge;
+    whole_merge.inputs = check.inputs;
+    whole_merge.output = (dir / "merged.ply").string();
+    EXPECT_NE(error_of<InputError>([&] {
+                tiles::merge_tiles(whole_merge);
+              }).find("was trimmed (--max-edge)"),
+              std::string::npos);
+  }
 }
 
 TEST(Tiles, MergeFindsAMissingTileAndAnOverlap) {
@@ -379,7 +435,7 @@ TEST(TileDems, AResolutionThatDoesNotDivideTheTileOrAnExtentIsRefused) {
 }
 
 // A tile job runs the pipeline's stages with the tile stage after the last that removes
-// triangles, and without the simplify stage (the tile stage simplifies the tile); the
+// triangles, and without the simplify and trim stages (the tile stage does both); the
 // pipeline's own table has no tile stage.
 TEST(Tiles, TheTileStageFollowsThePolygonStages) {
   std::vector<std::string> pipeline_names, tile_names;
@@ -390,6 +446,7 @@ TEST(Tiles, TheTileStageFollowsThePolygonStages) {
   ASSERT_NE(erase, pipeline_names.end());
   pipeline_names.insert(erase + 1, "tile");
   std::erase(pipeline_names, "simplify");
+  std::erase(pipeline_names, "trim");
   EXPECT_EQ(tile_names, pipeline_names);
 }
 

@@ -184,6 +184,8 @@ Header read_header(const std::string& path, std::string_view text, PlyMesh& mesh
         if (!(os >> mesh.offset.x >> mesh.offset.y >> mesh.offset.z)) bad("a bad offset comment");
       } else if (key == "crs") {
         mesh.crs = rest;
+      } else if (key == "trimmed") {
+        mesh.trimmed = true;
       }
     } else if (word == "element") {
       Element e;

@@ -25,6 +25,7 @@ struct PlyMesh {
   };
   std::vector<Edge> edges;
   bool outline = false;  // the edges carry an apex: a tile outline, not a TIN
+  bool trimmed = false;  // a "comment trimmed" line: triangles removed along the border
   Point3 offset{0, 0, 0};
   std::string crs;  // the text of a "comment crs" line ("EPSG:2949", or WKT), "" when none
 };
