@@ -270,9 +270,11 @@ class TileTrim {
             ++doubts.failed;
             doubts.unbounded = true;
           } else if (terrain::has_long_edge(tin_, n, max_edge_)) {
-            // A walk that stopped early proved its part trimmed, and this is the same component.
-            if (component_[n] != kNone && component_[n] != id) return fate_[component_[n]];
-            if (component_[n] == kNone) {
+            // An earlier walk reached N from a final triangle of its own and stopped (trimmed)
+            // or failed: when N is final too, this is the same component of the whole TIN.
+            if (component_[n] != kNone && component_[n] != id) {
+              if (is_final_triangle(n, doubts)) return fate_[component_[n]];
+            } else if (component_[n] == kNone) {
               component_[n] = id;
               queue.push_back(n);
             }
