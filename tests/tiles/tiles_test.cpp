@@ -61,12 +61,28 @@ Raster read_raster(const std::string& path) {
   return r;
 }
 
+// For --max-edge: uniform points with a round void inside (kept: its long triangles do not reach
+// the hull), a bay cut in from the east side and a gap along the north (trimmed from the hull,
+// across tile borders).
+Inputs gapped_points(const fs::path& dir) {
+  std::vector<Point3> points;
+  for (const Point3& p : random_points(6000, 500000, 4000000, 300, 11)) {
+    const double x = p.x - 500000, y = p.y - 4000000;
+    const bool void_inside = std::hypot(x - 120, y - 130) < 30;
+    const bool bay = x > 170 && std::fabs(y - 150) < 25;
+    const bool gap = y > 260 && std::fabs(x - 90) < 40;
+    if (!void_inside && !bay && !gap) points.push_back(p);
+  }
+  return {{write_xyz(dir / "points.xyz", points)}, {}};
+}
+
 // The whole job's DEM over the plan's full tile grid against every tile's DEM, cell for cell at
 // the same georeferenced places: each tile's DEM is its box, on the whole grid's cell lattice,
 // with the whole job's values; the tiles cover the whole grid once, except tiles the plan leaves
 // out (no data near them), which are nodata in the whole DEM.
 void expect_tiles_make_the_whole_dem(const Inputs& in, const fs::path& dir, double size,
-                                     double buffer, double resolution) {
+                                     double buffer, double resolution,
+                                     const pipeline::BuildOptions& base = no_options()) {
   const std::string p = plan(in, dir, size, buffer);
   const tiles::TilePlan tp = tiles::read_plan(p);
   std::int64_t c0 = INT64_MAX, c1 = INT64_MIN, r0 = INT64_MAX, r1 = INT64_MIN;
@@ -76,7 +92,7 @@ void expect_tiles_make_the_whole_dem(const Inputs& in, const fs::path& dir, doub
     r0 = std::min(r0, t.row);
     r1 = std::max(r1, t.row);
   }
-  pipeline::BuildOptions o;
+  pipeline::BuildOptions o = base;
   o.inputs = in.points;
   o.contours = in.contours;
   o.output = (dir / "whole.ply").string();
@@ -95,7 +111,7 @@ void expect_tiles_make_the_whole_dem(const Inputs& in, const fs::path& dir, doub
   std::size_t compared = 0, with_value = 0;
   for (const tiles::PlanTile& t : tp.tiles) {
     SCOPED_TRACE("tile " + std::to_string(t.index));
-    build_tile(p, t.index, dir, resolution);
+    build_tile(p, t.index, dir, resolution, base);
     const Raster r = read_raster((dir / ("tile_" + std::to_string(t.index) + ".tif")).string());
     ASSERT_EQ(r.width, cells);
     ASSERT_EQ(r.height, cells);
@@ -307,20 +323,10 @@ TEST(Tiles, OptionsThatCannotBeTiledAreRefused) {
             std::string::npos);
 }
 
-// --max-edge: uniform points with a round void inside (kept: its long triangles do not reach the
-// hull), a bay cut in from the east side and a gap along the north (trimmed from the hull, across
-// tile borders). The tiles' triangles together are the whole job's; the seams check.
+// --max-edge: the tiles' triangles together are the whole job's; the seams check.
 TEST(Tiles, TrimmedTilesHoldTheWholeTrimmedTin) {
   const fs::path dir = scratch();
-  std::vector<Point3> points;
-  for (const Point3& p : random_points(6000, 500000, 4000000, 300, 11)) {
-    const double x = p.x - 500000, y = p.y - 4000000;
-    const bool void_inside = std::hypot(x - 120, y - 130) < 30;
-    const bool bay = x > 170 && std::fabs(y - 150) < 25;
-    const bool gap = y > 260 && std::fabs(x - 90) < 40;
-    if (!void_inside && !bay && !gap) points.push_back(p);
-  }
-  const Inputs in{{write_xyz(dir / "points.xyz", points)}, {}};
+  const Inputs in = gapped_points(dir);
   pipeline::BuildOptions trim;
   trim.max_edge = 12;
   const std::string w = whole(in, dir, trim);
@@ -405,6 +411,14 @@ TEST(TileDems, ContoursMatchTheWholeDem) {
   Inputs in{{write_xyz(dir / "points.xyz", random_points(1500, 500000, 4000000, 300, 12))},
             {write_rings(dir / "rings.geojson", 500150, 4000150, {20, 45, 70, 95, 120})}};
   expect_tiles_make_the_whole_dem(in, dir, 100, 60, 1);
+}
+
+// Trimmed areas are nodata in the tiles' DEMs as in the whole DEM.
+TEST(TileDems, TrimmedTilesMatchTheWholeTrimmedDem) {
+  const fs::path dir = scratch();
+  pipeline::BuildOptions trim;
+  trim.max_edge = 12;
+  expect_tiles_make_the_whole_dem(gapped_points(dir), dir, 100, 10, 1, trim);
 }
 
 TEST(TileDems, AResolutionThatDoesNotDivideTheTileOrAnExtentIsRefused) {
