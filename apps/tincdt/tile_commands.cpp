@@ -220,10 +220,10 @@ int run_merge(int argc, char** argv) {
     return usage_error("merge", "--check and --outline exclude each other");
   return guarded("merge", [&] {
     const tiles::MergeReport r = tiles::merge_tiles(o, kLog);
-    spdlog::info("{} {} tiles: {} vertices, {} triangles, {} seam edges matched, {} hull edges{}",
+    spdlog::info("{} {} tiles: {} vertices, {} triangles, {} seam edges matched, {} {} edges{}",
                  o.check_only ? "checked" : "merged", count_text(r.tiles), count_text(r.vertices),
                  count_text(r.triangles), count_text(r.seam_edges), count_text(r.hull_edges),
-                 o.check_only ? "" : "; wrote " + o.output);
+                 r.trimmed ? "outline" : "hull", o.check_only ? "" : "; wrote " + o.output);
   });
 }
 

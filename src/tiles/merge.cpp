@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cassert>
 #include <cstdio>
 #include <string>
 #include <utility>
@@ -272,6 +273,13 @@ void check_loops(std::vector<Border> left, const std::vector<std::string>& names
   }
 }
 
+void warn_trimmed(const LogFn& log) {
+  if (log)
+    log(log_warn,
+        "the tiles were trimmed (--max-edge): their outline is checked for closed loops, not "
+        "against the convex hull, so a missing tile is not found");
+}
+
 // ---- the whole merge --------------------------------------------------------------------------
 
 MergeReport merge_outlines(const MergeOptions& options, const LogFn& log) {
@@ -298,15 +306,13 @@ MergeReport merge_outlines(const MergeOptions& options, const LogFn& log) {
   }
   std::vector<Border> left = match_borders(std::move(borders), options.inputs, r.seam_edges);
   r.hull_edges = left.size();
+  r.trimmed = trimmed;
   if (options.outline) {
     io::OutputSet set(options.overwrite);
     detail::write_outline(set.add(options.output, "outline"), left, crs, trimmed);
     set.commit();
   } else if (trimmed) {
-    if (log)
-      log(log_warn,
-          "the tiles were trimmed (--max-edge): their outline is checked for closed loops, not "
-          "against the convex hull, so a missing tile is not found");
+    warn_trimmed(log);
     check_loops(std::move(left), options.inputs);
   } else {
     check_hull(std::move(left), options.inputs);
@@ -323,6 +329,7 @@ struct WeldedTiles {
   std::string crs;
   Point3 offset{0, 0, 0};
   bool one_offset = true;  // all tiles share the first tile's offset, so the output may keep it
+  bool trimmed = false;  // some tile was trimmed (--max-edge): its border is not all seams and hull
 };
 
 WeldedTiles weld_tiles(const std::vector<std::string>& names, const LogFn& log, MergeReport& r) {
@@ -331,11 +338,7 @@ WeldedTiles weld_tiles(const std::vector<std::string>& names, const LogFn& log, 
     const io::PlyMesh m = io::read_ply(names[t]);
     if (m.outline)
       throw InputError(names[t], "", "is a tile outline: merge outlines with --check or --outline");
-    if (m.trimmed)
-      throw InputError(names[t], "",
-                       "was trimmed (--max-edge), and merge joins only untrimmed tiles into one "
-                       "TIN: check the seams with --check, and use the tiles as they are (their "
-                       "DEMs join with gdalbuildvrt)");
+    w.trimmed = w.trimmed || m.trimmed;
     if (t == 0) {
       w.crs = m.crs;
       w.offset = m.offset;
@@ -390,12 +393,17 @@ SeamedEdges pair_half_edges(const WeldedTiles& w, const HalfEdges& half,
         {points[a], points[b], points[tris[h / 3][(h + 2) % 3]], false, w.tri_tile[h / 3]});
     s.border_edge.push_back(h);
   }
-  check_hull(border, names);
+  if (w.trimmed)
+    check_loops(border, names);
+  else
+    check_hull(border, names);
   r.hull_edges = border.size();
   return s;
 }
 
-// The TIN: the triangles, then one ghost per hull edge, chained around the hull.
+// The TIN: the triangles, then one ghost per border edge, chained around the hull. Trimmed tiles
+// leave several loops, which may meet at a vertex: there the ghosts are chained in any order
+// (nothing walks them; the writers need every half-edge twinned).
 mesh::Triangulation link_tin(const WeldedTiles& w, const SeamedEdges& s) {
   const std::vector<Point3>& points = w.welder.points();
   const auto& tris = w.tris;
@@ -406,18 +414,37 @@ mesh::Triangulation link_tin(const WeldedTiles& w, const SeamedEdges& s) {
   for (const auto& t : tris) tin.add_triangle(t[0], t[1], t[2]);
   for (std::uint32_t h = 0; h < s.twin.size(); ++h)
     if (s.twin[h] != kNoId && h < s.twin[h]) tin.link(h, s.twin[h]);
-  std::vector<std::uint32_t> ghost_into(points.size(), kNoId);  // vertex -> ghost edge inf -> v
-  std::vector<std::uint32_t> ghost_out(points.size(), kNoId);   // vertex -> ghost edge v -> inf
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> out, into;  // (vertex, ghost edge)
   for (const std::uint32_t h : s.border_edge) {
     const std::uint32_t a = tris[h / 3][h % 3], b = tris[h / 3][(h + 1) % 3];
     const TriangleId g = tin.add_triangle(b, a, mesh::kInfinite);  // b -> a, a -> inf, inf -> b
     tin.link(h, 3 * g);
-    ghost_out[a] = 3 * g + 1;
-    ghost_into[b] = 3 * g + 2;
+    out.emplace_back(a, 3 * g + 1);
+    into.emplace_back(b, 3 * g + 2);
   }
-  for (std::uint32_t v = 0; v < points.size(); ++v)
-    if (ghost_out[v] != kNoId) tin.link(ghost_out[v], ghost_into[v]);
+  // As many ghost edges leave each vertex as arrive (check_hull(), check_loops()).
+  std::sort(out.begin(), out.end());
+  std::sort(into.begin(), into.end());
+  assert(out.size() == into.size());
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    assert(out[i].first == into[i].first);
+    tin.link(out[i].second, into[i].second);
+  }
   return tin;
+}
+
+// The first unconstrained edge between two triangles that is not locally Delaunay, "" when none.
+std::string non_delaunay_edge(const mesh::Triangulation& tin) {
+  for (EdgeId e = 0; e < 3 * tin.triangle_slots(); ++e) {
+    const EdgeId f = tin.twin(e);
+    if (f < e || tin.is_constrained(e) || tin.is_ghost(mesh::triangle_of(e)) ||
+        tin.is_ghost(mesh::triangle_of(f)))
+      continue;
+    const Point2 a = tin.point(tin.origin(e)), b = tin.point(tin.dest(e));
+    if (!delaunay_across(a, b, tin.point(tin.apex(e)), tin.point(tin.apex(f))))
+      return "the edge from " + at(a) + " to " + at(b) + " is not Delaunay";
+  }
+  return {};
 }
 
 // Marks the tiles' constrained edges, then checks the whole: a seam that is not Delaunay or a
@@ -434,7 +461,9 @@ void constrain_and_validate(mesh::Triangulation& tin, const WeldedTiles& w, cons
     tin.set_constrained(h, true);
   }
   tin.recount();
-  const std::string problem = tin.validate();
+  // With holes, Triangulation::validate() (one convex hull) does not apply; what tiles of
+  // different inputs or runs would break is the Delaunay property across their seams.
+  const std::string problem = w.trimmed ? non_delaunay_edge(tin) : tin.validate();
   if (!problem.empty())
     throw InputError(
         names.front(), "",
@@ -463,6 +492,8 @@ void write_merged(const MergeOptions& options, const mesh::Triangulation& tin,
 MergeReport merge_whole(const MergeOptions& options, const LogFn& log) {
   MergeReport r;
   const WeldedTiles welded = weld_tiles(options.inputs, log, r);
+  r.trimmed = welded.trimmed;
+  if (r.trimmed) warn_trimmed(log);
   const HalfEdges half(welded.tris);
   const SeamedEdges seamed = pair_half_edges(welded, half, options.inputs, r);
   mesh::Triangulation tin = link_tin(welded, seamed);

@@ -11,7 +11,8 @@
 // be deleted as the jobs go and checked together at the end.
 //
 // Tiles trimmed with --max-edge (a "comment trimmed" PLY line) have borders that are neither seams
-// nor hull: their outlines are checked for closed loops only, and they are not merged into one TIN.
+// nor hull: their outline is checked for closed loops only, and the merged TIN for the Delaunay
+// property across its edges, not against one convex hull.
 #pragma once
 
 #include <cstdint>
@@ -36,6 +37,7 @@ struct MergeReport {
   std::uint64_t triangles = 0;
   std::uint64_t seam_edges = 0;  // border edges of one tile matched by another's
   std::uint64_t hull_edges = 0;  // border edges left over: the hull (outline: the new outline)
+  bool trimmed = false;          // trimmed tiles: the border edges left over are the outline
 };
 
 // Throws InputError naming the tiles at fault, OutputError for the output.

@@ -63,7 +63,7 @@ Raster read_raster(const std::string& path) {
 
 // For --max-edge: uniform points with a round void inside (kept: its long triangles do not reach
 // the hull), a bay cut in from the east side and a gap along the north (trimmed from the hull,
-// across tile borders).
+// across tile borders); contour rings across all three.
 Inputs gapped_points(const fs::path& dir) {
   std::vector<Point3> points;
   for (const Point3& p : random_points(6000, 500000, 4000000, 300, 11)) {
@@ -73,7 +73,8 @@ Inputs gapped_points(const fs::path& dir) {
     const bool gap = y > 260 && std::fabs(x - 90) < 40;
     if (!void_inside && !bay && !gap) points.push_back(p);
   }
-  return {{write_xyz(dir / "points.xyz", points)}, {}};
+  return {{write_xyz(dir / "points.xyz", points)},
+          {write_rings(dir / "rings.geojson", 500150, 4000150, {35, 75, 115})}};
 }
 
 // The whole job's DEM over the plan's full tile grid against every tile's DEM, cell for cell at
@@ -354,14 +355,14 @@ TEST(Tiles, TrimmedTilesHoldTheWholeTrimmedTin) {
     EXPECT_GT(r.seam_edges, 0u);
     ASSERT_EQ(warnings.size(), 1u);
     EXPECT_NE(warnings[0].find("a missing tile is not found"), std::string::npos);
-    // The merge into one TIN is refused, naming why.
+    // Merged into one TIN: the whole job's, its holes and bays included.
     tiles::MergeOptions whole_merge;
     whole_merge.inputs = check.inputs;
     whole_merge.output = (dir / "merged.ply").string();
-    EXPECT_NE(error_of<InputError>([&] {
-                tiles::merge_tiles(whole_merge);
-              }).find("was trimmed (--max-edge)"),
-              std::string::npos);
+    whole_merge.overwrite = true;
+    tiles::merge_tiles(whole_merge);
+    expect_same_tin(w, whole_merge.output);
+    EXPECT_EQ(io::read_ply(whole_merge.output).edges.size(), io::read_ply(w).edges.size());
   }
 }
 
