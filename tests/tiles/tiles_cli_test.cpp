@@ -96,9 +96,13 @@ class TilesCli : public ::testing::Test {
     dir_ = tincdt::test::scratch_dir("tiles_cli");
     write_cloud(dir_ / "cloud.xyz", 4000);
   }
-  // The TIN at MERGED (below the folder) has the vertices and faces of the cloud's single job.
-  void expect_counts_of_single_job(const std::string& merged) const {
-    const Outcome r = tincdt_run(dir_, {"cloud.xyz", "-o", "whole.ply", "-q"});
+  // The TIN at MERGED (below the folder) has the vertices and faces of the cloud's single job
+  // (with the job options OPTIONS).
+  void expect_counts_of_single_job(const std::string& merged,
+                                   const std::vector<std::string>& options = {}) const {
+    std::vector<std::string> args = {"cloud.xyz", "-o", "whole.ply", "-q", "--overwrite"};
+    args.insert(args.end(), options.begin(), options.end());
+    const Outcome r = tincdt_run(dir_, args);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const std::string a = tincdt::test::ply_header(dir_ / "whole.ply");
     const std::string b = tincdt::test::ply_header(dir_ / merged);
@@ -132,6 +136,34 @@ TEST_F(TilesCli, PlanTileMergeAsAUserRunsThem) {
   r = tincdt_run(dir_, merge);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   expect_counts_of_single_job("merged.ply");
+}
+
+// --max-edge on every tile: the merge warns that it checks loops, not the hull, and gives the
+// single job's trimmed TIN.
+TEST_F(TilesCli, TrimmedTilesMergeWithAWarning) {
+  Outcome r = tincdt_run(
+      dir_, {"plan", "cloud.xyz", "--tile-size", "100", "--buffer", "20", "-o", "plan.json", "-q"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::vector<std::string> merge = {"merge"};
+  for (int i = 0; i < 4; ++i) {
+    const std::string n = std::to_string(i);
+    r = tincdt_run(dir_, {"--plan", "plan.json", "--tile", n, "--max-edge", "6", "-o",
+                          "tile_" + n + ".ply", "-q"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    merge.push_back("tile_" + n + ".ply");
+  }
+  merge.insert(merge.end(), {"-o", "merged.ply"});
+  r = tincdt_run(dir_, merge);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("tincdt: warning: the tiles were trimmed (--max-edge)"), std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find(" outline edges; wrote merged.ply"), std::string::npos) << r.err;
+  expect_counts_of_single_job("merged.ply", {"--max-edge", "6"});
+  const Outcome whole = tincdt_run(dir_, {"cloud.xyz", "-o", "untrimmed.ply", "-q"});
+  ASSERT_EQ(whole.exit_code, 0) << whole.err;
+  EXPECT_GT(
+      tincdt::test::ply_element_count(tincdt::test::ply_header(dir_ / "untrimmed.ply"), "face"),
+      tincdt::test::ply_element_count(tincdt::test::ply_header(dir_ / "merged.ply"), "face"));
 }
 
 TEST_F(TilesCli, BadPlansGiveOneLineAndExitOne) {
