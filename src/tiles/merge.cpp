@@ -10,6 +10,7 @@
 
 #include "core/error.hpp"
 #include "core/number_text.hpp"
+#include "core/quoted_text.hpp"
 #include "io/crs.hpp"
 #include "io/mesh/ply_reader.hpp"
 #include "io/mesh/tin_writer.hpp"
@@ -254,8 +255,8 @@ void check_hull(std::vector<Border> hull, const std::vector<std::string>& names)
 }
 
 // The border edges left over from trimmed tiles: the hull where nothing was trimmed, and the
-// outlines of the trimmed areas. No more than closed loops can be checked (a missing tile leaves a
-// loop too): at every vertex as many edges arrive as leave.
+// outlines of the trimmed areas. They must close into loops: at every vertex as many edges arrive
+// as leave. (A missing tile leaves a loop too: TrimmedTiles counts the tiles.)
 void check_loops(std::vector<Border> left, const std::vector<std::string>& names) {
   if (left.empty()) throw InputError(names.front(), "", "the tiles hold no triangle");
   std::vector<std::pair<Point2, int>> ends;  // +1 per edge leaving, -1 per edge arriving
@@ -273,12 +274,55 @@ void check_loops(std::vector<Border> left, const std::vector<std::string>& names
   }
 }
 
-void warn_trimmed(const LogFn& log) {
-  if (log)
-    log(log_warn,
-        "the tiles were trimmed (--max-edge): their outline is checked for closed loops, not "
-        "against the convex hull, so a missing tile is not found");
-}
+// The plan's tiles that trimmed inputs hold, from their marks (detail::TileMark): as a missing
+// tile's hole cannot be told from a trimmed area, they are counted instead. Either every input is
+// marked or none.
+class TrimmedTiles {
+ public:
+  void add(const std::string& name, const std::optional<std::string>& text) {
+    if (!text) {
+      if (unmarked_.empty()) unmarked_ = name;
+      return;
+    }
+    const std::optional<detail::TileMark> mark = detail::parse_mark(*text);
+    if (!mark) throw InputError(name, "header", "a bad trimmed line: " + quoted_text(*text));
+    if (seen_.empty()) {
+      seen_.assign(mark->count, 0);
+      marked_ = name;
+    } else if (mark->count != seen_.size()) {
+      throw InputError(name, "header",
+                       "is a tile of a plan of " + count_text(mark->count, "tile") + ", " +
+                           marked_ + " of " + count_text(seen_.size()));
+    }
+    for (const std::uint32_t t : mark->tiles)
+      if (seen_[t]++)
+        throw InputError(name, "header", "holds tile " + std::to_string(t) + " again");
+  }
+  bool any() const { return !seen_.empty(); }
+  // Every input marked; with WHOLE, every tile of the plan there.
+  void check(bool whole) const {
+    if (!any()) return;
+    if (!unmarked_.empty())
+      throw InputError(
+          unmarked_, "",
+          "was not trimmed, but " + marked_ + " was (--max-edge): tiles of different runs");
+    const auto missing = std::find(seen_.begin(), seen_.end(), 0);
+    if (whole && missing != seen_.end())
+      throw InputError(marked_, "",
+                       "tile " + std::to_string(missing - seen_.begin()) + " of its plan's " +
+                           count_text(seen_.size()) + " is missing");
+  }
+  std::string text() const {
+    detail::TileMark mark{static_cast<std::uint32_t>(seen_.size()), {}};
+    for (std::uint32_t t = 0; t < seen_.size(); ++t)
+      if (seen_[t]) mark.tiles.push_back(t);
+    return any() ? detail::mark_text(mark) : "";
+  }
+
+ private:
+  std::vector<char> seen_;
+  std::string marked_, unmarked_;
+};
 
 // ---- the whole merge --------------------------------------------------------------------------
 
@@ -286,11 +330,11 @@ MergeReport merge_outlines(const MergeOptions& options, const LogFn& log) {
   MergeReport r;
   std::vector<Border> borders;
   std::string crs;
-  bool trimmed = false;
+  TrimmedTiles trimmed;
   for (std::uint32_t t = 0; t < options.inputs.size(); ++t) {
     const io::PlyMesh m = io::read_ply(options.inputs[t]);
     if (crs.empty()) crs = m.crs;
-    trimmed = trimmed || m.trimmed;
+    trimmed.add(options.inputs[t], m.trimmed);
     ++r.tiles;
     r.vertices += m.vertices.size();
     r.triangles += m.faces.size();
@@ -306,13 +350,13 @@ MergeReport merge_outlines(const MergeOptions& options, const LogFn& log) {
   }
   std::vector<Border> left = match_borders(std::move(borders), options.inputs, r.seam_edges);
   r.hull_edges = left.size();
-  r.trimmed = trimmed;
+  r.trimmed = trimmed.any();
+  trimmed.check(!options.outline);
   if (options.outline) {
     io::OutputSet set(options.overwrite);
-    detail::write_outline(set.add(options.output, "outline"), left, crs, trimmed);
+    detail::write_outline(set.add(options.output, "outline"), left, crs, trimmed.text());
     set.commit();
-  } else if (trimmed) {
-    warn_trimmed(log);
+  } else if (r.trimmed) {
     check_loops(std::move(left), options.inputs);
   } else {
     check_hull(std::move(left), options.inputs);
@@ -329,7 +373,7 @@ struct WeldedTiles {
   std::string crs;
   Point3 offset{0, 0, 0};
   bool one_offset = true;  // all tiles share the first tile's offset, so the output may keep it
-  bool trimmed = false;  // some tile was trimmed (--max-edge): its border is not all seams and hull
+  TrimmedTiles trimmed;  // the tiles' marks when trimmed (--max-edge): borders not all seams, hull
 };
 
 WeldedTiles weld_tiles(const std::vector<std::string>& names, const LogFn& log, MergeReport& r) {
@@ -338,7 +382,7 @@ WeldedTiles weld_tiles(const std::vector<std::string>& names, const LogFn& log, 
     const io::PlyMesh m = io::read_ply(names[t]);
     if (m.outline)
       throw InputError(names[t], "", "is a tile outline: merge outlines with --check or --outline");
-    w.trimmed = w.trimmed || m.trimmed;
+    w.trimmed.add(names[t], m.trimmed);
     if (t == 0) {
       w.crs = m.crs;
       w.offset = m.offset;
@@ -393,7 +437,7 @@ SeamedEdges pair_half_edges(const WeldedTiles& w, const HalfEdges& half,
         {points[a], points[b], points[tris[h / 3][(h + 2) % 3]], false, w.tri_tile[h / 3]});
     s.border_edge.push_back(h);
   }
-  if (w.trimmed)
+  if (w.trimmed.any())
     check_loops(border, names);
   else
     check_hull(border, names);
@@ -463,7 +507,7 @@ void constrain_and_validate(mesh::Triangulation& tin, const WeldedTiles& w, cons
   tin.recount();
   // With holes, Triangulation::validate() (one convex hull) does not apply; what tiles of
   // different inputs or runs would break is the Delaunay property across their seams.
-  const std::string problem = w.trimmed ? non_delaunay_edge(tin) : tin.validate();
+  const std::string problem = w.trimmed.any() ? non_delaunay_edge(tin) : tin.validate();
   if (!problem.empty())
     throw InputError(
         names.front(), "",
@@ -492,8 +536,8 @@ void write_merged(const MergeOptions& options, const mesh::Triangulation& tin,
 MergeReport merge_whole(const MergeOptions& options, const LogFn& log) {
   MergeReport r;
   const WeldedTiles welded = weld_tiles(options.inputs, log, r);
-  r.trimmed = welded.trimmed;
-  if (r.trimmed) warn_trimmed(log);
+  r.trimmed = welded.trimmed.any();
+  welded.trimmed.check(true);
   const HalfEdges half(welded.tris);
   const SeamedEdges seamed = pair_half_edges(welded, half, options.inputs, r);
   mesh::Triangulation tin = link_tin(welded, seamed);

@@ -10,9 +10,10 @@
 // must form the convex hull. `--outline` writes that outline of some tiles, so that the tiles can
 // be deleted as the jobs go and checked together at the end.
 //
-// Tiles trimmed with --max-edge (a "comment trimmed" PLY line) have borders that are neither seams
-// nor hull: their outline is checked for closed loops only, and the merged TIN for the Delaunay
-// property across its edges, not against one convex hull.
+// Tiles trimmed with --max-edge (a "comment trimmed" PLY line naming the plan's tiles each holds)
+// have borders that are neither seams nor hull: their outline is checked for closed loops, the
+// merged TIN for the Delaunay property across its edges instead of one convex hull, and the tiles
+// are counted: every tile of the plan once.
 #pragma once
 
 #include <cstdint>

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -21,8 +22,18 @@ struct Border {
 
 // EDGES as a binary PLY: the vertices (x, y, z doubles) and an edge element with vertex1,
 // vertex2, apex and constrained; CRS: a "comment crs" text, "" for none.
-// TRIMMED: the outline of trimmed tiles (a "comment trimmed" line), not only seams and hull.
+// The mark of a file of trimmed tiles (the PLY line "comment trimmed tiles of N: I J ..."):
+// which of the plan's N tiles it holds, so that a merge, which cannot tell a missing tile's hole
+// from a trimmed area, can count them.
+struct TileMark {
+  std::uint32_t count = 0;
+  std::vector<std::uint32_t> tiles;
+};
+std::string mark_text(const TileMark& mark);
+std::optional<TileMark> parse_mark(const std::string& text);  // nullopt when malformed
+
+// TRIMMED: the mark of trimmed tiles (a "comment trimmed" line), "" for none.
 void write_outline(io::OutputFile& out, const std::vector<Border>& edges, const std::string& crs,
-                   bool trimmed = false);
+                   const std::string& trimmed = "");
 
 }  // namespace tincdt::tiles::detail

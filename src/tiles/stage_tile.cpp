@@ -402,7 +402,8 @@ void run(TileJob& job) {
   job.report.trimmed_triangles = tally.trimmed;
   // Its border may then be the edge of a trimmed area, which tincdt merge must not take for a
   // crack (even when this tile trimmed nothing, its neighbour may have).
-  const bool trimmed = job.options.max_edge > 0;
+  const std::string trimmed =
+      job.options.max_edge > 0 ? detail::mark_text({tile.tile_count, {tile.index}}) : "";
   job.write.ply_trimmed = trimmed;
   if (job.options.max_error) detail::simplify_tile(job);  // from the final triangles only
   if (!job.outline.empty()) {

@@ -121,6 +121,7 @@ void place_tile(TileSetup& setup, const TilePlan& plan, const PlanTile& tile,
                 const TileOptions& tiling, const BuildOptions& options) {
   setup.plan_path = tiling.plan;
   setup.index = tile.index;
+  setup.tile_count = static_cast<std::uint32_t>(plan.tiles.size());
   setup.col = tile.col;
   setup.row = tile.row;
   setup.grid = tiles::TileGrid{plan.tile_size};

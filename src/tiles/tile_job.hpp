@@ -64,6 +64,7 @@ class BufferTooSmall : public InputError {
 struct TileSetup {
   std::string plan_path;
   std::uint32_t index = 0;
+  std::uint32_t tile_count = 0;  // the plan's
   std::int64_t col = 0;
   std::int64_t row = 0;
   tiles::TileGrid grid;

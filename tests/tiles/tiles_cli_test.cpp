@@ -138,9 +138,9 @@ TEST_F(TilesCli, PlanTileMergeAsAUserRunsThem) {
   expect_counts_of_single_job("merged.ply");
 }
 
-// --max-edge on every tile: the merge warns that it checks loops, not the hull, and gives the
-// single job's trimmed TIN.
-TEST_F(TilesCli, TrimmedTilesMergeWithAWarning) {
+// --max-edge on every tile: the merge gives the single job's trimmed TIN, and names a missing
+// tile.
+TEST_F(TilesCli, TrimmedTilesMergeAndAMissingOneIsNamed) {
   Outcome r = tincdt_run(
       dir_, {"plan", "cloud.xyz", "--tile-size", "100", "--buffer", "20", "-o", "plan.json", "-q"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -152,11 +152,12 @@ TEST_F(TilesCli, TrimmedTilesMergeWithAWarning) {
     ASSERT_EQ(r.exit_code, 0) << r.err;
     merge.push_back("tile_" + n + ".ply");
   }
+  std::vector<std::string> without_one(merge.begin(), merge.end() - 1);
+  without_one.push_back("--check");
+  expect_one_error(tincdt_run(dir_, without_one), 1, "tile 3 of its plan's 4 is missing");
   merge.insert(merge.end(), {"-o", "merged.ply"});
   r = tincdt_run(dir_, merge);
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.err.find("tincdt: warning: the tiles were trimmed (--max-edge)"), std::string::npos)
-      << r.err;
   EXPECT_NE(r.err.find(" outline edges; wrote merged.ply"), std::string::npos) << r.err;
   expect_counts_of_single_job("merged.ply", {"--max-edge", "6"});
   const Outcome whole = tincdt_run(dir_, {"cloud.xyz", "-o", "untrimmed.ply", "-q"});

@@ -342,18 +342,21 @@ TEST(Tiles, TrimmedTilesHoldTheWholeTrimmedTin) {
     const std::string merged = tiled(in, dir, size, 10, -1, trim);
     expect_same_tin(w, merged);
     EXPECT_EQ(io::read_ply(merged).edges.size(), io::read_ply(w).edges.size());
-    // The merge says what it cannot check.
+    // A missing tile leaves a hole that closes like a trimmed area: the marks count the tiles.
     tiles::MergeOptions check;
     check.check_only = true;
-    for (std::size_t i = 0; i < tiles::read_plan((dir / "plan.json").string()).tiles.size(); ++i)
+    const std::size_t n = tiles::read_plan((dir / "plan.json").string()).tiles.size();
+    for (std::size_t i = 0; i < n; ++i)
       check.inputs.push_back((dir / ("tile_" + std::to_string(i) + ".ply")).string());
-    std::vector<std::string> warnings;
-    const tiles::MergeReport r = tiles::merge_tiles(check, [&](int level, const std::string& m) {
-      if (level == pipeline::log_warn) warnings.push_back(m);
-    });
-    EXPECT_TRUE(r.trimmed);
-    ASSERT_EQ(warnings.size(), 1u);
-    EXPECT_NE(warnings[0].find("a missing tile is not found"), std::string::npos);
+    EXPECT_TRUE(tiles::merge_tiles(check).trimmed);
+    check.inputs.erase(check.inputs.begin() + 1);
+    EXPECT_NE(error_of<InputError>([&] {
+                tiles::merge_tiles(check);
+              }).find("tile 1 of its plan's " + std::to_string(n) + " is missing"),
+              std::string::npos);
+    check.inputs.push_back(check.inputs.front());
+    EXPECT_NE(error_of<InputError>([&] { tiles::merge_tiles(check); }).find("holds tile 0 again"),
+              std::string::npos);
   }
 }
 

@@ -185,7 +185,7 @@ Header read_header(const std::string& path, std::string_view text, PlyMesh& mesh
       } else if (key == "crs") {
         mesh.crs = rest;
       } else if (key == "trimmed") {
-        mesh.trimmed = true;
+        mesh.trimmed = rest;
       }
     } else if (word == "element") {
       Element e;

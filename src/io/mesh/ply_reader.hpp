@@ -7,6 +7,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,7 +26,8 @@ struct PlyMesh {
   };
   std::vector<Edge> edges;
   bool outline = false;  // the edges carry an apex: a tile outline, not a TIN
-  bool trimmed = false;  // a "comment trimmed" line: triangles removed along the border
+  // A "comment trimmed TEXT" line: triangles removed along the border (TEXT: which tiles).
+  std::optional<std::string> trimmed;
   Point3 offset{0, 0, 0};
   std::string crs;  // the text of a "comment crs" line ("EPSG:2949", or WKT), "" when none
 };

@@ -13,7 +13,7 @@ std::string ply_header(bool ascii, std::size_t nv, std::uint64_t nt, std::uint64
   std::string h = "ply\nformat ";
   h += ascii ? "ascii" : "binary_little_endian";
   h += " 1.0\ncomment tincdt\n";
-  if (options.ply_trimmed) h += "comment trimmed\n";
+  if (!options.ply_trimmed.empty()) h += "comment trimmed " + options.ply_trimmed + "\n";
   // The offset was subtracted from every vertex: add it back for the original coordinates.
   if (!is_zero(options.offset)) h += "comment offset " + format_point(options.offset) + "\n";
   if (!options.crs_wkt.empty()) {

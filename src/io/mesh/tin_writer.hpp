@@ -40,9 +40,9 @@ struct TinWriteOptions {
   // Default: from the extension (.obj .ply .geojson/.json .xml/.landxml .gpkg .stl .glb).
   std::optional<TinFormat> format;
   bool ply_ascii = false;
-  // PLY: a "comment trimmed" line, for a tile whose border is not all the whole TIN's hull
-  // and seams (tincdt merge reads it).
-  bool ply_trimmed = false;
+  // PLY: when not empty, a "comment trimmed TEXT" line, for a tile whose border is not all the
+  // whole TIN's hull and seams (TEXT: which tiles; tincdt merge reads it).
+  std::string ply_trimmed;
   bool ogr_tin = false;    // GeoPackage: TIN Z features instead of POLYGON Z
   bool overwrite = false;  // replace an existing output
   Point3 offset{0, 0, 0};  // subtracted from every coordinate (recorded in the file);
