@@ -286,19 +286,23 @@ class TrimmedTiles {
     }
     const std::optional<detail::TileMark> mark = detail::parse_mark(*text);
     if (!mark) throw InputError(name, "header", "a bad trimmed line: " + quoted_text(*text));
-    if (seen_.empty()) {
-      seen_.assign(mark->count, 0);
+    if (marked_.empty()) {
+      count_ = mark->count;
       marked_ = name;
-    } else if (mark->count != seen_.size()) {
+    } else if (mark->count != count_) {
       throw InputError(name, "header",
                        "is a tile of a plan of " + count_text(mark->count, "tile") + ", " +
-                           marked_ + " of " + count_text(seen_.size()));
+                           marked_ + " of " + count_text(count_));
     }
-    for (const std::uint32_t t : mark->tiles)
-      if (seen_[t]++)
+    // The indices held, not a flag per tile: nothing is allocated from the count a file states.
+    for (const std::uint32_t t : mark->tiles) {
+      const auto at = std::lower_bound(seen_.begin(), seen_.end(), t);
+      if (at != seen_.end() && *at == t)
         throw InputError(name, "header", "holds tile " + std::to_string(t) + " again");
+      seen_.insert(at, t);
+    }
   }
-  bool any() const { return !seen_.empty(); }
+  bool any() const { return !marked_.empty(); }
   // Every input marked; with WHOLE, every tile of the plan there.
   void check(bool whole) const {
     if (!any()) return;
@@ -306,21 +310,18 @@ class TrimmedTiles {
       throw InputError(
           unmarked_, "",
           "was not trimmed, but " + marked_ + " was (--max-edge): tiles of different runs");
-    const auto missing = std::find(seen_.begin(), seen_.end(), 0);
-    if (whole && missing != seen_.end())
-      throw InputError(marked_, "",
-                       "tile " + std::to_string(missing - seen_.begin()) + " of its plan's " +
-                           count_text(seen_.size()) + " is missing");
+    if (!whole || seen_.size() == count_) return;
+    std::uint32_t missing = 0;  // the first index not held: seen_ is sorted and unique
+    while (missing < seen_.size() && seen_[missing] == missing) ++missing;
+    throw InputError(
+        marked_, "",
+        "tile " + std::to_string(missing) + " of its plan's " + count_text(count_) + " is missing");
   }
-  std::string text() const {
-    detail::TileMark mark{static_cast<std::uint32_t>(seen_.size()), {}};
-    for (std::uint32_t t = 0; t < seen_.size(); ++t)
-      if (seen_[t]) mark.tiles.push_back(t);
-    return any() ? detail::mark_text(mark) : "";
-  }
+  std::string text() const { return any() ? detail::mark_text({count_, seen_}) : ""; }
 
  private:
-  std::vector<char> seen_;
+  std::uint32_t count_ = 0;
+  std::vector<std::uint32_t> seen_;  // sorted
   std::string marked_, unmarked_;
 };
 
