@@ -15,6 +15,7 @@
 #include <exception>
 #include <filesystem>
 #include <numbers>
+#include <optional>
 #include <span>
 #include <string>
 #include <thread>
@@ -128,13 +129,48 @@ struct LevelStats {
   TileError error;
 };
 
-// Builds the tiles KEYS[i] into TILES[i], each within its level's error, on WORKERS threads.
+// The TIN's vertices that are vertices of one level's tiles, kept while the level above is built
+// from them.
+class LevelVertices {
+ public:
+  explicit LevelVertices(const qm::TileRange& range)
+      : range_(range), vertices_(static_cast<std::size_t>(tile_count(range))) {}
+  void keep(const qm::TileKey& key, std::vector<std::uint32_t> vertices) {
+    vertices_[slot(key.x, key.y)] = std::move(vertices);
+  }
+  // The vertices of the children of PARENT (a tile one level up) that the level has, ascending.
+  std::vector<std::uint32_t> children_of(const qm::TileKey& parent) const {
+    std::vector<std::uint32_t> out;
+    for (std::uint32_t x = 2 * parent.x; x <= 2 * parent.x + 1; ++x)
+      for (std::uint32_t y = 2 * parent.y; y <= 2 * parent.y + 1; ++y)
+        if (x >= range_.start_x && x <= range_.end_x && y >= range_.start_y && y <= range_.end_y) {
+          const std::vector<std::uint32_t>& v = vertices_[slot(x, y)];
+          out.insert(out.end(), v.begin(), v.end());
+        }
+    // A vertex on the side between two children can be a vertex of both.
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+  }
+
+ private:
+  std::size_t slot(std::uint32_t x, std::uint32_t y) const {
+    return std::size_t{x - range_.start_x} * (range_.end_y - range_.start_y + 1) +
+           (y - range_.start_y);
+  }
+  qm::TileRange range_;
+  std::vector<std::vector<std::uint32_t>> vertices_;
+};
+
+// Builds the tiles KEYS[i] (of one level) into TILES[i], each within its level's error, from
+// the vertices of their children in FINER (null: from the TIN's), on WORKERS threads.
 // Worker 0, on the calling thread, reports the stage's fraction AT within its tiles and, once it
 // has none left, while the others finish theirs: a request to stop gets through within a tile's
 // step. A tile that fails stops the tiles after it, not those before it, so the error rethrown,
 // the lowest tile's, is the same on any number of threads; a stop comes after any error.
 void build_tiles(Job& job, const TerrainSource& source, std::span<const qm::TileKey> keys,
-                 std::size_t workers, double at, std::vector<web_terrain::BuiltTile>& tiles) {
+                 const LevelVertices* finer, std::size_t workers, double at,
+                 std::vector<web_terrain::BuiltTile>& tiles) {
   tiles.assign(keys.size(), {});
   std::vector<std::exception_ptr> errors(keys.size());
   std::exception_ptr stop;
@@ -158,8 +194,13 @@ void build_tiles(Job& job, const TerrainSource& source, std::span<const qm::Tile
     for (; (i = next.fetch_add(1)) < keys.size(); ++finished) {
       try {
         if (stopped || i > first_failed) throw Cancelled();
-        tiles[i] = web_terrain::build_tile(
-            source, keys[i], qm::geometric_error_at_level(keys[i].level), &within_tile);
+        const double error = qm::geometric_error_at_level(keys[i].level);
+        if (finer) {
+          const std::vector<std::uint32_t> children = finer->children_of(keys[i]);
+          tiles[i] = web_terrain::build_tile(source, keys[i], error, &within_tile, &children);
+        } else {
+          tiles[i] = web_terrain::build_tile(source, keys[i], error, &within_tile);
+        }
       } catch (const Cancelled&) {
         errors[i] = std::current_exception();
       } catch (...) {
@@ -242,31 +283,38 @@ struct LevelRun {
   LevelStats stats;
 };
 
-// Writes the tiles of LEVELS (from level 0, one range of tiles each) in order (level, x, y),
-// built in batches on every thread: the coarse levels, one or two tiles over all the data each,
-// are built side by side. A level is logged once its last tile is written.
+// Writes the tiles of RANGES (from level 0, one range of tiles each), built in batches on every
+// thread from the finest level up: a coarser level's tiles choose their vertices from their
+// children's (the finest level's from the TIN's), so that a level's work is its tiles', not the
+// TIN's. The coarse levels, one or two tiles over all the data each, are built side by side. A
+// level is logged once its last tile is written.
 void write_levels(Job& job, const TerrainSource& source, const std::vector<qm::TileRange>& ranges) {
   constexpr std::size_t kHeavyAtOnce = 2;
   const int max_level = static_cast<int>(ranges.size()) - 1;
   const std::vector<double> shares = level_shares(source, ranges);
-  std::vector<LevelRun> levels;
+  std::vector<LevelRun> levels(ranges.size());
   double start = 0;
-  for (std::size_t level = 0; level < ranges.size(); ++level) {
-    levels.push_back({ranges[level], tile_count(ranges[level]), start, shares[level], {}});
-    start += shares[level];
+  for (int level = max_level; level >= 0; --level) {
+    const auto l = static_cast<std::size_t>(level);
+    levels[l] = {ranges[l], tile_count(ranges[l]), start, shares[l], {}};
+    start += shares[l];
   }
   const auto fraction = [&levels](const qm::TileKey& key) {
     const LevelRun& l = levels[static_cast<std::size_t>(key.level)];
-    return l.start + l.share * static_cast<double>(l.stats.tiles) / static_cast<double>(l.count);
+    // The shares' sum can round above 1, which the stage's end would then go back from.
+    return std::min(
+        1.0, l.start + l.share * static_cast<double>(l.stats.tiles) / static_cast<double>(l.count));
   };
   const std::size_t workers = thread_count(job.options.threads);
   std::vector<qm::TileKey> batch;
   std::vector<web_terrain::BuiltTile> tiles;
+  std::optional<LevelVertices> finer, built;
   const auto flush = [&] {
-    build_tiles(job, source, batch, workers, fraction(batch.front()), tiles);
+    build_tiles(job, source, batch, finer ? &*finer : nullptr, workers, fraction(batch.front()),
+                tiles);
     for (std::size_t i = 0; i < batch.size(); ++i) {
       const qm::TileKey& key = batch[i];
-      const web_terrain::BuiltTile& tile = tiles[i];
+      web_terrain::BuiltTile& tile = tiles[i];
       qm::QuantizedMeshOptions options;
       options.available = children(key, max_level, source.bounds());
       write_file(job, tile_path(job.options.terrain.path, key),
@@ -278,13 +326,15 @@ void write_levels(Job& job, const TerrainSource& source, const std::vector<qm::T
       l.stats.lines_dropped += tile.lines_dropped;
       l.stats.outlines_dropped += tile.outline_dropped;
       l.stats.error.add(tile.error);
+      if (key.level > 0) built->keep(key, std::move(tile.tin_vertices));
       job.progress(fraction(key));
       if (l.stats.tiles == l.count) log_level(job, key.level, l.stats);
     }
     batch.clear();
   };
-  for (int level = 0; level <= max_level; ++level) {
+  for (int level = max_level; level >= 0; --level) {
     const LevelRun& l = levels[static_cast<std::size_t>(level)];
+    built.emplace(l.range);
     for (std::uint32_t x = l.range.start_x; x <= l.range.end_x; ++x)
       for (std::uint32_t y = l.range.start_y; y <= l.range.end_y; ++y) {
         batch.push_back({level, x, y});
@@ -294,8 +344,9 @@ void write_levels(Job& job, const TerrainSource& source, const std::vector<qm::T
             (batch.size() >= kHeavyAtOnce && l.share / static_cast<double>(l.count) > 0.01))
           flush();
       }
+    if (!batch.empty()) flush();
+    finer = std::move(built);
   }
-  if (!batch.empty()) flush();
 }
 
 void log_units(Job& job, const TerrainSource& source) {

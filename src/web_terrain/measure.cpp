@@ -86,24 +86,32 @@ Weights weights(const std::array<Corner, 3>& c, double area, double u, double v)
           orient(c[0], c[1], u, v) / area};
 }
 
+bool strictly_inside(const std::array<Corner, 3>& c, double area, double u, double v) {
+  return area > 0 && orient(c[1], c[2], u, v) > 0 && orient(c[2], c[0], u, v) > 0 &&
+         orient(c[0], c[1], u, v) > 0;
+}
+
 // The surface's height at U, V: the triangle of the cell that holds the point best (the least
 // negative barycentric weight, for a point on an edge rounded off it). A point whose triangle is
 // a hole's is in the hole unless a shown triangle is within a grid step (its place is rounded).
+// LAST, the shown triangle that held the previous point strictly inside, is tried first: the
+// vertices come cell by cell, neighbours mostly in one triangle. Places and corners are whole
+// grid steps, so orient() is exact: a point strictly inside a triangle is in no other, and that
+// triangle is the one the weights would choose.
 SurfacePoint surface_at(const std::vector<std::array<Corner, 3>>& triangles,
                         const std::vector<double>& areas, std::span<const std::uint8_t> hole,
-                        const TriangleGrid& g, double u, double v) {
+                        const TriangleGrid& g, double u, double v, std::uint32_t& last) {
+  if (last != UINT32_MAX && strictly_inside(triangles[last], areas[last], u, v))
+    return {weights(triangles[last], areas[last], u, v).height(triangles[last]), false};
   const std::vector<std::uint32_t>& cell =
       g.cells[std::size_t{g.cell_of(v)} * g.side + g.cell_of(u)];
   std::uint32_t best_triangle = UINT32_MAX;
   SurfacePoint out;
-  // Places and corners are whole grid steps, so orient() is exact: a point strictly inside a
-  // triangle is in no other, and that triangle is the one the weights would choose.
   for (const std::uint32_t t : cell) {
-    const auto& c = triangles[t];
-    if (areas[t] > 0 && orient(c[1], c[2], u, v) > 0 && orient(c[2], c[0], u, v) > 0 &&
-        orient(c[0], c[1], u, v) > 0) {
-      out.height = weights(c, areas[t], u, v).height(c);
+    if (strictly_inside(triangles[t], areas[t], u, v)) {
+      out.height = weights(triangles[t], areas[t], u, v).height(triangles[t]);
       best_triangle = t;
+      if (hole.empty() || !hole[t]) last = t;
       break;
     }
   }
@@ -129,7 +137,8 @@ SurfacePoint surface_at(const std::vector<std::array<Corner, 3>>& triangles,
 
 TileError measure_tile(const TerrainSource& source, const io::terrain::TileMesh& mesh,
                        std::span<const std::uint8_t> hole, std::span<const std::uint32_t> vertices,
-                       const ProgressFn* progress) {
+                       const ProgressFn* progress, double limit,
+                       std::vector<std::uint32_t>* above) {
   const io::terrain::detail::QuantizedVertices q = io::terrain::detail::quantize_vertices(mesh);
   const double low = q.minimum_height, high = q.maximum_height;
   std::vector<std::array<Corner, 3>> triangles;
@@ -147,6 +156,7 @@ TileError measure_tile(const TerrainSource& source, const io::terrain::TileMesh&
   const TriangleGrid grid = grid_of(triangles);
   const io::terrain::GeoRectangle& r = mesh.rectangle;
   TileError error;
+  std::uint32_t last = UINT32_MAX;
   for (std::size_t i = 0; i < vertices.size(); ++i) {
     // A tile over a large TIN measures millions of vertices: a request to stop gets through.
     if (i % kVerticesBetweenReports == 0 && progress && *progress && !(*progress)("", 0))
@@ -156,9 +166,10 @@ TileError measure_tile(const TerrainSource& source, const io::terrain::TileMesh&
     // triangle (the fill's ramp down from the data's outline) half a step sideways is a height.
     const double u = std::round((p.x - r.west) / (r.east - r.west) * kQuantizedMax);
     const double v = std::round((p.y - r.south) / (r.north - r.south) * kQuantizedMax);
-    const SurfacePoint s = surface_at(triangles, areas, hole, grid, u, v);
+    const SurfacePoint s = surface_at(triangles, areas, hole, grid, u, v, last);
     const double e = std::fabs(p.z - s.height);
     error.hidden += s.in_hole ? 1 : 0;
+    if (above && e > limit) above->push_back(vertices[i]);
     error.max = std::max(error.max, e);
     error.sum_squares += e * e;
     ++error.count;

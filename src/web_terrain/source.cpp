@@ -348,7 +348,13 @@ std::optional<double> TerrainSource::tin_height(double lon, double lat) const {
 }
 
 std::vector<std::uint32_t> TerrainSource::vertices_in(const GeoRectangle& r) const {
+  // A coarse tile holds every vertex: room for the cells' vertices at once, not by doubling.
+  std::size_t most = 0;
+  for_cells(r, vertex_cells_, [&](std::size_t cell) {
+    most += vertex_cells_.begin[cell + 1] - vertex_cells_.begin[cell];
+  });
   std::vector<std::uint32_t> out;
+  out.reserve(most);
   for_cells(r, vertex_cells_, [&](std::size_t cell) {
     for (std::uint32_t i = vertex_cells_.begin[cell]; i < vertex_cells_.begin[cell + 1]; ++i) {
       const Point3& p = vertices_[i];

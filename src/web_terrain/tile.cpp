@@ -4,6 +4,7 @@
 #include <array>
 #include <cassert>
 #include <cmath>
+#include <iterator>
 #include <span>
 #include <vector>
 
@@ -112,29 +113,38 @@ void sort_by_place(std::vector<std::uint64_t>& keys) {
   radix_sort_by_key(keys.data(), buffer.data(), keys.size());
 }
 
-// The full TIN's vertices strictly inside the rectangle's grid (of INSIDE, those in R), one per
-// grid place: the lowest id of a place, the places in order of u, then v.
-void add_candidates(const TerrainSource& source, const GeoRectangle& r,
-                    std::span<const std::uint32_t> inside, TilePoints& p) {
-  // u and v are whole places below 2^15: (u, v, id) in one key.
+// The candidates of a tile's greedy run (after its kept points): the TIN's vertex of each.
+struct Candidates {
+  std::uint32_t first = 0;            // the points of TilePoints from here on
+  std::vector<std::uint32_t> vertex;  // the TIN's vertex of point first + i
+};
+
+// Of the TIN's vertices IDS (ascending), those strictly inside the rectangle's grid, one per grid
+// place: the lowest id of a place, the places in order of u, then v.
+Candidates add_candidates(const TerrainSource& source, const GeoRectangle& r,
+                          std::span<const std::uint32_t> ids, TilePoints& p) {
+  assert(std::is_sorted(ids.begin(), ids.end()));
+  // u and v are whole places below 2^15: (u, v, i) in one key.
   std::vector<std::uint64_t> keys;
-  keys.reserve(inside.size());
-  for (const std::uint32_t id : inside) {
-    const Point3& v = source.vertices()[id];
+  keys.reserve(ids.size());
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    const Point3& v = source.vertices()[ids[i]];
     const double u = grid_place(v.x, r.west, r.east), w = grid_place(v.y, r.south, r.north);
     if (u >= 1 && u <= kMax - 1 && w >= 1 && w <= kMax - 1)
-      keys.push_back(static_cast<std::uint64_t>(u) << 47 | static_cast<std::uint64_t>(w) << 32 |
-                     id);
+      keys.push_back(static_cast<std::uint64_t>(u) << 47 | static_cast<std::uint64_t>(w) << 32 | i);
   }
   sort_by_place(keys);
+  Candidates c{static_cast<std::uint32_t>(p.xy.size()), {}};
   for (std::size_t i = 0; i < keys.size();) {
     const std::uint64_t place = keys[i] >> 32;
-    auto id = static_cast<std::uint32_t>(keys[i]);
-    for (++i; i < keys.size() && keys[i] >> 32 == place; ++i)
-      id = std::min(id, static_cast<std::uint32_t>(keys[i]));
+    const std::uint32_t id = ids[static_cast<std::uint32_t>(keys[i])];  // the least: sorted
+    while (++i < keys.size() && keys[i] >> 32 == place) {
+    }
     const auto u = static_cast<double>(place >> 15), w = static_cast<double>(place & 0x7fff);
-    p.add_candidate({u, w}, source.vertices()[id].z);  // unless a line's vertex is there
+    // Unless a line's vertex is there.
+    if (p.add_candidate({u, w}, source.vertices()[id].z) >= c.first) c.vertex.push_back(id);
   }
+  return c;
 }
 
 double degrees_at(double q, double low, double high) {
@@ -211,30 +221,30 @@ void poll(const ProgressFn* progress) {
 // Which of the source's lines a tile holds: all, all but the holes' outline, none.
 enum class Lines { all, features, none };
 
-TilePoints tile_points(const TerrainSource& source, const GeoRectangle& r,
-                       std::span<const std::uint32_t> inside, double error, Lines lines,
-                       std::size_t& line_segments) {
+// The tile's kept points: its border and its lines (LINES of them).
+TilePoints kept_points(const TerrainSource& source, const GeoRectangle& r, double error,
+                       Lines lines, std::size_t& line_segments) {
   TilePoints p;
   add_border(source, r, kBorderShare * error, p);
   line_segments = lines == Lines::none
                       ? 0
                       : detail::add_lines(source, r, kBorderShare * error, lines == Lines::all, p);
-  add_candidates(source, r, inside, p);
   return p;
 }
 
 // The greedy runs on P: at the tolerance that leaves room for the quantization of the heights,
 // then tighter while the measured error is above ERROR.
 BuiltTile greedy_tile(const TerrainSource& source, const GeoRectangle& r,
-                      std::span<const std::uint32_t> inside, const TilePoints& p, double error,
-                      const ProgressFn* progress) {
+                      std::span<const std::uint32_t> inside, const TilePoints& p,
+                      const Candidates& candidates, double error, int tries,
+                      std::vector<std::uint32_t>* above, const ProgressFn* progress) {
   poll(progress);
   const auto [low, high] = std::minmax_element(p.z.begin(), p.z.end());
   // A height step of the tile's quantization, at most.
   const double step = (*high - *low) / kMax;
   double tolerance = std::max(0.0, error - step);
   BuiltTile best;
-  for (int attempt = 0; attempt < kTries; ++attempt) {
+  for (int attempt = 0; attempt < tries; ++attempt) {
     simplify::SimplifyOptions options;
     options.max_error = tolerance;
     options.threads = 1;
@@ -243,7 +253,11 @@ BuiltTile greedy_tile(const TerrainSource& source, const GeoRectangle& r,
       const simplify::SimplifyResult result =
           simplify::simplify(p.xy, p.z, p.kept, p.segments, options, progress);
       assert(result.tin.vertex_count() >= p.kept.size());
-      tile = {tile_mesh(r, result.tin), {}, 0};
+      tile.mesh = tile_mesh(r, result.tin);
+      for (const std::uint32_t point : result.point_of_vertex)
+        if (point != kNoId && point >= candidates.first)
+          tile.tin_vertices.push_back(candidates.vertex[point - candidates.first]);
+      std::sort(tile.tin_vertices.begin(), tile.tin_vertices.end());
       check_quantized_triangles(tile.mesh);
     } catch (const GeometryError&) {
       if (attempt == 0) throw;
@@ -251,7 +265,8 @@ BuiltTile greedy_tile(const TerrainSource& source, const GeoRectangle& r,
     }
     // The surface is measured whole: a hole is where it is not shown, not a height.
     const std::vector<std::uint8_t> hole = hole_triangles(source, tile.mesh);
-    tile.error = measure_tile(source, tile.mesh, hole, inside, progress);
+    if (above) above->clear();
+    tile.error = measure_tile(source, tile.mesh, hole, inside, progress, error, above);
     drop_triangles(hole, tile.mesh);
     // A tighter run is kept only when it meets the error. One that does not met an error no
     // vertex can remove: the quantized grid moves a point of a near-vertical face (a wall, a
@@ -263,10 +278,34 @@ BuiltTile greedy_tile(const TerrainSource& source, const GeoRectangle& r,
   return best;
 }
 
+// The tile over R from KEPT and candidates: with FINER given (a coarse tile), those of the TIN's
+// vertices, and the ones that a try leaves above the error; else, or when that does not meet
+// the error, the TIN's vertices INSIDE.
+BuiltTile fit(const TerrainSource& source, const GeoRectangle& r,
+              std::span<const std::uint32_t> inside, const TilePoints& kept,
+              const std::vector<std::uint32_t>* finer, double error, const ProgressFn* progress) {
+  if (finer) {
+    // The children's vertices hold the finer level's error: most often enough for the tile's.
+    std::vector<std::uint32_t> ids = *finer, above, more;
+    for (int attempt = 0; attempt < kTries; ++attempt) {
+      TilePoints p = kept;
+      const Candidates candidates = add_candidates(source, r, ids, p);
+      BuiltTile tile = greedy_tile(source, r, inside, p, candidates, error, 1, &above, progress);
+      if (tile.error.max <= error) return tile;
+      more.clear();
+      std::set_union(ids.begin(), ids.end(), above.begin(), above.end(), std::back_inserter(more));
+      ids.swap(more);
+    }
+  }
+  TilePoints p = kept;
+  const Candidates candidates = add_candidates(source, r, inside, p);
+  return greedy_tile(source, r, inside, p, candidates, error, kTries, nullptr, progress);
+}
+
 }  // namespace
 
 BuiltTile build_tile(const TerrainSource& source, const io::terrain::TileKey& key, double error,
-                     const ProgressFn* progress) {
+                     const ProgressFn* progress, const std::vector<std::uint32_t>* finer) {
   const GeoRectangle r = io::terrain::tile_rectangle(key);
   const std::vector<std::uint32_t> inside = source.vertices_in(r);
   poll(progress);
@@ -274,17 +313,17 @@ BuiltTile build_tile(const TerrainSource& source, const io::terrain::TileKey& ke
   // made without the holes' outline, then without any line (its error still holds).
   std::size_t all = 0, features = 0;
   try {
-    BuiltTile tile = greedy_tile(
-        source, r, inside, tile_points(source, r, inside, error, Lines::all, all), error, progress);
+    BuiltTile tile = fit(source, r, inside, kept_points(source, r, error, Lines::all, all), finer,
+                         error, progress);
     tile.line_segments = all;
     return tile;
   } catch (const GeometryError&) {
     if (all == 0) throw;
   }
-  const TilePoints p = tile_points(source, r, inside, error, Lines::features, features);
+  const TilePoints p = kept_points(source, r, error, Lines::features, features);
   if (features > 0 && features != all) {
     try {
-      BuiltTile tile = greedy_tile(source, r, inside, p, error, progress);
+      BuiltTile tile = fit(source, r, inside, p, finer, error, progress);
       tile.line_segments = features;
       tile.outline_dropped = true;
       return tile;
@@ -292,8 +331,8 @@ BuiltTile build_tile(const TerrainSource& source, const io::terrain::TileKey& ke
     }
   }
   std::size_t none = 0;
-  BuiltTile tile = greedy_tile(
-      source, r, inside, tile_points(source, r, inside, error, Lines::none, none), error, progress);
+  BuiltTile tile = fit(source, r, inside, kept_points(source, r, error, Lines::none, none), finer,
+                       error, progress);
   tile.lines_dropped = true;
   return tile;
 }

@@ -14,6 +14,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <vector>
 
 #include "core/progress.hpp"
 #include "io/terrain/geographic_tiling.hpp"
@@ -42,19 +43,29 @@ struct BuiltTile {
   std::size_t line_segments = 0;  // pieces of constrained lines held as edges
   bool lines_dropped = false;     // the lines could not be held (they overlap on the grid)
   bool outline_dropped = false;   // the lines but the holes' outline could
+  // The TIN's vertices (TerrainSource numbers, ascending) that are vertices of the tile: its
+  // parent's candidates.
+  std::vector<std::uint32_t> tin_vertices;
 };
 
 // The tile KEY of the pyramid over SOURCE, within ERROR (metres). PROGRESS (may be null) is
 // called now and then during the work, so that a request to stop gets through within a tile.
+// The greedy insertion chooses from the full TIN's vertices in the tile or, given FINER (TIN
+// vertices, ascending), from those: a coarse tile takes its children's tin_vertices, which hold
+// the finer level's error, and those that it finds above its own; it is measured against every
+// vertex of the TIN in it all the same.
 BuiltTile build_tile(const TerrainSource& source, const io::terrain::TileKey& key, double error,
-                     const ProgressFn* progress = nullptr);
+                     const ProgressFn* progress = nullptr,
+                     const std::vector<std::uint32_t>* finer = nullptr);
 
 // The error of MESH, decoded as a client does, against SOURCE's vertices in its rectangle
 // (VERTICES, as TerrainSource::vertices_in gives them). HOLE (empty, or one flag a triangle)
 // marks the triangles that a hole removes from the tile. PROGRESS (may be null) is called now
-// and then; when it returns false, Cancelled is thrown.
+// and then; when it returns false, Cancelled is thrown. ABOVE (may be null) receives the
+// vertices farther than LIMIT from the surface, in the order of VERTICES.
 TileError measure_tile(const TerrainSource& source, const io::terrain::TileMesh& mesh,
                        std::span<const std::uint8_t> hole, std::span<const std::uint32_t> vertices,
-                       const ProgressFn* progress = nullptr);
+                       const ProgressFn* progress = nullptr, double limit = 0,
+                       std::vector<std::uint32_t>* above = nullptr);
 
 }  // namespace tincdt::web_terrain

@@ -107,5 +107,41 @@ TEST(TerrainSource, NumbersTheVerticesByPlaceWhateverOrderTheTinStoresThem) {
   }
 }
 
+// A coarse tile chooses from its children's vertices, and from the TIN's vertices a try of it
+// leaves above its error: it holds its error whatever it is given, and given every vertex of
+// the TIN in it, it is the tile made from the TIN.
+TEST(TerrainTiles, CoarseTilesChooseFromTheirChildrenAndHoldTheirError) {
+  const std::string utm = io::crs_from_user("EPSG:32632");
+  const mesh::Triangulation tin = random_tin(7, 20000);
+  const TerrainSource source(tin, utm, "random", std::nullopt);
+  for (int level = 10; level <= 12; ++level) {
+    const qm::TileRange r = qm::tiles_covering(source.bounds(), level);
+    const qm::TileKey key{level, (r.start_x + r.end_x) / 2, (r.start_y + r.end_y) / 2};
+    const double error = qm::geometric_error_at_level(level);
+    const BuiltTile plain = build_tile(source, key, error);
+    ASSERT_LE(plain.error.max, error);
+    ASSERT_TRUE(std::is_sorted(plain.tin_vertices.begin(), plain.tin_vertices.end()));
+    std::vector<std::uint32_t> children;
+    for (std::uint32_t x = 2 * key.x; x <= 2 * key.x + 1; ++x)
+      for (std::uint32_t y = 2 * key.y; y <= 2 * key.y + 1; ++y) {
+        const BuiltTile child =
+            build_tile(source, {level + 1, x, y}, qm::geometric_error_at_level(level + 1));
+        children.insert(children.end(), child.tin_vertices.begin(), child.tin_vertices.end());
+      }
+    std::sort(children.begin(), children.end());
+    children.erase(std::unique(children.begin(), children.end()), children.end());
+    const std::vector<std::uint32_t> none, all = source.vertices_in(qm::tile_rectangle(key));
+    ASSERT_GT(children.size(), 10u) << "level " << level;
+    for (const std::vector<std::uint32_t>* finer : {&std::as_const(children), &none, &all}) {
+      const BuiltTile coarse = build_tile(source, key, error, nullptr, finer);
+      EXPECT_LE(coarse.error.max, error) << "level " << level;
+      EXPECT_EQ(coarse.error.count, plain.error.count) << "level " << level;
+    }
+    const BuiltTile from_all = build_tile(source, key, error, nullptr, &all);
+    EXPECT_EQ(triangles_of(from_all.mesh), triangles_of(plain.mesh)) << "level " << level;
+    EXPECT_EQ(from_all.tin_vertices, plain.tin_vertices) << "level " << level;
+  }
+}
+
 }  // namespace
 }  // namespace tincdt::web_terrain
