@@ -12,8 +12,10 @@
 #include <charconv>
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <exception>
 #include <filesystem>
+#include <mutex>
 #include <numbers>
 #include <optional>
 #include <span>
@@ -185,13 +187,20 @@ void build_tiles(Job& job, const TerrainSource& source, std::span<const qm::Tile
       throw;
     }
   };
+  std::mutex waiting;
+  std::condition_variable all_done;
+  const auto tile_done = [&] {
+    if (++finished < keys.size()) return;
+    { const std::lock_guard lock(waiting); }  // worker 0 is waiting, or will see FINISHED
+    all_done.notify_all();
+  };
   run_workers(std::min(workers, keys.size()), [&](std::size_t worker) {
     std::size_t i = 0;
     const ProgressFn within_tile = [&](std::string_view, double) {
       if (worker == 0) ask();
       return !stopped && i < first_failed;
     };
-    for (; (i = next.fetch_add(1)) < keys.size(); ++finished) {
+    for (; (i = next.fetch_add(1)) < keys.size(); tile_done()) {
       try {
         if (stopped || i > first_failed) throw Cancelled();
         const double error = qm::geometric_error_at_level(keys[i].level);
@@ -209,13 +218,20 @@ void build_tiles(Job& job, const TerrainSource& source, std::span<const qm::Tile
           if (first_failed.compare_exchange_weak(seen, i)) break;
       }
     }
-    while (worker == 0 && finished < keys.size()) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    if (worker != 0) return;
+    std::unique_lock lock(waiting);
+    while (finished < keys.size()) {
+      // Woken by the last tile: a batch of small tiles does not wait out the period.
+      if (all_done.wait_for(lock, std::chrono::milliseconds(20),
+                            [&] { return finished == keys.size(); }))
+        break;
+      lock.unlock();
       try {
         ask();
       } catch (const Cancelled&) {
         stop = std::current_exception();
       }
+      lock.lock();
     }
   });
   for (const std::exception_ptr& e : errors) {
