@@ -52,7 +52,7 @@ struct BuiltTile {
 // called now and then during the work, so that a request to stop gets through within a tile.
 // The greedy insertion chooses from the full TIN's vertices in the tile or, given FINER (TIN
 // vertices, ascending), from those: a coarse tile takes its children's tin_vertices, which hold
-// the finer level's error, and those that it finds above its own; it is measured against every
+// the finer level's error, and those that it finds above half its own; it is measured against every
 // vertex of the TIN in it all the same.
 BuiltTile build_tile(const TerrainSource& source, const io::terrain::TileKey& key, double error,
                      const ProgressFn* progress = nullptr,
