@@ -484,7 +484,7 @@ void OutputFile::close() {
     const int err = errno;
     throw OutputError(path_, "", "write failed: " + error_text(err));
   }
-  if (::fsync(::fileno(file_)) != 0) {
+  if (sync_on_close_ && ::fsync(::fileno(file_)) != 0) {
     const int err = errno;
     throw OutputError(path_, "", "cannot flush to disk: " + error_text(err));
   }

@@ -45,6 +45,11 @@ class OutputFile {
   // and its .prj) can all be complete on disk before the first rename. Optional.
   void close();
   void commit();  // close() if not done yet, then rename over the target
+  // For one of an OutputSet's many small files (web-terrain tiles): close() leaves the fsync to
+  // the set, which flushes the file system once before its first rename; an fsync a file costs
+  // more than the file.
+  void defer_sync() { sync_on_close_ = false; }
+  bool sync_deferred() const { return !sync_on_close_; }
 
  private:
   friend class OutputSet;
@@ -67,6 +72,7 @@ class OutputFile {
   bool failed_ = false;  // a write() failed
   bool closed_ = false;
   bool committed_ = false;
+  bool sync_on_close_ = true;
 };
 
 // Removes every temporary file of the outputs this process has under way, for a signal handler

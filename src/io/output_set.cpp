@@ -54,6 +54,23 @@ class TerminationBlock {
   sigset_t old_{};
 };
 
+// Flushes the file systems that hold the temporaries of ENTRIES whose fsync was deferred: one
+// syncfs(2) a file system. Throws OutputError naming the first such file when one fails.
+void sync_deferred(const std::vector<OutputSet::Entry>& entries) {
+  std::set<dev_t> synced;
+  for (const OutputSet::Entry& e : entries) {
+    if (!e.file->sync_deferred()) continue;
+    struct stat st {};
+    if (::stat(e.file->temp_path().c_str(), &st) != 0 || !synced.insert(st.st_dev).second)
+      continue;  // a temporary that is gone fails its rename, which says so
+    const int fd = ::open(e.file->temp_path().c_str(), O_RDONLY | O_CLOEXEC);
+    const bool ok = fd >= 0 && ::syncfs(fd) == 0;
+    const int err = errno;
+    if (fd >= 0) (void)::close(fd);
+    if (!ok) throw OutputError(e.file->path(), "", "cannot flush to disk: " + error_text(err));
+  }
+}
+
 // How to take back one file moved into place.
 enum class Undo {
   remove,    // the target did not exist: remove it again
@@ -137,6 +154,12 @@ const OutputSet::Entry* OutputSet::entry_of(const OutputFile& file) const {
 void OutputSet::commit(const std::function<bool()>& proceed) {
   if (committed_) return;
   for (Entry& e : entries_) e.file->close();
+  try {
+    sync_deferred(entries_);
+  } catch (...) {
+    entries_.clear();  // removes the temporaries
+    throw;
+  }
   std::vector<Undo> moved;
   moved.reserve(entries_.size());
   {

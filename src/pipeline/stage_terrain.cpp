@@ -118,6 +118,7 @@ std::uint64_t checked_tile_count(const qm::GeoRectangle& bounds, int max_level, 
 void write_file(Job& job, const std::string& path, const std::string& bytes) {
   job.outputs.make_folders(std::filesystem::path(path).parent_path().string());
   io::OutputFile& out = job.add_output(path, "terrain");
+  out.defer_sync();  // thousands of small files: one flush of the file system at commit
   out.write(bytes);
   job.finish_output(out);
 }

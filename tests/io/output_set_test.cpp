@@ -50,6 +50,35 @@ TEST_F(Outputs, CommitMovesEveryFileIntoPlace) {
   EXPECT_EQ(read("b.txt"), "new b");
 }
 
+// Files whose fsync waits for the set's one flush of the file system go in with the others, and
+// one whose temporary is gone by then fails the commit, which changes nothing.
+TEST_F(Outputs, FilesFlushedTogetherCommitLikeTheOthers) {
+  {
+    OutputSet set(false);
+    for (const char* name : {"t1.terrain", "t2.terrain"}) {
+      OutputFile& f = set.add(at(name), "terrain");
+      f.defer_sync();
+      f.write(std::string(name));
+    }
+    set.add(at("layer.json"), "json").write(std::string("{}"));
+    set.commit();
+  }
+  EXPECT_EQ(files(), (std::set<std::string>{"t1.terrain", "t2.terrain", "layer.json"}));
+  EXPECT_EQ(read("t2.terrain"), "t2.terrain");
+
+  OutputSet set(true);
+  OutputFile& gone = set.add(at("t1.terrain"), "terrain");
+  gone.defer_sync();
+  gone.write(std::string("new"));
+  set.add(at("layer.json"), "json").write(std::string("new"));
+  gone.close();
+  ASSERT_EQ(::unlink(gone.temp_path().c_str()), 0);
+  EXPECT_THROW(set.commit(), OutputError);
+  EXPECT_EQ(files(), (std::set<std::string>{"t1.terrain", "t2.terrain", "layer.json"}));
+  EXPECT_EQ(read("t1.terrain"), "t1.terrain");
+  EXPECT_EQ(read("layer.json"), "{}");
+}
+
 TEST_F(Outputs, DestroyedUncommittedLeavesEverythingAsItWas) {
   put("a.txt", "old");
   {
