@@ -375,7 +375,8 @@ OutputFile::OutputFile(std::string path, bool overwrite)
   if (::fchmod(fd, mode_) != 0) fail("cannot set the permissions of the new file: ");
   file_ = ::fdopen(fd, "wb");
   if (file_ == nullptr) fail("cannot open the new file: ");
-  buffer_ = std::make_unique<char[]>(kStreamBuffer);
+  // Not zeroed: a small file (a web-terrain tile) touches a page of it, not all 4 MiB.
+  buffer_ = std::make_unique_for_overwrite<char[]>(kStreamBuffer);
   if (std::setvbuf(file_, buffer_.get(), _IOFBF, kStreamBuffer) != 0) {
     // Not fatal: the stream keeps its default buffer, which it owns.
     buffer_.reset();
