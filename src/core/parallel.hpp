@@ -3,6 +3,7 @@
 #pragma once
 
 #include <algorithm>
+#include <atomic>
 #include <cstddef>
 #include <exception>
 #include <system_error>
@@ -103,6 +104,33 @@ void run_workers(std::size_t workers, F&& work) {
     }
     guarded(0);
   }
+  for (const std::exception_ptr& e : errors)
+    if (e) std::rethrow_exception(e);
+}
+
+// The number of ranges parallel_parts splits N items into: one a thread (THREADS, 0 = one per
+// core), each of at least MIN_PART items.
+inline std::size_t part_count(std::size_t threads, std::size_t n, std::size_t min_part = 1 << 16) {
+  return std::clamp<std::size_t>(n / std::max<std::size_t>(min_part, 1), 1, thread_count(threads));
+}
+
+// Runs f(part, begin, end) for the PARTS equal ranges of [0, n), each on a thread of its own (the
+// first on the calling thread): for passes that count per range and then fill per range. Rethrows
+// the exception of the lowest range that threw, the one a single pass over [0, n) meets first.
+template <class F>
+void parallel_parts(std::size_t parts, std::size_t n, F&& f) {
+  parts = std::max<std::size_t>(parts, 1);
+  std::vector<std::exception_ptr> errors(parts);
+  std::atomic<std::size_t> next{0};
+  run_workers(parts, [&](std::size_t) {
+    for (std::size_t p; (p = next.fetch_add(1)) < parts;) {
+      try {
+        f(p, n * p / parts, n * (p + 1) / parts);
+      } catch (...) {
+        errors[p] = std::current_exception();
+      }
+    }
+  });
   for (const std::exception_ptr& e : errors)
     if (e) std::rethrow_exception(e);
 }

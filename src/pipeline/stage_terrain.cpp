@@ -410,7 +410,8 @@ void run(Job& job) {
   const BuildOptions::Terrain& o = job.options.terrain;
   std::error_code ec;
   const bool replacing = job.options.write.overwrite && std::filesystem::is_directory(o.path, ec);
-  const TerrainSource source(job.tin(), job.crs_wkt, job.describe_inputs(), o.fill_height);
+  const TerrainSource source(job.tin(), job.crs_wkt, job.describe_inputs(), o.fill_height,
+                             job.options.threads);
   log_units(job, source);
   if (!o.fill_height)
     job.info("terrain fill height: " + short_number(source.fill_height()) +

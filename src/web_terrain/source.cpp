@@ -8,6 +8,7 @@
 #include <tuple>
 
 #include "core/error.hpp"
+#include "core/parallel.hpp"
 
 namespace tincdt::web_terrain {
 namespace {
@@ -33,7 +34,8 @@ void prefix_sums(std::vector<std::uint32_t>& begin) {
 }  // namespace
 
 TerrainSource::TerrainSource(const mesh::Triangulation& tin, const std::string& crs_wkt,
-                             const std::string& what, std::optional<double> fill_height)
+                             const std::string& what, std::optional<double> fill_height,
+                             std::size_t threads)
     : fill_height_(fill_height.value_or(0)) {
   // Only the vertices of kept triangles are the TIN's (numbered by place once transformed); only
   // they go through PROJ, so that a removed outlier cannot fail the pyramid.
@@ -52,7 +54,13 @@ TerrainSource::TerrainSource(const mesh::Triangulation& tin, const std::string& 
     }
     triangles_.push_back(t);
   });
-  units_ = io::terrain::to_lon_lat_metres(crs_wkt, vertices_, what);
+  // A PROJ transformation is not shared between threads: one a part.
+  parallel_parts(part_count(threads, vertices_.size()), vertices_.size(),
+                 [&](std::size_t part, std::size_t first, std::size_t last) {
+                   const io::terrain::HeightUnits units = io::terrain::to_lon_lat_metres(
+                       crs_wkt, std::span(vertices_).subspan(first, last - first), what);
+                   if (part == 0) units_ = units;
+                 });
   // Projections keep orientation but a CRS with a flipped axis does not.
   for (auto& t : triangles_)
     if (orient(vertices_[t[0]], vertices_[t[1]], vertices_[t[2]].x, vertices_[t[2]].y) < 0)

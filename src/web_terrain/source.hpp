@@ -34,9 +34,9 @@ class TerrainSource {
  public:
   // TIN's kept triangles, its coordinates in CRS_WKT transformed (InputError naming WHAT when
   // there is no CRS or PROJ fails); beyond them FILL_HEIGHT, by default the lowest of their
-  // heights.
+  // heights. PROJ runs on THREADS threads (0 = one per core).
   TerrainSource(const mesh::Triangulation& tin, const std::string& crs_wkt, const std::string& what,
-                std::optional<double> fill_height);
+                std::optional<double> fill_height, std::size_t threads = 1);
 
   const std::vector<Point3>& vertices() const { return vertices_; }
   const GeoRectangle& bounds() const { return bounds_; }

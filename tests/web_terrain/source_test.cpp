@@ -107,6 +107,38 @@ TEST(TerrainSource, NumbersTheVerticesByPlaceWhateverOrderTheTinStoresThem) {
   }
 }
 
+// Transformed in parts on two threads (each part at least 2^16 vertices), the source is the one
+// built on one: the same vertices, index, heights and sections.
+TEST(TerrainSource, IsTheSameOnAnyNumberOfThreads) {
+  const std::string utm = io::crs_from_user("EPSG:32632");
+  const mesh::Triangulation tin = random_tin(11, 140000);
+  const TerrainSource one(tin, utm, "one", std::nullopt, 1), two(tin, utm, "two", std::nullopt, 2);
+  ASSERT_EQ(two.vertices().size(), one.vertices().size());
+  for (std::size_t i = 0; i < one.vertices().size(); ++i)
+    ASSERT_TRUE(same(one.vertices()[i], two.vertices()[i])) << "vertex " << i;
+  ASSERT_EQ(two.triangle_count(), one.triangle_count());
+  std::mt19937 rng(5);
+  const GeoRectangle b = one.bounds();
+  std::uniform_real_distribution<double> u(0, 1);
+  for (int i = 0; i < 2000; ++i) {
+    const double lon = b.west + u(rng) * (b.east - b.west),
+                 lat = b.south + u(rng) * (b.north - b.south);
+    ASSERT_EQ(one.height_at(lon, lat), two.height_at(lon, lat)) << lon << " " << lat;
+    const GeoRectangle r{lon, lat, lon + 0.001, lat + 0.001};
+    ASSERT_EQ(one.vertices_in(r), two.vertices_in(r));
+  }
+  for (int i = 0; i < 50; ++i) {
+    const double lon = b.west + u(rng) * (b.east - b.west);
+    const auto s1 = one.section(true, lon, b.south, b.north),
+               s2 = two.section(true, lon, b.south, b.north);
+    ASSERT_EQ(s1.size(), s2.size());
+    for (std::size_t k = 0; k < s1.size(); ++k) {
+      EXPECT_EQ(s1[k].at, s2[k].at);
+      EXPECT_EQ(s1[k].height, s2[k].height);
+    }
+  }
+}
+
 // A coarse tile chooses from its children's vertices, and from the TIN's vertices a try of it
 // leaves above its error: it holds its error whatever it is given, and given every vertex of
 // the TIN in it, it is the tile made from the TIN.
