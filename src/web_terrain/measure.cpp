@@ -58,6 +58,7 @@ TriangleGrid grid_of(const std::vector<std::array<Corner, 3>>& triangles) {
 struct SurfacePoint {
   double height = 0;
   bool in_hole = false;
+  std::uint32_t triangle = UINT32_MAX;  // the one that gave the height
 };
 
 // How far U, V lies outside triangle C, in grid steps (0 inside or on it).
@@ -102,7 +103,7 @@ SurfacePoint surface_at(const std::vector<std::array<Corner, 3>>& triangles,
                         const std::vector<double>& areas, std::span<const std::uint8_t> hole,
                         const TriangleGrid& g, double u, double v, std::uint32_t& last) {
   if (last != UINT32_MAX && strictly_inside(triangles[last], areas[last], u, v))
-    return {weights(triangles[last], areas[last], u, v).height(triangles[last]), false};
+    return {weights(triangles[last], areas[last], u, v).height(triangles[last]), false, last};
   const std::vector<std::uint32_t>& cell =
       g.cells[std::size_t{g.cell_of(v)} * g.side + g.cell_of(u)];
   std::uint32_t best_triangle = UINT32_MAX;
@@ -126,6 +127,7 @@ SurfacePoint surface_at(const std::vector<std::array<Corner, 3>>& triangles,
       out.height = w.height(triangles[t]);
     }
   }
+  out.triangle = best_triangle;
   if (best_triangle == UINT32_MAX || hole.empty() || !hole[best_triangle]) return out;
   out.in_hole = std::none_of(cell.begin(), cell.end(), [&](std::uint32_t t) {
     return !hole[t] && distance_outside(triangles[t], u, v) <= 1;
@@ -157,6 +159,11 @@ TileError measure_tile(const TerrainSource& source, const io::terrain::TileMesh&
   const io::terrain::GeoRectangle& r = mesh.rectangle;
   TileError error;
   std::uint32_t last = UINT32_MAX;
+  struct Farthest {
+    double error = 0;
+    std::uint32_t vertex = UINT32_MAX;
+  };
+  std::vector<Farthest> farthest(above ? triangles.size() : 0);
   for (std::size_t i = 0; i < vertices.size(); ++i) {
     // A tile over a large TIN measures millions of vertices: a request to stop gets through.
     if (i % kVerticesBetweenReports == 0 && progress && *progress && !(*progress)("", 0))
@@ -169,10 +176,16 @@ TileError measure_tile(const TerrainSource& source, const io::terrain::TileMesh&
     const SurfacePoint s = surface_at(triangles, areas, hole, grid, u, v, last);
     const double e = std::fabs(p.z - s.height);
     error.hidden += s.in_hole ? 1 : 0;
-    if (above && e > limit) above->push_back(vertices[i]);
+    if (above && e > limit && s.triangle != UINT32_MAX && e > farthest[s.triangle].error)
+      farthest[s.triangle] = {e, vertices[i]};
     error.max = std::max(error.max, e);
     error.sum_squares += e * e;
     ++error.count;
+  }
+  if (above) {
+    for (const Farthest& f : farthest)
+      if (f.vertex != UINT32_MAX) above->push_back(f.vertex);
+    std::sort(above->begin(), above->end());
   }
   return error;
 }

@@ -31,10 +31,11 @@ constexpr double kBorderShare = 0.75;
 // Tries of the greedy insertion at a tighter tolerance when the measured error is above the
 // level's (the quantization of the vertices moved the surface).
 constexpr int kTries = 3;
-// Tries of a coarse tile from its children's vertices, each adding the TIN's vertices the last
-// left above half the error, before it takes every vertex under it (2M points: of 546 coarse
-// tiles, 189 met the error at once and 4 needed five tries).
-constexpr int kTriesFromChildren = 6;
+// Tries of a coarse tile from its children's vertices, each adding the farthest of the TIN's
+// vertices in each triangle the last left above half the error, before it takes every vertex under
+// it: a try is a pass over the tile's vertices, a greedy run over all of them far more (20M
+// points: two tiles of level 12 and 14 needed more than six tries, none more than twelve).
+constexpr int kTriesFromChildren = 12;
 
 // A side of a tile: where its points go on the quantized grid.
 enum class Side { south, east, north, west };
@@ -270,7 +271,7 @@ BuiltTile greedy_tile(const TerrainSource& source, const GeoRectangle& r,
     // The surface is measured whole: a hole is where it is not shown, not a height.
     const std::vector<std::uint8_t> hole = hole_triangles(source, tile.mesh);
     if (above) above->clear();
-    // Above half the error: the vertices about those above it too, so that few tries do.
+    // Above half the error: the points a greedy insertion would take next, so that few tries do.
     tile.error = measure_tile(source, tile.mesh, hole, inside, progress, error / 2, above);
     drop_triangles(hole, tile.mesh);
     // A tighter run is kept only when it meets the error. One that does not met an error no

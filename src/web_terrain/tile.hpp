@@ -52,8 +52,8 @@ struct BuiltTile {
 // called now and then during the work, so that a request to stop gets through within a tile.
 // The greedy insertion chooses from the full TIN's vertices in the tile or, given FINER (TIN
 // vertices, ascending), from those: a coarse tile takes its children's tin_vertices, which hold
-// the finer level's error, and those that it finds above half its own; it is measured against every
-// vertex of the TIN in it all the same.
+// the finer level's error, and the farthest in each of its triangles that it finds above half
+// its own; it is measured against every vertex of the TIN in it all the same.
 BuiltTile build_tile(const TerrainSource& source, const io::terrain::TileKey& key, double error,
                      const ProgressFn* progress = nullptr,
                      const std::vector<std::uint32_t>* finer = nullptr);
@@ -61,8 +61,9 @@ BuiltTile build_tile(const TerrainSource& source, const io::terrain::TileKey& ke
 // The error of MESH, decoded as a client does, against SOURCE's vertices in its rectangle
 // (VERTICES, as TerrainSource::vertices_in gives them). HOLE (empty, or one flag a triangle)
 // marks the triangles that a hole removes from the tile. PROGRESS (may be null) is called now
-// and then; when it returns false, Cancelled is thrown. ABOVE (may be null) receives the
-// vertices farther than LIMIT from the surface, in the order of VERTICES.
+// and then; when it returns false, Cancelled is thrown. ABOVE (may be null) receives, for each
+// triangle of MESH, its vertex of VERTICES farthest from the surface if farther than LIMIT:
+// the points a greedy insertion would take next, ascending.
 TileError measure_tile(const TerrainSource& source, const io::terrain::TileMesh& mesh,
                        std::span<const std::uint8_t> hole, std::span<const std::uint32_t> vertices,
                        const ProgressFn* progress = nullptr, double limit = 0,

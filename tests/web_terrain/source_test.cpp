@@ -175,5 +175,36 @@ TEST(TerrainTiles, CoarseTilesChooseFromTheirChildrenAndHoldTheirError) {
   }
 }
 
+// What a failed try of a coarse tile adds: at most one vertex a triangle, each farther than the
+// limit, none when no vertex is.
+TEST(TerrainTiles, MeasureNamesTheFarthestVertexOfEachTriangleAboveTheLimit) {
+  const std::string utm = io::crs_from_user("EPSG:32632");
+  const mesh::Triangulation tin = random_tin(9, 20000);
+  const TerrainSource source(tin, utm, "random", std::nullopt);
+  const qm::TileRange r = qm::tiles_covering(source.bounds(), 12);
+  const qm::TileKey key{12, (r.start_x + r.end_x) / 2, (r.start_y + r.end_y) / 2};
+  const BuiltTile tile = build_tile(source, key, qm::geometric_error_at_level(12));
+  const std::vector<std::uint32_t> inside = source.vertices_in(qm::tile_rectangle(key));
+  for (const double share : {0.0, 0.25, 0.5, 2.0}) {
+    const double limit = share * tile.error.max;
+    std::vector<std::uint32_t> above;
+    const TileError e = measure_tile(source, tile.mesh, {}, inside, nullptr, limit, &above);
+    EXPECT_EQ(e.max, tile.error.max);
+    EXPECT_TRUE(std::is_sorted(above.begin(), above.end()));
+    EXPECT_EQ(std::adjacent_find(above.begin(), above.end()), above.end());
+    EXPECT_LE(above.size(), tile.mesh.triangles.size());
+    EXPECT_EQ(above.empty(), !(tile.error.max > limit)) << "limit " << limit;
+    std::size_t farther = 0;
+    for (const std::uint32_t v : inside) {
+      const double ev = measure_tile(source, tile.mesh, {}, std::span(&v, 1)).max;
+      farther += ev > limit ? 1 : 0;
+      if (std::binary_search(above.begin(), above.end(), v)) {
+        EXPECT_GT(ev, limit);
+      }
+    }
+    EXPECT_LE(above.size(), farther);
+  }
+}
+
 }  // namespace
 }  // namespace tincdt::web_terrain
