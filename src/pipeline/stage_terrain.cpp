@@ -303,8 +303,7 @@ struct LevelRun {
 // Writes the tiles of RANGES (from level 0, one range of tiles each), built in batches on every
 // thread from the finest level up: a coarser level's tiles choose their vertices from their
 // children's (the finest level's from the TIN's), so that a level's work is its tiles', not the
-// TIN's. The coarse levels, one or two tiles over all the data each, are built side by side. A
-// level is logged once its last tile is written.
+// TIN's. A level is logged once its last tile is written.
 void write_levels(Job& job, const TerrainSource& source, const std::vector<qm::TileRange>& ranges) {
   constexpr std::size_t kHeavyAtOnce = 2;
   const int max_level = static_cast<int>(ranges.size()) - 1;
@@ -355,8 +354,8 @@ void write_levels(Job& job, const TerrainSource& source, const std::vector<qm::T
     for (std::uint32_t x = l.range.start_x; x <= l.range.end_x; ++x)
       for (std::uint32_t y = l.range.start_y; y <= l.range.end_y; ++y) {
         batch.push_back({level, x, y});
-        // A tile of a coarse level is a pass over every vertex: two are built at once, so that
-        // memory does not grow with the threads.
+        // A tile of a coarse level measures a large share of the TIN's vertices, listed for it:
+        // two are built at once, so that memory does not grow with the threads.
         if (batch.size() == 8 * workers ||
             (batch.size() >= kHeavyAtOnce && l.share / static_cast<double>(l.count) > 0.01))
           flush();
