@@ -285,8 +285,8 @@ BuiltTile greedy_tile(const TerrainSource& source, const GeoRectangle& r,
 }
 
 // The tile over R from KEPT and candidates: with FINER given (a coarse tile), those of the TIN's
-// vertices, and the ones that a try leaves above half the error; else, or when that does not meet
-// the error, the TIN's vertices INSIDE.
+// vertices, and the farthest in each triangle that a try leaves above half the error; else, or
+// when that does not meet the error, the TIN's vertices INSIDE.
 BuiltTile fit(const TerrainSource& source, const GeoRectangle& r,
               std::span<const std::uint32_t> inside, const TilePoints& kept,
               const std::vector<std::uint32_t>* finer, double error, const ProgressFn* progress) {

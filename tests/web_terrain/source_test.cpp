@@ -140,8 +140,8 @@ TEST(TerrainSource, IsTheSameOnAnyNumberOfThreads) {
 }
 
 // A coarse tile chooses from its children's vertices, and from the TIN's vertices a try of it
-// leaves above its error: it holds its error whatever it is given, and given every vertex of
-// the TIN in it, it is the tile made from the TIN.
+// leaves farthest above half its error: it holds its error whatever it is given, and given every
+// vertex of the TIN in it, it is the tile made from the TIN.
 TEST(TerrainTiles, CoarseTilesChooseFromTheirChildrenAndHoldTheirError) {
   const std::string utm = io::crs_from_user("EPSG:32632");
   const mesh::Triangulation tin = random_tin(7, 20000);
