@@ -29,23 +29,6 @@ struct JoinAll {
 };
 }  // namespace detail
 
-// Splits [0, n) into at most THREADS chunks (0 = one per core) of at least MIN_CHUNK items each
-// and runs f(begin, end) on each, the first chunk on the calling thread.
-template <class F>
-void parallel_chunks(std::size_t threads, std::size_t n, F&& f, std::size_t min_chunk = 1 << 16) {
-  const std::size_t chunks = std::clamp<std::size_t>(n / min_chunk, 1, thread_count(threads));
-  if (chunks == 1) {
-    f(std::size_t{0}, n);
-    return;
-  }
-  std::vector<std::thread> workers;
-  const detail::JoinAll join{workers};
-  workers.reserve(chunks - 1);
-  for (std::size_t c = 1; c < chunks; ++c)
-    workers.emplace_back([&f, c, chunks, n] { f(n * c / chunks, n * (c + 1) / chunks); });
-  f(std::size_t{0}, n / chunks);
-}
-
 // Runs left() on the calling thread and right() on a new one, or, if not CONCURRENT, left() and
 // then right(): for two halves of one job whose result must not depend on the thread count.
 // Returns when both are done; rethrows left's exception, else right's (in turn, right() does not
@@ -133,6 +116,14 @@ void parallel_parts(std::size_t parts, std::size_t n, F&& f) {
   });
   for (const std::exception_ptr& e : errors)
     if (e) std::rethrow_exception(e);
+}
+
+// Splits [0, n) into at most THREADS chunks (0 = one per core) of at least MIN_CHUNK items each
+// and runs f(begin, end) on each, as parallel_parts does (errors included).
+template <class F>
+void parallel_chunks(std::size_t threads, std::size_t n, F&& f, std::size_t min_chunk = 1 << 16) {
+  parallel_parts(part_count(threads, n, min_chunk), n,
+                 [&f](std::size_t, std::size_t begin, std::size_t end) { f(begin, end); });
 }
 
 // A job started now and waited for later: on a thread of its own if CONCURRENT, else at once on

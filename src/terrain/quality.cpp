@@ -348,18 +348,13 @@ QualityReport measure_quality(const mesh::Triangulation& tin,
   q.flats_need_contours = on_contour != nullptr;
   const std::size_t blocks = (tin.triangle_slots() + kBlock - 1) / kBlock;
   std::vector<Sums> sums(blocks);
-  // One chunk of blocks per thread, each with its own Partial.
-  const std::size_t chunks = std::clamp<std::size_t>(blocks, 1, thread_count(threads));
-  std::vector<Partial> partial(chunks);
-  std::atomic<std::size_t> next{0};
+  // One part of blocks per thread, each with its own Partial.
+  const std::size_t parts = part_count(threads, blocks, 1);
+  std::vector<Partial> partial(parts);
   const Measurer measurer(tin, on_contour);
-  parallel_chunks(
-      chunks, blocks,
-      [&](std::size_t begin, std::size_t end) {
-        Partial& p = partial[next.fetch_add(1)];
-        for (std::size_t b = begin; b < end; ++b) measurer.block(b, p, sums[b]);
-      },
-      1);
+  parallel_parts(parts, blocks, [&](std::size_t part, std::size_t begin, std::size_t end) {
+    for (std::size_t b = begin; b < end; ++b) measurer.block(b, partial[part], sums[b]);
+  });
   Partial all;
   for (const Partial& p : partial) merge(all, p);
   fill(q, all, tin);

@@ -8,12 +8,15 @@
 #include <stdexcept>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 namespace {
 
 using tincdt::BackgroundJob;
 using tincdt::parallel_chunks;
+using tincdt::parallel_parts;
+using tincdt::part_count;
 using tincdt::run_two;
 using tincdt::run_workers;
 using tincdt::thread_count;
@@ -36,6 +39,43 @@ TEST(ParallelChunks, CoversEveryItemOnce) {
     EXPECT_EQ(std::accumulate(seen.begin(), seen.end(), 0), 1000) << threads;
     for (const int s : seen) ASSERT_EQ(s, 1);
   }
+}
+
+TEST(ParallelChunks, RethrowsTheLowestChunksErrorOnceAllHaveRun) {
+  for (const std::size_t threads : {1, 4}) {
+    std::atomic<int> ran{0};
+    try {
+      parallel_chunks(
+          threads, 400,
+          [&](std::size_t begin, std::size_t) {
+            ++ran;
+            if (begin > 0) throw std::runtime_error(std::to_string(begin));
+          },
+          100);
+      if (threads > 1) FAIL() << "no exception";
+    } catch (const std::runtime_error& e) {
+      EXPECT_STREQ(e.what(), "100");  // the error a single pass would meet first
+    }
+    EXPECT_EQ(ran, threads > 1 ? 4 : 1);
+  }
+}
+
+TEST(ParallelParts, NumbersEqualRangesThatCoverEveryItem) {
+  EXPECT_EQ(part_count(8, 1000, 100), 8u);
+  EXPECT_EQ(part_count(8, 250, 100), 2u);
+  EXPECT_EQ(part_count(8, 50, 100), 1u);
+  std::vector<std::pair<std::size_t, std::size_t>> range(5);
+  parallel_parts(5, 1003, [&](std::size_t part, std::size_t begin, std::size_t end) {
+    range[part] = {begin, end};
+  });
+  std::size_t at = 0;
+  for (const auto& [begin, end] : range) {
+    EXPECT_EQ(begin, at);
+    EXPECT_GE(end - begin, 200u);
+    EXPECT_LE(end - begin, 201u);
+    at = end;
+  }
+  EXPECT_EQ(at, 1003u);
 }
 
 TEST(RunTwo, RunsBothSidesEitherWay) {
