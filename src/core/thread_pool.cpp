@@ -8,6 +8,8 @@ namespace {
 
 // Spins of the wait loops, with a pause each: some tens of microseconds before a futex sleep.
 constexpr int kSpins = 4000;
+// The calling thread's sleep between looks at the chunks while it reports progress.
+constexpr std::chrono::milliseconds kNap{1};
 
 inline void cpu_relax() {
 #if defined(__x86_64__) || defined(__i386__)
@@ -51,6 +53,7 @@ void ThreadPool::dispatch(Job job, void* fn, std::size_t chunks, Waiting waiting
   generation_.fetch_add(1, std::memory_order_release);
   generation_.notify_all();
   claim_all();
+  auto last_call = std::chrono::steady_clock::now();
   for (int spin = 0;; ++spin) {
     const std::size_t done = done_.load(std::memory_order_acquire);
     if (done == chunks) break;
@@ -58,8 +61,13 @@ void ThreadPool::dispatch(Job job, void* fn, std::size_t chunks, Waiting waiting
     if (spin <= kSpins) {
       cpu_relax();
     } else if (waiting) {
-      std::this_thread::sleep_for(period);
-      if (done_.load(std::memory_order_acquire) != chunks) waiting(waiting_fn);
+      // Short naps, so that the last chunk's end is seen within one, not within a period.
+      std::this_thread::sleep_for(kNap);
+      const auto now = std::chrono::steady_clock::now();
+      if (now - last_call >= period && done_.load(std::memory_order_acquire) != chunks) {
+        waiting(waiting_fn);
+        last_call = now;
+      }
     } else {
       done_.wait(done, std::memory_order_acquire);
     }

@@ -1,6 +1,7 @@
 // ThreadPool: every chunk runs exactly once per run, over many runs in a row; a chunk's
 // exception reaches the caller once all chunks have run; the waiting hook runs on the calling
-// thread while other threads finish; one thread (or one chunk) runs in order on the caller.
+// thread while other threads finish, and the run ends when they do; one thread (or one chunk) runs
+// in order on the caller.
 #include "core/thread_pool.hpp"
 
 #include <gtest/gtest.h>
@@ -78,14 +79,11 @@ TEST(ThreadPool, AChunksErrorReachesTheCallerAfterAllChunksRan) {
   EXPECT_EQ(ran.load(), 12);
 }
 
-TEST(ThreadPool, WaitingRunsOnTheCallerWhileOthersFinish) {
-  ThreadPool pool(2);
-  const auto caller = std::this_thread::get_id();
-  std::atomic<bool> worker_in{false}, release{false};
-  std::atomic<int> waits{0};
-  // The caller's chunk lets the worker take the other one, which holds its thread until the
-  // caller has waited three times.
-  auto f = [&](std::size_t, std::size_t) {
+// The chunk function of a run of two chunks that gives the worker one: the caller's chunk waits
+// (up to 10 s) for the worker to take the other, which sets WORKER_IN and runs WORK.
+template <class Work>
+auto two_chunks_one_each(std::thread::id caller, std::atomic<bool>& worker_in, Work work) {
+  return [caller, &worker_in, work](std::size_t, std::size_t) {
     if (std::this_thread::get_id() == caller) {
       const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(10);
       while (!worker_in && std::chrono::steady_clock::now() < until)
@@ -93,8 +91,19 @@ TEST(ThreadPool, WaitingRunsOnTheCallerWhileOthersFinish) {
       return;
     }
     worker_in = true;
-    while (!release) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    work();
   };
+}
+
+TEST(ThreadPool, WaitingRunsOnTheCallerWhileOthersFinish) {
+  ThreadPool pool(2);
+  const auto caller = std::this_thread::get_id();
+  std::atomic<bool> worker_in{false}, release{false};
+  std::atomic<int> waits{0};
+  // The worker's chunk holds its thread until the caller has waited three times.
+  auto f = two_chunks_one_each(caller, worker_in, [&] {
+    while (!release) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  });
   auto waiting = [&] {
     EXPECT_EQ(std::this_thread::get_id(), caller);
     if (waits.fetch_add(1) + 1 >= 3) release = true;
@@ -102,6 +111,22 @@ TEST(ThreadPool, WaitingRunsOnTheCallerWhileOthersFinish) {
   pool.run(f, 2, waiting, std::chrono::milliseconds(2));
   EXPECT_TRUE(worker_in.load());
   EXPECT_GE(waits.load(), 3);
+}
+
+TEST(ThreadPool, ReturnsWhenTheLastChunkEndsNotAPeriodLater) {
+  ThreadPool pool(2);
+  const auto caller = std::this_thread::get_id();
+  // The worker's chunk outlasts the caller's spins; the period is far longer than the run.
+  std::atomic<bool> worker_in{false};
+  auto f = two_chunks_one_each(caller, worker_in,
+                               [] { std::this_thread::sleep_for(std::chrono::milliseconds(50)); });
+  int waits = 0;
+  auto waiting = [&] { ++waits; };
+  const auto start = std::chrono::steady_clock::now();
+  pool.run(f, 2, waiting, std::chrono::seconds(30));
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(15));
+  EXPECT_TRUE(worker_in.load());
+  EXPECT_EQ(waits, 0);
 }
 
 }  // namespace
