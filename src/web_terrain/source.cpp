@@ -18,6 +18,14 @@ namespace {
 // read: its vertices are in insertion order, not by place, so nearly every read is a miss.
 constexpr std::size_t kAhead = 16;
 
+// Asks for ARRAY's items at the corners of the triangle kAhead after triangle I.
+template <class T>
+void prefetch_corners_ahead(const std::vector<std::array<std::uint32_t, 3>>& triangles,
+                            std::size_t i, const T* array) {
+  if (i + kAhead < triangles.size())
+    for (const std::uint32_t v : triangles[i + kAhead]) __builtin_prefetch(&array[v]);
+}
+
 double orient(const Point3& a, const Point3& b, double x, double y) {
   return (b.x - a.x) * (y - a.y) - (b.y - a.y) * (x - a.x);
 }
@@ -79,8 +87,7 @@ TerrainSource::TerrainSource(const mesh::Triangulation& tin, const std::string& 
                  });
   // Projections keep orientation but a CRS with a flipped axis does not.
   for (std::size_t i = 0; i < triangles_.size(); ++i) {
-    if (i + kAhead < triangles_.size())
-      for (const std::uint32_t v : triangles_[i + kAhead]) __builtin_prefetch(&vertices_[v]);
+    prefetch_corners_ahead(triangles_, i, vertices_.data());
     auto& t = triangles_[i];
     if (orient(vertices_[t[0]], vertices_[t[1]], vertices_[t[2]].x, vertices_[t[2]].y) < 0)
       std::swap(t[1], t[2]);
@@ -146,8 +153,7 @@ void TerrainSource::number_by_cell(std::vector<std::uint32_t>& number) {
   }
   vertices_.swap(sorted);
   for (std::size_t i = 0; i < triangles_.size(); ++i) {
-    if (i + kAhead < triangles_.size())
-      for (const std::uint32_t v : triangles_[i + kAhead]) __builtin_prefetch(&renumber[v]);
+    prefetch_corners_ahead(triangles_, i, renumber.data());
     for (std::uint32_t& v : triangles_[i]) v = renumber[v];
   }
   for (std::uint32_t& v : number)
@@ -322,8 +328,7 @@ void TerrainSource::build_index() {
     }
   };
   fill(triangle_cells_, triangles_.size(), [&](std::size_t t) {
-    if (t + kAhead < triangles_.size())
-      for (const std::uint32_t v : triangles_[t + kAhead]) __builtin_prefetch(&vertices_[v]);
+    prefetch_corners_ahead(triangles_, t, vertices_.data());
     const Point3 &a = vertices_[triangles_[t][0]], &b = vertices_[triangles_[t][1]],
                  &c = vertices_[triangles_[t][2]];
     return GeoRectangle{std::min({a.x, b.x, c.x}), std::min({a.y, b.y, c.y}),
