@@ -33,8 +33,8 @@ constexpr double kBorderShare = 0.75;
 constexpr int kTries = 3;
 // Tries of a coarse tile from its children's vertices, each adding the farthest of the TIN's
 // vertices in each triangle the last left above half the error, before it takes every vertex under
-// it: a try is a pass over the tile's vertices, a greedy run over all of them far more (20M
-// points: two tiles of level 12 and 14 needed more than six tries, none more than twelve).
+// it: a try is a pass over the tile's vertices, a greedy run over all of them far more (how many
+// tries large pyramids need: docs/benchmarks.md).
 constexpr int kTriesFromChildren = 12;
 
 // A side of a tile: where its points go on the quantized grid.
