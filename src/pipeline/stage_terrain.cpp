@@ -128,6 +128,7 @@ struct LevelStats {
   std::size_t line_segments = 0;
   std::size_t lines_dropped = 0;
   std::size_t outlines_dropped = 0;
+  std::size_t chose_from_all = 0;
   std::uint64_t vertices = 0;
   TileError error;
 };
@@ -286,6 +287,10 @@ void log_level(Job& job, int level, const LevelStats& s) {
     job.debug("terrain level " + count_text(level) + ": " + count_text(s.outlines_dropped, "tile") +
               " without their holes' outline: simplified onto the tile's grid, it "
               "overlaps the other lines; their holes follow the triangles' centres");
+  if (s.chose_from_all)
+    job.debug("terrain level " + count_text(level) + ": " + count_text(s.chose_from_all, "tile") +
+              " chose from every vertex under them: their children's and the farthest ones " +
+              "missed the level's error");
   if (s.error.max > qm::geometric_error_at_level(level))
     job.warn("terrain level " + count_text(level) + ": vertices up to " +
              short_number(s.error.max) + " m from the TIN, above the level's error: points " +
@@ -341,6 +346,7 @@ void write_levels(Job& job, const TerrainSource& source, const std::vector<qm::T
       l.stats.line_segments += tile.line_segments;
       l.stats.lines_dropped += tile.lines_dropped;
       l.stats.outlines_dropped += tile.outline_dropped;
+      l.stats.chose_from_all += tile.chose_from_all;
       l.stats.error.add(tile.error);
       if (key.level > 0) built->keep(key, std::move(tile.tin_vertices));
       job.progress(fraction(key));

@@ -305,7 +305,9 @@ BuiltTile fit(const TerrainSource& source, const GeoRectangle& r,
   }
   TilePoints p = kept;
   const Candidates candidates = add_candidates(source, r, inside, p);
-  return greedy_tile(source, r, inside, p, candidates, error, kTries, nullptr, progress);
+  BuiltTile tile = greedy_tile(source, r, inside, p, candidates, error, kTries, nullptr, progress);
+  tile.chose_from_all = finer != nullptr;
+  return tile;
 }
 
 }  // namespace

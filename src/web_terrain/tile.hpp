@@ -43,6 +43,9 @@ struct BuiltTile {
   std::size_t line_segments = 0;  // pieces of constrained lines held as edges
   bool lines_dropped = false;     // the lines could not be held (they overlap on the grid)
   bool outline_dropped = false;   // the lines but the holes' outline could
+  // A coarse tile whose tries from its children's vertices missed the error: it chose from every
+  // vertex under it.
+  bool chose_from_all = false;
   // The TIN's vertices (TerrainSource numbers, ascending) that are vertices of the tile: its
   // parent's candidates.
   std::vector<std::uint32_t> tin_vertices;

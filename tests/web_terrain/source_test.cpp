@@ -152,6 +152,7 @@ TEST(TerrainTiles, CoarseTilesChooseFromTheirChildrenAndHoldTheirError) {
     const double error = qm::geometric_error_at_level(level);
     const BuiltTile plain = build_tile(source, key, error);
     ASSERT_LE(plain.error.max, error);
+    EXPECT_FALSE(plain.chose_from_all);
     ASSERT_TRUE(std::is_sorted(plain.tin_vertices.begin(), plain.tin_vertices.end()));
     std::vector<std::uint32_t> children;
     for (std::uint32_t x = 2 * key.x; x <= 2 * key.x + 1; ++x)
@@ -167,6 +168,9 @@ TEST(TerrainTiles, CoarseTilesChooseFromTheirChildrenAndHoldTheirError) {
     for (const std::vector<std::uint32_t>* finer : {&std::as_const(children), &none, &all}) {
       const BuiltTile coarse = build_tile(source, key, error, nullptr, finer);
       EXPECT_LE(coarse.error.max, error) << "level " << level;
+      if (finer == &children) {
+        EXPECT_FALSE(coarse.chose_from_all) << "level " << level;
+      }
       EXPECT_EQ(coarse.error.count, plain.error.count) << "level " << level;
     }
     const BuiltTile from_all = build_tile(source, key, error, nullptr, &all);
