@@ -30,14 +30,17 @@ big="$BIG_DIR/big_$N.las"
 
 runs="$BIG_DIR/runs.txt"
 : > "$runs"
-# run ROUND JOB: one tincdt job under /usr/bin/time -v, its outputs removed after.
+# run ROUND JOB: one tincdt job under /usr/bin/time -v, its PLY removed after. The pyramids stay
+# until the end: ext4 creates files slowly for minutes after many were deleted (it skips inodes
+# deleted recently), which would charge one round's removal to the next round's pyramid.
 run() {
   local round=$1 job=$2 out args
   if [[ $job == ply ]]; then
     out="$BIG_DIR/x.ply"
     args=(-o "$out")
   else
-    out="$BIG_DIR/terrain"
+    out="$BIG_DIR/terrain_$round"
+    rm -rf "$out"
     args=(--terrain "$out")
   fi
   /usr/bin/time -v "$TINCDT" "$big" "${args[@]}" > "$BIG_DIR/log" 2>&1
@@ -50,13 +53,18 @@ run() {
   echo "round=$round job=$job wall_s=$wall cpu_s=$cpu peak_rss_kb=$rss" \
     "bytes_per_point=$(awk -v r="$rss" -v n="$N" 'BEGIN {printf "%.1f", r * 1024 / n}')" |
     tee -a "$runs"
-  if [[ $job == terrain ]]; then grep -E "terrain: levels|terrain level" "$BIG_DIR/log" || true; fi
-  rm -rf "$out" "${out%.ply}.prj"
+  if [[ $job == terrain ]]; then
+    grep -E "terrain: levels|terrain level" "$BIG_DIR/log" || true
+  else
+    rm -f "$out" "${out%.ply}.prj"
+  fi
 }
 for ((round = 0; round < ROUNDS; ++round)); do
   if ((round % 2 == 0)); then run "$round" ply; run "$round" terrain; else
     run "$round" terrain; run "$round" ply; fi
 done
+
+rm -rf "$BIG_DIR"/terrain_*
 
 echo
 awk '{for (i = 1; i <= NF; ++i) {split($i, kv, "="); f[kv[1]] = kv[2]}
