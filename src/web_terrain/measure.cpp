@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/rounding.hpp"
 #include "io/terrain/quantized_mesh_detail.hpp"
 #include "web_terrain/tile.hpp"
 
@@ -171,8 +172,8 @@ TileError measure_tile(const TerrainSource& source, const io::terrain::TileMesh&
     const Point3& p = source.vertices()[vertices[i]];
     // At the vertex's place on the tile's grid, the finest a tile can place it: beside a steep
     // triangle (the fill's ramp down from the data's outline) half a step sideways is a height.
-    const double u = std::round((p.x - r.west) / (r.east - r.west) * kQuantizedMax);
-    const double v = std::round((p.y - r.south) / (r.north - r.south) * kQuantizedMax);
+    const double u = round_half_away((p.x - r.west) / (r.east - r.west) * kQuantizedMax);
+    const double v = round_half_away((p.y - r.south) / (r.north - r.south) * kQuantizedMax);
     const SurfacePoint s = surface_at(triangles, areas, hole, grid, u, v, last);
     const double e = std::fabs(p.z - s.height);
     error.hidden += s.in_hole ? 1 : 0;
