@@ -109,6 +109,23 @@ TEST(TerrainSource, NumbersTheVerticesByPlaceWhateverOrderTheTinStoresThem) {
 
 // Transformed in parts on two threads (each part at least 2^16 vertices), the source is the one
 // built on one: the same vertices, index, heights and sections.
+// A vertex that is no triangle's corner (a mesh file's unused vertex, an outlier whose triangles
+// were removed) is not the TIN's: the source is that of the TIN without it.
+TEST(TerrainSource, LeavesOutAVertexOfNoTriangle) {
+  const std::string utm = io::crs_from_user("EPSG:32632");
+  const mesh::Triangulation tin = random_tin(4, 5000);
+  mesh::Triangulation with_extra = tin;
+  with_extra.add_vertex({501000.5, 5001000.5}, 1e6);
+  const TerrainSource plain(tin, utm, "plain", std::nullopt),
+      extra(with_extra, utm, "extra", std::nullopt);
+  ASSERT_EQ(plain.vertices().size(), tin.vertex_count());
+  ASSERT_EQ(extra.vertices().size(), plain.vertices().size());
+  for (std::size_t i = 0; i < plain.vertices().size(); ++i)
+    ASSERT_TRUE(same(plain.vertices()[i], extra.vertices()[i])) << "vertex " << i;
+  EXPECT_EQ(extra.triangle_count(), plain.triangle_count());
+  EXPECT_EQ(extra.vertices_in(plain.bounds()), plain.vertices_in(plain.bounds()));
+}
+
 TEST(TerrainSource, IsTheSameOnAnyNumberOfThreads) {
   const std::string utm = io::crs_from_user("EPSG:32632");
   const mesh::Triangulation tin = random_tin(11, 140000);
