@@ -9,7 +9,6 @@
 #include <cstdint>
 #include <limits>
 #include <random>
-#include <vector>
 
 namespace tincdt {
 namespace {

@@ -169,7 +169,6 @@ TEST(TerrainTiles, CoarseTilesChooseFromTheirChildrenAndHoldTheirError) {
     const double error = qm::geometric_error_at_level(level);
     const BuiltTile plain = build_tile(source, key, error);
     ASSERT_LE(plain.error.max, error);
-    EXPECT_FALSE(plain.chose_from_all);
     ASSERT_TRUE(std::is_sorted(plain.tin_vertices.begin(), plain.tin_vertices.end()));
     std::vector<std::uint32_t> children;
     for (std::uint32_t x = 2 * key.x; x <= 2 * key.x + 1; ++x)
