@@ -18,7 +18,8 @@
 
 namespace tincdt::terrain {
 
-// The TIN's convex hull, counter-clockwise, without collinear vertices (the fewest half-planes).
+// The TIN's convex hull, counter-clockwise, without collinear vertices (the fewest half-planes),
+// from its least point by (x, y): the same list as tiles::convex_hull() of the TIN's vertices.
 std::vector<Point2> strict_hull(const mesh::Triangulation& tin);
 
 // Whether p lies inside or on HULL (convex, counter-clockwise).

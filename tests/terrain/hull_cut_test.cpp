@@ -5,9 +5,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <random>
 #include <vector>
 
+#include "predicates/predicates.hpp"
 #include "terrain_test_util.hpp"
 
 namespace tincdt::terrain {
@@ -47,6 +50,51 @@ TEST(HullCut, TheHullHasOnlyItsCorners) {
   EXPECT_TRUE(inside.x > 0 && inside.x < 4 && inside.y > 0 && inside.y < 4);
   EXPECT_TRUE(inside_or_on(hull, {4, 2}));
   EXPECT_FALSE(inside_or_on(hull, {4.5, 2}));
+}
+
+// The hull by gift wrapping from the least point (an independent reference): counter-clockwise,
+// each next vertex the farthest point with nothing to its right.
+std::vector<Point2> wrapped_hull(const std::vector<Point3>& points) {
+  const auto less = [](Point2 a, Point2 b) { return a.x < b.x || (a.x == b.x && a.y < b.y); };
+  Point2 start{points[0].x, points[0].y};
+  for (const Point3& p : points)
+    if (less({p.x, p.y}, start)) start = {p.x, p.y};
+  std::vector<Point2> hull;
+  Point2 at = start;
+  do {
+    hull.push_back(at);
+    Point2 next = at;
+    for (const Point3& p : points) {
+      const Point2 q{p.x, p.y};
+      if (q.x == at.x && q.y == at.y) continue;
+      const int o = next.x == at.x && next.y == at.y ? -1 : predicates::orient2d(at, next, q);
+      const auto far = [&](Point2 r) { return std::hypot(r.x - at.x, r.y - at.y); };
+      if (o < 0 || (o == 0 && far(q) > far(next))) next = q;
+    }
+    at = next;
+  } while ((at.x != start.x || at.y != start.y) && hull.size() <= points.size());
+  return hull;
+}
+
+TEST(HullCut, TheHullStartsAtItsLeastPointWhateverTheOrderOfThePoints) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> coordinate(0, 100);
+  for (int round = 0; round < 20; ++round) {
+    std::vector<Point3> points;
+    const int n = 20 + round * 15;
+    for (int i = 0; i < n; ++i) points.push_back({coordinate(rng), coordinate(rng), 0});
+    if (round % 4 == 0) points.push_back({0, 50, 0}), points.push_back({0, 60, 0});
+    const std::vector<Point2> reference = wrapped_hull(points);
+    for (int order = 0; order < 3; ++order) {
+      std::shuffle(points.begin(), points.end(), rng);
+      const std::vector<Point2> hull = strict_hull(build_tin(points).tin);
+      ASSERT_EQ(hull.size(), reference.size()) << "round " << round;
+      for (std::size_t i = 0; i < hull.size(); ++i) {
+        EXPECT_EQ(hull[i].x, reference[i].x) << "round " << round << ", vertex " << i;
+        EXPECT_EQ(hull[i].y, reference[i].y) << "round " << round << ", vertex " << i;
+      }
+    }
+  }
 }
 
 TEST(HullCut, RingsAcrossTheHullAreCutAlongIt) {
