@@ -43,6 +43,10 @@ struct Work {
   VertexPair whole;
 };
 
+VertexPair whole_of(const Piece& p) {
+  return {p.whole_a, p.whole_b};
+}
+
 std::uint64_t edge_key(VertexId u, VertexId v) {
   return u < v ? (std::uint64_t{u} << 32 | v) : (std::uint64_t{v} << 32 | u);
 }
@@ -70,7 +74,10 @@ class ConstraintInserter {
 
   // REPORT hears of each piece: crossings can make one segment a long piece of work.
   void insert(const Segment& segment, Progress& report) {
-    work_.push_back({segment.a, segment.b, segment.source, {segment.a, segment.b}});
+    const VertexPair whole = segment.whole_a == kNoId
+                                 ? VertexPair{segment.a, segment.b}
+                                 : VertexPair{segment.whole_a, segment.whole_b};
+    work_.push_back({segment.a, segment.b, segment.source, whole});
     while (!work_.empty()) {
       const Work s = work_.back();
       work_.pop_back();
@@ -90,8 +97,7 @@ class ConstraintInserter {
 
   void mark(EdgeId e, VertexId a, VertexId b, const Work& s) {
     tin_.set_constrained(e, true);
-    result_.pieces.push_back({a, b, s.source});
-    whole_of_piece_.push_back(s.whole);
+    result_.pieces.push_back({a, b, s.source, s.whole.u, s.whole.v});
     if (indexed_) index_piece(static_cast<std::uint32_t>(result_.pieces.size() - 1));
   }
 
@@ -251,12 +257,12 @@ class ConstraintInserter {
     }
     const std::uint32_t first_piece = index_.find(edge_key(r, l));
     std::uint32_t other = kNoId;
-    // A constraint of an earlier call has no whole segment here: its crossings are made from
-    // the pieces, as they stand.
+    // A constrained edge with no piece in this call (an earlier call's, not given again) is
+    // crossed where it stands.
     std::optional<VertexPair> other_whole;
     for (std::uint32_t p = first_piece; p != kNoId && other == kNoId; p = next_piece_[p]) {
       other = result_.pieces[p].source;
-      other_whole = whole_of_piece_[p];
+      other_whole = whole_of(result_.pieces[p]);
     }
     const Point2 pa = pt(s.a), pb = pt(s.b), pr = pt(r), pl = pt(l);
     // The crossing point, from the signed areas (each a difference of nearby coordinates).
@@ -407,8 +413,8 @@ class ConstraintInserter {
     for (std::uint32_t p = first_piece; p != kNoId; p = next_piece_[p]) {
       Piece& piece = result_.pieces[p];
       if (piece.source == kNoId) continue;
-      if (w != u) work_.push_back({u, w, piece.source, whole_of_piece_[p]});
-      if (w != v) work_.push_back({w, v, piece.source, whole_of_piece_[p]});
+      if (w != u) work_.push_back({u, w, piece.source, whole_of(piece)});
+      if (w != v) work_.push_back({w, v, piece.source, whole_of(piece)});
       piece.source = kNoId;  // retired; removed at the end
     }
   }
@@ -424,7 +430,6 @@ class ConstraintInserter {
   IdMap index_;                            // edge -> its latest piece (only crossings look)
   std::vector<std::uint32_t> next_piece_;  // piece -> the previous piece on the same edge
   std::vector<Work> work_;
-  std::vector<VertexPair> whole_of_piece_;  // per piece of result_.pieces: its Work::whole
   std::vector<VertexPair> crossed_;
   std::vector<VertexPair> waiting_;  // crossed edges for the next round of swap_in()
   std::vector<VertexPair> created_;

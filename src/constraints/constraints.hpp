@@ -26,10 +26,15 @@ enum class Restore {
 enum class OnCrossing { split, error };
 
 // A segment between two vertices; `source` is the caller's id of the feature it came from.
+// A piece of an earlier call given again names the input segment it is part of (Piece::whole_a,
+// whole_b), so that its crossings with the new segments are computed from that whole segment as
+// the earlier ones were; kNoId: the segment is whole.
 struct Segment {
   VertexId a;
   VertexId b;
   std::uint32_t source;
+  VertexId whole_a = kNoId;
+  VertexId whole_b = kNoId;
 };
 
 struct ConstraintOptions {
@@ -46,12 +51,15 @@ struct Crossing {
   double z_b;
 };
 
-// One constrained edge of the result and the input segment it is part of. Overlapping
-// constraints give one piece per source on the same edge.
+// One constrained edge of the result and the input segment it is part of (source, and the
+// segment's ends, whole_a -> whole_b). Overlapping constraints give one piece per source on the
+// same edge.
 struct Piece {
   VertexId a;
   VertexId b;
   std::uint32_t source;
+  VertexId whole_a = kNoId;
+  VertexId whole_b = kNoId;
 };
 
 struct ConstraintResult {

@@ -222,7 +222,8 @@ SurfaceResult insert_surface_features(mesh::Triangulation& tin,
 
   std::vector<constraints::Segment> segments;
   segments.reserve(hard_pieces.size() + result.vertices);
-  for (const constraints::Piece& p : hard_pieces) segments.push_back({p.a, p.b, p.source});
+  for (const constraints::Piece& p : hard_pieces)
+    segments.push_back({p.a, p.b, p.source, p.whole_a, p.whole_b});
   insert_part_vertices(tin, inputs, parts_of, z, segments, result);
   result.segments = segments.size() - hard_pieces.size();
 

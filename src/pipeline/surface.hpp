@@ -84,7 +84,8 @@ struct SurfaceResult {
 //     a vertex outside the TIN (soft lines, replace rings) is an InputError naming the feature;
 //  2. inserts the vertices (mesh::PointInserter); one on an existing vertex reuses it;
 //  3. inserts the hard pieces again (they are edges already: only their sources are recorded,
-//     so that crossings find them) and then every surface-feature segment, splitting crossings;
+//     so that crossings find them) and then every surface-feature segment, splitting crossings,
+//     each made from the two whole segments (a hard piece names its whole segment);
 //  4. gives a crossing vertex of a draped and a not-draped constraint the not-draped one's z
 //     (a soft line is draped on a hard line, never the other way round).
 SurfaceResult insert_surface_features(mesh::Triangulation& tin,

@@ -69,5 +69,47 @@ TEST(CrossingVertices, DoNotDependOnTheOrderNorOnTheOtherSegments) {
   }
 }
 
+// In two calls, as the surface stage inserts its rings after the hard lines: the first call's
+// pieces are given again with their whole segments, so that where a new segment crosses one the
+// vertex is the one a single call makes, not one computed from a piece cut by other crossings.
+TEST(CrossingVertices, OfALaterCallAreMadeFromTheWholeSegmentsOfAnEarlierOne) {
+  std::mt19937_64 rng(32);
+  std::uniform_real_distribution<double> at(0, 1000), height(100, 200);
+  std::vector<Ends> segments;
+  for (int i = 0; i < 40; ++i)
+    segments.push_back({{500000 + at(rng), 4000000 + at(rng), height(rng)},
+                        {500000 + at(rng), 4000000 + at(rng), height(rng)}});
+  std::vector<std::uint32_t> all(segments.size());
+  for (std::uint32_t i = 0; i < all.size(); ++i) all[i] = i;
+  const auto one_call = crossings(segments, all);
+
+  std::vector<Point3> points;
+  for (const Ends& e : segments) points.insert(points.end(), {e.first, e.second});
+  delaunay::DelaunayResult dt = delaunay::triangulate(std::move(points), {.keep_point_map = true});
+  const auto segment = [&](std::uint32_t i) {
+    return Segment{dt.vertex_of_point[2 * i], dt.vertex_of_point[2 * i + 1], i};
+  };
+  std::vector<Segment> first, second;
+  for (std::uint32_t i = 0; i < 20; ++i) first.push_back(segment(i));
+  const ConstraintResult earlier = insert_constraints(dt.tin, first);
+  for (const Piece& p : earlier.pieces)
+    second.push_back({p.a, p.b, p.source, p.whole_a, p.whole_b});
+  for (std::uint32_t i = 20; i < segments.size(); ++i) second.push_back(segment(i));
+  const ConstraintResult later = insert_constraints(dt.tin, second);
+  EXPECT_EQ(dt.tin.validate(), "");
+  std::size_t across = 0;
+  for (const Crossing& x : later.crossings) {
+    const Pair pair = std::minmax(x.source_a, x.source_b);
+    if (pair.first >= 20 || pair.second < 20) continue;  // not an earlier one with a later one
+    const Point2 p = dt.tin.point(x.vertex);
+    const auto it = one_call.find(pair);
+    ASSERT_NE(it, one_call.end()) << pair.first << " x " << pair.second;
+    EXPECT_EQ(it->second, (std::array{p.x, p.y, dt.tin.z(x.vertex)}))
+        << pair.first << " x " << pair.second;
+    ++across;
+  }
+  EXPECT_GT(across, 50u);
+}
+
 }  // namespace
 }  // namespace tincdt::constraints
