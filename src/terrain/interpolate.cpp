@@ -1,8 +1,10 @@
 #include "terrain/interpolate.hpp"
 #include "core/xorshift.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include "predicates/predicates.hpp"
 
@@ -15,10 +17,32 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
+bool before(Point2 a, Point2 b) {
+  return a.x < b.x || (a.x == b.x && a.y < b.y);
+}
+
+// Along edge u-v at p (on it), from its lesser end: the same double from either triangle.
+double edge_z(const Triangulation& tin, VertexId u, VertexId v, Point2 p) {
+  if (before(tin.point(v), tin.point(u))) std::swap(u, v);
+  const Point2 a = tin.point(u), b = tin.point(v);
+  const double dx = b.x - a.x, dy = b.y - a.y;
+  const double t = ((p.x - a.x) * dx + (p.y - a.y) * dy) / (dx * dx + dy * dy);
+  return tin.z(u) + t * (tin.z(v) - tin.z(u));
+}
+
 // The plane through the corners of t, at p. Barycentric weights from 2x2 determinants of
 // coordinate differences relative to one corner, so map coordinates of 10^6 lose no digits.
+// The corners are taken from the least, and a point on an edge from that edge alone, so that
+// every TIN that holds the triangle (a tile's, the whole one) gives the same double.
 double plane_z(const Triangulation& tin, TriangleId t, Point2 p) {
-  const auto c = tin.triangle(t);
+  auto c = tin.triangle(t);
+  for (int i = 0; i < 3; ++i)
+    if (orient2d(tin.point(c[i]), tin.point(c[(i + 1) % 3]), p) == 0)
+      return edge_z(tin, c[i], c[(i + 1) % 3], p);
+  const int least = before(tin.point(c[1]), tin.point(c[0]))
+                        ? (before(tin.point(c[2]), tin.point(c[1])) ? 2 : 1)
+                        : (before(tin.point(c[2]), tin.point(c[0])) ? 2 : 0);
+  std::rotate(c.begin(), c.begin() + least, c.end());
   const Point2 a = tin.point(c[0]), b = tin.point(c[1]), d = tin.point(c[2]);
   const double ux = b.x - a.x, uy = b.y - a.y, vx = d.x - a.x, vy = d.y - a.y;
   const double wx = p.x - a.x, wy = p.y - a.y;

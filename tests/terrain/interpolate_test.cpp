@@ -5,6 +5,8 @@
 
 #include <cmath>
 #include <random>
+#include <utility>
+#include <vector>
 
 #include "terrain_test_util.hpp"
 
@@ -75,6 +77,39 @@ TEST(Interpolate, HintIsOnlyAStart) {
     EXPECT_NEAR(interpolate_z(b.tin, p, t), expected, 1e-9);
   EXPECT_NEAR(interpolate_z(b.tin, p, kNoId), expected, 1e-9);
   EXPECT_NEAR(interpolate_z(b.tin, p, 1u << 30), expected, 1e-9);  // out of range: ignored
+}
+
+// The same points with a few far away make another TIN in memory (other slots, corners in
+// another rotation) with the same triangles inside: every height there must be the same double,
+// also on an edge, which both of its triangles hold (a tile drapes a ring vertex as the whole
+// job does, from a TIN of part of the data).
+TEST(Interpolate, GivesTheSameDoubleInAnyTinThatHoldsTheTriangle) {
+  std::mt19937_64 rng(8);
+  std::uniform_real_distribution<double> u(0, 200), height(100, 900);
+  for (const bool lattice : {false, true}) {
+    SCOPED_TRACE(lattice ? "lattice" : "random");
+    std::vector<Point3> points;
+    if (lattice) {  // every grid line a chain of edges
+      for (int i = 0; i <= 40; ++i)
+        for (int j = 0; j <= 40; ++j) points.push_back({kX0 + 5 * i, kY0 + 5 * j, height(rng)});
+    } else {
+      for (int i = 0; i < 2000; ++i) points.push_back({kX0 + u(rng), kY0 + u(rng), height(rng)});
+    }
+    std::vector<Point3> more = points;
+    for (const auto& [dx, dy] : {std::pair{-900.0, -700.0}, {1300.0, -500.0}, {700.0, 1100.0}})
+      more.push_back({kX0 + dx, kY0 + dy, height(rng)});
+    const mesh::Triangulation a = test::build_tin(points).tin, b = test::build_tin(more).tin;
+    std::size_t compared = 0;
+    for (int i = 0; i < 4000; ++i) {
+      Point2 p{kX0 + 10 + u(rng) * 0.9, kY0 + 10 + u(rng) * 0.9};
+      if (lattice && i % 2 == 0) p.x = kX0 + 5 * std::floor((p.x - kX0) / 5);  // on a grid line
+      const double za = interpolate_z(a, p), zb = interpolate_z(b, p);
+      ASSERT_FALSE(std::isnan(za));
+      EXPECT_EQ(za, zb) << "at (" << p.x << ", " << p.y << ")";
+      ++compared;
+    }
+    EXPECT_EQ(compared, 4000u);
+  }
 }
 
 }  // namespace
