@@ -100,7 +100,7 @@ std::string Job::describe_inputs() const {
 }
 
 void check_triangles_left(Job& job) {
-  if (job.tin().triangle_count() > 0) return;
+  if (job.tin().triangle_count() > 0 || job.may_keep_none) return;
   const BuildReport& r = job.report;
   throw GeometryError(job.describe_inputs(), "",
                       "no triangle is left after --max-edge, --clip and --erase (" +

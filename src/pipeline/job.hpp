@@ -112,6 +112,14 @@ struct Job {
     std::function<void(Job& job)> point_files_read;
     std::function<void(Job& job)> line_sources_read;
   } read_hooks;
+  // surface: the whole data's hull and which draped heights are settled, for a job over part
+  // of the data.
+  detail::SurfaceScope surface_scope;
+  // clip, erase: the triangles (1 per slot) whose classification counts, each region of
+  // triangles classified by a point of its own (empty: every triangle); a stage before them
+  // sets them. A job over part of the data may then keep no triangle.
+  std::vector<std::uint8_t> proven_triangles;
+  bool may_keep_none = false;
   // dem: the grid of the DEM, instead of one over the kept triangles and the DEM options.
   std::optional<products::Grid> dem_grid;
   // dem, preview: removed triangles the rasters fill cells from all the same (removed for the

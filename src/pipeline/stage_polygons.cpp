@@ -3,6 +3,7 @@
 //   clip:    --clip, the triangles outside every clip polygon are removed;
 //   erase:   --erase, the triangles inside an erase polygon are removed (erase wins over clip).
 // The rings are constrained edges by now (the surface stage), so the classification is exact.
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -49,12 +50,31 @@ bool wanted(const BuildOptions& o) {
   return !(o.*S.sources).empty();
 }
 
+// Removes what S removes from the kept triangles and from dem_extra_triangles (put back in the
+// TIN meanwhile); returns the kept triangles removed.
+template <const PolygonStage& S>
+std::uint64_t remove_with_extras(Job& job, const terrain::PolygonOptions& options) {
+  mesh::Triangulation& tin = job.tin();
+  std::vector<TriangleId>& extra = job.dem_extra_triangles;
+  for (const TriangleId t : extra) tin.set_removed(t, false);
+  std::uint64_t removed = S.apply(tin, detail::polygons_of((job.*S.polygons).data), options);
+  const auto gone = std::stable_partition(extra.begin(), extra.end(),
+                                          [&tin](TriangleId t) { return tin.is_kept(t); });
+  removed -= static_cast<std::uint64_t>(extra.end() - gone);
+  extra.erase(gone, extra.end());
+  for (const TriangleId t : extra) tin.set_removed(t, true);
+  return removed;
+}
+
 template <const PolygonStage& S>
 void run(Job& job) {
   const detail::SurfaceInput& input = job.*S.polygons;
   if (input.data.features.empty()) return;
+  terrain::PolygonOptions options;
+  if (!job.proven_triangles.empty()) options.within = &job.proven_triangles;
   std::uint64_t& count = job.report.*S.count;
-  count = S.apply(job.tin(), detail::polygons_of(input.data), {});
+  count = S.removes ? remove_with_extras<S>(job, options)
+                    : S.apply(job.tin(), detail::polygons_of(input.data), options);
   job.debug(std::string(job.stage()) + ": " + count_text(count) + " " + S.counted);
   if (S.removes) check_triangles_left(job);
 }

@@ -20,9 +20,9 @@ void run(Job& job) {
     if (!input->data.features.empty()) inputs.push_back(input);
   if (inputs.empty()) return;
   if (!job.tin().has_vertex_index()) job.tin().build_vertex_index(job.options.threads);
-  detail::SurfaceResult sr =
-      detail::insert_surface_features(job.tin(), inputs, job.sources, job.pieces,
-                                      job.options.constraint.restore, job.stage_progress());
+  detail::SurfaceResult sr = detail::insert_surface_features(
+      job.tin(), inputs, job.sources, job.pieces, job.options.constraint.restore,
+      job.stage_progress(), job.surface_scope);
   const constraints::ConstraintResult& c = sr.constraints;
   BuildReport& report = job.report;
   report.soft_line_vertices = sr.soft_line_vertices;

@@ -67,8 +67,8 @@ bool is_polygon(SourceKind kind) {
 // area is refused, naming it.
 std::vector<const std::vector<io::ShapePart>*> parts_to_insert(
     const mesh::Triangulation& tin, const std::vector<const SurfaceInput*>& inputs,
-    const SourceTable& sources, std::deque<std::vector<io::ShapePart>>& cut_parts,
-    SurfaceResult& result) {
+    const SourceTable& sources, const SurfaceScope& scope,
+    std::deque<std::vector<io::ShapePart>>& cut_parts, SurfaceResult& result) {
   std::vector<const std::vector<io::ShapePart>*> parts_of;
   std::vector<Point2> hull;
   Point2 inside{0, 0};
@@ -76,7 +76,7 @@ std::vector<const std::vector<io::ShapePart>*> parts_to_insert(
   for (const SurfaceInput* input : inputs) {
     const bool cut = input->kind == SourceKind::clip || input->kind == SourceKind::erase;
     if (cut && hull.empty()) {
-      hull = strict_hull(tin);
+      hull = scope.partial() ? scope.hull : strict_hull(tin);
       if (hull.size() >= 3) inside = interior_point(hull);
     }
     for (std::size_t i = 0; i < input->data.features.size(); ++i) {
@@ -131,7 +131,7 @@ std::vector<const std::vector<io::ShapePart>*> parts_to_insert(
 // anything is inserted.
 std::vector<double> part_heights(const mesh::Triangulation& tin,
                                  const std::vector<const SurfaceInput*>& inputs,
-                                 const SourceTable& sources,
+                                 const SourceTable& sources, const SurfaceScope& scope,
                                  const std::vector<const std::vector<io::ShapePart>*>& parts_of,
                                  SurfaceResult& result) {
   std::vector<double> z;
@@ -149,8 +149,10 @@ std::vector<double> part_heights(const mesh::Triangulation& tin,
             z.push_back(p.z);
             continue;
           }
-          const double h = sampler.z_at({p.x, p.y});
-          if (std::isnan(h)) {
+          double h = sampler.z_at({p.x, p.y});
+          if (scope.settled && !std::isnan(h) && !scope.settled(tin, sampler.last_triangle()))
+            h = std::numeric_limits<double>::quiet_NaN();
+          if (std::isnan(h) && !scope.partial()) {
             char at[80];
             std::snprintf(at, sizeof at, "(%.3f, %.3f)", p.x, p.y);
             const char* what = input->kind == SourceKind::soft_line ? "a soft line"
@@ -214,11 +216,12 @@ SurfaceResult insert_surface_features(mesh::Triangulation& tin,
                                       const std::vector<const SurfaceInput*>& inputs,
                                       const SourceTable& sources,
                                       const std::vector<constraints::Piece>& hard_pieces,
-                                      constraints::Restore restore, const ProgressFn* progress) {
+                                      constraints::Restore restore, const ProgressFn* progress,
+                                      const SurfaceScope& scope) {
   SurfaceResult result;
   std::deque<std::vector<io::ShapePart>> cut_parts;
-  const auto parts_of = parts_to_insert(tin, inputs, sources, cut_parts, result);
-  const std::vector<double> z = part_heights(tin, inputs, sources, parts_of, result);
+  const auto parts_of = parts_to_insert(tin, inputs, sources, scope, cut_parts, result);
+  const std::vector<double> z = part_heights(tin, inputs, sources, scope, parts_of, result);
 
   std::vector<constraints::Segment> segments;
   segments.reserve(hard_pieces.size() + result.vertices);

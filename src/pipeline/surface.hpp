@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -75,6 +76,18 @@ struct SurfaceResult {
   std::vector<constraints::Segment> given;    // the surface-feature segments inserted
 };
 
+// What a job over part of the data (a tile) tells the surface stage; empty: the whole data.
+struct SurfaceScope {
+  // The whole data's convex hull (counter-clockwise, without collinear vertices, from its least
+  // point: terrain::strict_hull()), which clip and erase rings are cut to instead of the TIN's.
+  std::vector<Point2> hull;
+  // Whether the TIN's triangle T (of points and hard lines) is the whole job's: a height draped
+  // from any other one is NaN, which the job must then not keep. Draped vertices beyond the
+  // TIN are NaN too instead of an error.
+  std::function<bool(const mesh::Triangulation& tin, TriangleId t)> settled;
+  bool partial() const { return !hull.empty(); }
+};
+
 // The surface-feature stage on the constrained TIN of points and hard lines:
 //  0. cuts clip and erase rings to the TIN's convex hull (z along the ring for 3D rings), and
 //     leaves out those wholly outside it; a polygon ring that encloses no area, and clip
@@ -92,7 +105,8 @@ SurfaceResult insert_surface_features(mesh::Triangulation& tin,
                                       const std::vector<const SurfaceInput*>& inputs,
                                       const SourceTable& sources,
                                       const std::vector<constraints::Piece>& hard_pieces,
-                                      constraints::Restore restore, const ProgressFn* progress);
+                                      constraints::Restore restore, const ProgressFn* progress,
+                                      const SurfaceScope& scope = {});
 
 // The features as terrain polygons (rings in x, y; z = the feature's z).
 std::vector<terrain::Polygon> polygons_of(const io::ShapeData& data);

@@ -161,16 +161,17 @@ std::vector<std::uint32_t> classify_triangles(const Triangulation& tin, const Po
   const auto by_centroid = [&](TriangleId t) {
     result[t] = index.polygon_at(centroid(tin, tin.triangle(t)));
   };
+  const auto skipped = [&options](TriangleId t) { return options.within && !(*options.within)[t]; };
   if (!options.boundaries_constrained) {
     for (TriangleId t = 0; t < slots; ++t)
-      if (!tin.is_ghost(t)) by_centroid(t);
+      if (!tin.is_ghost(t) && !skipped(t)) by_centroid(t);
     return result;
   }
 
   std::vector<std::uint32_t> region(slots, kNoId);
   std::vector<TriangleId> stack, members;
   for (TriangleId seed = 0; seed < slots; ++seed) {
-    if (tin.is_ghost(seed) || region[seed] != kNoId) continue;
+    if (tin.is_ghost(seed) || region[seed] != kNoId || skipped(seed)) continue;
     // Flood the region of `seed` across unconstrained edges (removed triangles included: they
     // are still in the topology, and classifying them costs nothing).
     members.clear();
@@ -190,7 +191,7 @@ std::vector<std::uint32_t> classify_triangles(const Triangulation& tin, const Po
       for (EdgeId e = 3 * t; e < 3 * t + 3; ++e) {
         if (tin.is_constrained(e)) continue;
         const TriangleId n = mesh::triangle_of(tin.twin(e));
-        if (tin.is_ghost(n) || region[n] != kNoId) continue;
+        if (tin.is_ghost(n) || region[n] != kNoId || skipped(n)) continue;
         region[n] = seed;
         stack.push_back(n);
       }

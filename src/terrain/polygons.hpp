@@ -64,6 +64,11 @@ struct PolygonOptions {
   // by its own centroid and each vertex by its own point-in-polygon test, which is slower and
   // only as good as a triangle-by-centroid approximation of the outline can be.
   bool boundaries_constrained = true;
+  // The triangles to classify (1 per slot; null: all), each region of them connected across
+  // unconstrained edges tested at a point of its own: a job over part of the data passes those
+  // proven to be the whole job's, which a region of its other triangles could misjudge (they
+  // may straddle a ring it did not read). The others count as outside every polygon.
+  const std::vector<std::uint8_t>* within = nullptr;
 };
 
 // Clip: removes every kept triangle outside all the polygons. Returns triangles removed.
