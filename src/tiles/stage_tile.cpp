@@ -142,9 +142,47 @@ std::vector<Wall> walls_of(const mesh::Triangulation& tin, TriangleId t, const P
   return walls;
 }
 
-// Whether triangle T, whose circumdisk lies within D, is final (see the top of the file).
-bool is_final(const mesh::Triangulation& tin, const TileSetup& tile, TriangleId t,
-              const tiles::Disk& d) {
+// Whether the hull edge with the ghost (u, v, inf) is one of the whole TIN's: no data the tile
+// lacks may lie on its outer side, the open half-plane left of U -> V.
+bool is_final_hull_edge(const TileSetup& tile, Point2 u, Point2 v) {
+  return std::none_of(tile.missing.begin(), tile.missing.end(), [&](const tiles::Polygon& piece) {
+    return tiles::may_meet_left(u, v, piece, tile.margin);
+  });
+}
+
+// A triangle A, B, X on a hull edge A -> B of the whole TIN, obtuse at X: beyond the edge there
+// is no data at all, and on this side its circumdisk is the circular segment on chord AB, no
+// higher than H = d L^2 / (4 s (L - s)) over it (X at height d, at s along AB of length L: the
+// arc's height at s is at least d / H of its height at the middle, by the power of the foot of
+// X). A rectangle over AB of that height therefore holds all of the disk that data could reach.
+// This settles the slivers a crossing of a ring and the hull makes, a hair inside the hull,
+// whose circumcentre is too far off for circumdisk_bound().
+bool is_final_on_hull(const mesh::Triangulation& tin, const TileSetup& tile, TriangleId t) {
+  for (std::uint32_t i = 0; i < 3; ++i) {
+    const auto e = static_cast<EdgeId>(3 * t + i);
+    if (!tin.is_ghost(mesh::triangle_of(tin.twin(e)))) continue;
+    const Point2 a = tin.point(tin.origin(e)), b = tin.point(tin.dest(e)),
+                 x = tin.point(tin.apex(e));
+    if ((a.x - x.x) * (b.x - x.x) + (a.y - x.y) * (b.y - x.y) >= 0) return false;  // not obtuse
+    if (!is_final_hull_edge(tile, b, a)) return false;
+    const double ux = b.x - a.x, uy = b.y - a.y, length = std::hypot(ux, uy);
+    const double s = ((x.x - a.x) * ux + (x.y - a.y) * uy) / length;
+    const double d = (ux * (x.y - a.y) - uy * (x.x - a.x)) / length;
+    if (!(s > 0 && s < length && d >= 0)) return false;
+    const double h = 2 * d * length * length / (4 * s * (length - s)) + 4 * tile.margin;
+    const Point2 lift{-uy / length * h, ux / length * h};  // towards the inside
+    const Point2 b_up{b.x + lift.x, b.y + lift.y}, a_up{a.x + lift.x, a.y + lift.y};
+    return std::none_of(tile.missing.begin(), tile.missing.end(), [&](const tiles::Polygon& p) {
+      return tiles::may_meet(a, b, b_up, p, tile.margin) ||
+             tiles::may_meet(a, b_up, a_up, p, tile.margin);
+    });
+  }
+  return false;
+}
+
+// Whether no data the tile lacks may lie in circumdisk bound D of triangle T, or behind its walls.
+bool disk_is_clear(const mesh::Triangulation& tin, const TileSetup& tile, TriangleId t,
+                   const tiles::Disk& d) {
   if (tiles::inside(d, tile.buffered)) return true;
   const double margin = tile.margin;
   const auto c = tin.triangle(t);
@@ -173,6 +211,54 @@ bool is_final(const mesh::Triangulation& tin, const TileSetup& tile, TriangleId 
   return true;
 }
 
+// Whether what T sees of its circumdisk (bound D) holds no data the tile lacks, followed through
+// the TIN: a point of the disk that T sees is joined to T by a segment inside the disk that
+// crosses no constrained edge, so it lies in a triangle reached from T across unconstrained
+// edges, each meeting the disk. When every such triangle is clear of the missing regions (and
+// every hull edge met is final), nothing unread is in sight. This settles slivers whose disk is
+// far larger than the pocket of constrained edges around them (near-collinear points beside a
+// ring), which the walls of disk_is_clear() do not reach. At most kSightTriangles are followed.
+// (A segment from T through a vertex V instead of an edge would make V, strictly inside the disk,
+// visible from T: T would not be constrained Delaunay in the tile's TIN.)
+bool is_final_by_sight(const mesh::Triangulation& tin, const TileSetup& tile, TriangleId t,
+                       const tiles::Disk& d) {
+  constexpr std::size_t kSightTriangles = 64;
+  const auto clear = [&tile](const tiles::Polygon& triangle) {
+    return std::none_of(tile.missing.begin(), tile.missing.end(), [&](const tiles::Polygon& p) {
+      return tiles::may_meet(triangle[0], triangle[1], triangle[2], p, tile.margin);
+    });
+  };
+  const auto corners = tin.triangle(t);
+  if (!clear({tin.point(corners[0]), tin.point(corners[1]), tin.point(corners[2])})) return false;
+  std::vector<TriangleId> seen{t};
+  for (std::size_t head = 0; head < seen.size(); ++head) {
+    for (std::uint32_t i = 0; i < 3; ++i) {
+      const auto e = static_cast<EdgeId>(3 * seen[head] + i);
+      if (tin.is_constrained(e)) continue;
+      const TriangleId n = mesh::triangle_of(tin.twin(e));
+      if (std::find(seen.begin(), seen.end(), n) != seen.end()) continue;
+      if (tin.is_ghost(n)) {
+        if (!is_final_hull_edge(tile, tin.point(tin.dest(e)), tin.point(tin.origin(e))))
+          return false;
+        continue;
+      }
+      const auto c = tin.triangle(n);
+      const tiles::Polygon triangle{tin.point(c[0]), tin.point(c[1]), tin.point(c[2])};
+      if (!tiles::may_meet(d, triangle, tile.margin)) continue;
+      if (!clear(triangle) || seen.size() == kSightTriangles) return false;
+      seen.push_back(n);
+    }
+  }
+  return true;
+}
+
+// Whether triangle T, whose circumdisk lies within D, is final (see the top of the file).
+bool is_final(const mesh::Triangulation& tin, const TileSetup& tile, TriangleId t,
+              const tiles::Disk& d) {
+  return disk_is_clear(tin, tile, t, d) || is_final_on_hull(tin, tile, t) ||
+         is_final_by_sight(tin, tile, t, d);
+}
+
 // What the checks found, for the summary or for the error that names a large enough buffer.
 struct FinalityTally {
   std::uint64_t owned = 0, checked = 0, failed = 0;
@@ -183,14 +269,6 @@ struct FinalityTally {
   bool unbounded = false;     // a failure no estimate covers (hull edge, flat triangle)
   Point2 at{0, 0};            // a failure, for the message
 };
-
-// Whether the hull edge with the ghost (u, v, inf) is one of the whole TIN's: no data the tile
-// lacks may lie on its outer side, the open half-plane left of U -> V.
-bool is_final_hull_edge(const TileSetup& tile, Point2 u, Point2 v) {
-  return std::none_of(tile.missing.begin(), tile.missing.end(), [&](const tiles::Polygon& piece) {
-    return tiles::may_meet_left(u, v, piece, tile.margin);
-  });
-}
 
 void add(FinalityTally& tally, const FinalityTally& more) {
   tally.failed += more.failed;
@@ -313,8 +391,16 @@ void check_hull_edge(const mesh::Triangulation& tin, const TileSetup& tile, cons
   }
 }
 
-// A real triangle: removed when it does not meet NEAR; else checked final, and kept when the
-// tile owns it (the others go to job.dem_extra_triangles, for the DEM).
+// Whether a corner of triangle T has no height: a draped vertex of a clip or erase ring whose
+// height the tile could not prove (SurfaceScope::settled).
+bool has_unsettled_height(const mesh::Triangulation& tin, TriangleId t) {
+  const auto c = tin.triangle(t);
+  return std::isnan(tin.z(c[0])) || std::isnan(tin.z(c[1])) || std::isnan(tin.z(c[2]));
+}
+
+// A real triangle: removed when it does not meet NEAR; else checked final (and its heights
+// settled), and kept when the tile owns it (the others go to job.dem_extra_triangles, for the
+// DEM). The final ones are marked in job.proven_triangles.
 void check_triangle(TileJob& job, const BBox& near, const tiles::Polygon& near_polygon,
                     TileTrim* trim, TriangleId t, FinalityTally& tally) {
   const TileSetup& tile = job.tile;
@@ -341,12 +427,15 @@ void check_triangle(TileJob& job, const BBox& near, const tiles::Polygon& near_p
   else
     ++tally.beyond;
   const bool owned = tile.grid.holds(tile.col, tile.row, tiles::owner_point(a, b, p));
-  if (!is_final(tin, tile, t, d)) {
+  if (!is_final(tin, tile, t, d) || has_unsettled_height(tin, t)) {
     count_failure(tin, tile, t, d, tally);
-  } else if (trim && trim->trimmed(t, tally)) {
-    tally.trimmed += owned;
-    tin.set_removed(t, true);  // neither the tile's nor its DEM's
-    return;
+  } else {
+    job.proven_triangles[t] = 1;
+    if (trim && trim->trimmed(t, tally)) {
+      tally.trimmed += owned;
+      tin.set_removed(t, true);  // neither the tile's nor its DEM's
+      return;
+    }
   }
   if (owned) {
     ++tally.owned;
@@ -389,6 +478,7 @@ void run(TileJob& job) {
   std::optional<TileTrim> trim;
   if (job.options.max_edge > 0) trim.emplace(tin, tile, job.options.max_edge);
   const std::size_t slots = tin.triangle_slots();
+  job.proven_triangles.assign(slots, 0);
   for (std::size_t s = 0; s < slots; ++s) {
     const auto t = static_cast<TriangleId>(s);
     if (tin.is_ghost(t))
@@ -400,16 +490,14 @@ void run(TileJob& job) {
   const std::string name = "tile " + std::to_string(tile.index);
   if (tally.failed > 0) throw_buffer_too_small(tile, name, tally);
   job.report.trimmed_triangles = tally.trimmed;
-  // Its border may then be the edge of a trimmed area, which tincdt merge must not take for a
-  // crack (even when this tile trimmed nothing, its neighbour may have).
-  const std::string trimmed =
-      job.options.max_edge > 0 ? detail::mark_text({tile.tile_count, {tile.index}}) : "";
-  job.write.ply_trimmed = trimmed;
-  if (job.options.max_error) detail::simplify_tile(job);  // from the final triangles only
-  if (!job.outline.empty()) {
-    io::OutputFile& out = job.add_output(job.outline, "outline");
-    detail::write_outline(out, outline_of(tin), "", trimmed);
-    job.finish_output(out);
+  // Its border may then be the edge of a trimmed, clipped or erased area, which tincdt merge
+  // must not take for a crack (even when this tile removed nothing, its neighbour may have).
+  const pipeline::BuildOptions& o = job.options;
+  if (o.max_edge > 0 || !o.clip.empty() || !o.erase.empty())
+    job.write.ply_trimmed = detail::mark_text({tile.tile_count, {tile.index}});
+  if (o.max_error) {
+    detail::simplify_tile(job);    // from the final triangles only
+    job.proven_triangles.clear();  // the simplified TIN is the tile's alone, all of it final
   }
   job.info(name + ": " + count_text(tally.owned, "triangle") + " owned, " +
            count_text(tally.checked) +
@@ -419,16 +507,34 @@ void run(TileJob& job) {
            " by the rim, their constrained edges or areas without data");
 }
 
-// Only a TileJob runs the stage (tile_stages()).
+// Only a TileJob runs the stages (tile_stages()).
 void run_tile(pipeline::Job& job) {
   run(static_cast<TileJob&>(job));
 }
 
+// After the polygon stages, which may remove more of the tile's triangles.
+void write_tile_outline(pipeline::Job& pipeline_job) {
+  const TileJob& job = static_cast<TileJob&>(pipeline_job);
+  if (job.outline.empty()) return;
+  io::OutputFile& out = pipeline_job.add_output(job.outline, "outline");
+  detail::write_outline(out, outline_of(job.mesh.tin), "", job.write.ply_trimmed);
+  pipeline_job.finish_output(out);
+}
+
 }  // namespace
+
+bool proven_final(const mesh::Triangulation& tin, const TileSetup& tile, TriangleId t) {
+  const auto c = tin.triangle(t);
+  return is_final(tin, tile, t,
+                  tiles::circumdisk_bound(tin.point(c[0]), tin.point(c[1]), tin.point(c[2])));
+}
 
 constexpr pipeline::StageProgress kTileProgress{"cutting the tile", "triangles",
                                                 pipeline::stage_items::triangles};
 extern const pipeline::Stage tile_stage{"tile",  "tile", wanted, run_tile,
                                         nullptr, "",     {},     kTileProgress};
+constexpr pipeline::StageProgress kOutlineProgress{"writing the tile's outline"};
+extern const pipeline::Stage tile_outline_stage{"tile_outline", "tile", wanted, write_tile_outline,
+                                                nullptr,        "",     {},     kOutlineProgress};
 
 }  // namespace tincdt::tiles

@@ -277,16 +277,11 @@ void check_tile_options(const TileOptions& t, const BuildOptions& o) {
            "a soft line's vertices take their heights from the TIN of the points and hard lines "
            "wherever they lie, and a tile holds that TIN only near itself" +
                whole_job);
-  for (const auto& [given, option] : {std::pair{&o.clip, "--clip"}, {&o.erase, "--erase"}})
-    if (!given->empty())
-      refuse(option,
-             "its rings are cut to the whole TIN's hull and, in 2D, draped on the TIN, and a "
-             "tile holds that TIN only near itself" +
-                 whole_job);
   if (!o.replace.empty())
     refuse("--replace",
-           "its rings are draped on the TIN and cross the contours' pieces, which a tile holds "
-           "only near itself" +
+           "a vertex takes the polygon's height when any triangle around it lies inside, and a "
+           "tile proves final the triangles that meet it, not every triangle around their "
+           "corners" +
                whole_job);
   if (!o.terrain.path.empty())
     refuse("--terrain",
@@ -319,6 +314,10 @@ BuildOptions tile_options(const TileOptions& tiling, const BuildOptions& options
 
   setup.margin = rounding_margin(setup.buffered, plan.hull);
   setup.rim = tiles::Rim{plan.hull, plan.rim_width};
+  if (plan.hull.empty() && !(options.clip.empty() && options.erase.empty()))
+    throw InputError(plan_path, "",
+                     "--clip and --erase cut their rings to the data's hull, which this plan "
+                     "lacks (made with --rim 0): make the plan with a rim");
   const bool reads_rim = reaches_rim(setup, plan.rim_width);
   if (reads_rim) {
     setup.rim_path = resolve_input(plan.rim, plan_path);
@@ -352,6 +351,13 @@ TileJob::TileJob(const BuildOptions& job_options, const pipeline::CheckedOptions
   };
   read_hooks.point_files_read = [this](Job&) { detail::add_tile_rim(*this); };
   read_hooks.line_sources_read = [this](Job&) { detail::keep_tile_lines(*this); };
+  // Clip and erase rings are cut to the whole data's hull and draped only on final triangles;
+  // a tile may lie wholly outside the clip polygons.
+  surface_scope.hull = setup.rim.hull;
+  surface_scope.settled = [this](const mesh::Triangulation& tin, TriangleId t) {
+    return proven_final(tin, tile, t);
+  };
+  may_keep_none = true;
   if (!job_options.dem.path.empty()) dem_grid = tile_grid(setup.box, job_options.dem.resolution);
   preview_frame = setup.box;  // the tiles' pictures join into a mosaic, each tile framed
 }
@@ -362,10 +368,12 @@ std::vector<const pipeline::Stage*> tile_stages() {
     // A tile simplifies and trims in the tile stage, once the triangles near it are proven
     // final.
     if (stage->name == "simplify" || stage->name == "trim") continue;
+    if (stage->name == "clip") list.push_back(&tile_stage);
     list.push_back(stage);
-    if (stage->name == "erase") list.push_back(&tile_stage);
+    if (stage->name == "erase") list.push_back(&tile_outline_stage);
   }
   assert(std::count(list.begin(), list.end(), &tile_stage) == 1);
+  assert(std::count(list.begin(), list.end(), &tile_outline_stage) == 1);
   return list;
 }
 
@@ -382,9 +390,9 @@ pipeline::BuildReport build_tile_once(const TileOptions& tiling, const BuildOpti
   pipeline::FilePlan files = pipeline::plan_files(job_options, list);
   files.inputs.push_back({tiling.plan, "the plan (--plan)"});
   if (!tiling.outline.empty()) {
-    // Among the outputs in the tile stage's place, so that they are checked in stage order.
-    const auto at =
-        static_cast<std::size_t>(std::find(list.begin(), list.end(), &tile_stage) - list.begin());
+    // Among the outputs in the outline stage's place, so that they are checked in stage order.
+    const auto at = static_cast<std::size_t>(
+        std::find(list.begin(), list.end(), &tile_outline_stage) - list.begin());
     const std::size_t before =
         pipeline::plan_files(job_options, std::span(list).first(at)).outputs.size();
     files.outputs.insert(files.outputs.begin() + static_cast<std::ptrdiff_t>(before),

@@ -87,9 +87,9 @@ struct TileSetup {
 
 // The rules of tiled jobs that need no file: --tile, --buffer and --outline need --plan, --plan
 // needs --tile, and the options that cannot give the same triangles in every tile (--max-edge
-// with --max-error, --max-vertices, --fix-flats, surface features, --restore other than
-// delaunay) are refused, as
-// are inputs and their read options given beside a plan. Throws UsageError.
+// with --max-error, --max-vertices, --fix-flats, soft lines and replace polygons, --restore
+// other than delaunay) are refused, as are inputs and their read options given beside a plan.
+// Throws UsageError.
 void check_tile_options(const TileOptions& tiling, const pipeline::BuildOptions& options);
 
 // check_tile_options(), then pipeline::check_options() on OPTIONS, the plan (when given) standing
@@ -127,12 +127,20 @@ struct TileJob : pipeline::Job {
 
 // tile: keeps the tile's own triangles, each proven final (stage_tile.cpp), or with --max-error
 // the tile's part of the simplified TIN made from them (tile_simplify.hpp). It runs only in a
-// TileJob.
+// TileJob, as does tile_outline.
 extern const pipeline::Stage tile_stage;
 
-// The stages of a tile job: the pipeline's, with the tile stage after the polygon stages (the
-// last that remove triangles) and before the checks and outputs. Without the simplify stage: with
-// --max-error the tile stage simplifies the tile (tile_simplify.hpp).
+// tile_outline: the tile's outline (--outline), once the clip and erase stages have removed
+// what they remove.
+extern const pipeline::Stage tile_outline_stage;
+
+// Whether triangle T of the tile's TIN is final: a triangle of the whole TIN (stage_tile.cpp).
+bool proven_final(const mesh::Triangulation& tin, const TileSetup& tile, TriangleId t);
+
+// The stages of a tile job: the pipeline's, with the tile stage before the clip and erase stages
+// (which classify the triangles it proved final: Job::proven_triangles) and the outline after
+// them. Without the simplify and trim stages: the tile stage trims and simplifies the tile
+// (tile_simplify.hpp).
 std::vector<const pipeline::Stage*> tile_stages();
 
 // Builds tile TILING.tile of plan TILING.plan as pipeline::build() builds a job: check_options(),

@@ -269,10 +269,21 @@ inline void expect_same_tin(const std::string& whole_ply, const std::string& mer
   const std::set<Triangle> a = triangles(whole_ply), b = triangles(merged_ply);
   EXPECT_EQ(a.size(), b.size());
   std::size_t missing = 0, extra = 0;
-  for (const Triangle& t : a) missing += b.count(t) == 0;
-  for (const Triangle& t : b) extra += a.count(t) == 0;
-  EXPECT_EQ(missing, 0u) << "triangles of the whole TIN missing from the merged tiles";
-  EXPECT_EQ(extra, 0u) << "triangles of the merged tiles not in the whole TIN";
+  std::string first_missing, first_extra;
+  const auto text = [](const Triangle& t) {
+    char s[240];
+    std::snprintf(s, sizeof s,
+                  " (first: %.17g %.17g %.17g / %.17g %.17g %.17g / %.17g %.17g %.17g)", t[0][0],
+                  t[0][1], t[0][2], t[1][0], t[1][1], t[1][2], t[2][0], t[2][1], t[2][2]);
+    return std::string(s);
+  };
+  for (const Triangle& t : a)
+    if (b.count(t) == 0 && missing++ == 0) first_missing = text(t);
+  for (const Triangle& t : b)
+    if (a.count(t) == 0 && extra++ == 0) first_extra = text(t);
+  EXPECT_EQ(missing, 0u) << "triangles of the whole TIN missing from the merged tiles"
+                         << first_missing;
+  EXPECT_EQ(extra, 0u) << "triangles of the merged tiles not in the whole TIN" << first_extra;
 }
 
 inline fs::path scratch() {

@@ -408,6 +408,28 @@ TEST(TileDems, ContoursMatchTheWholeDem) {
   expect_tiles_make_the_whole_dem(in, dir, 100, 60, 1);
 }
 
+// Clipped and erased areas are nodata in the tiles' DEMs as in the whole DEM: the neighbours'
+// final triangles a tile rasterizes too are clipped and erased like its own.
+TEST(TileDems, ClippedTilesMatchTheWholeClippedDem) {
+  const fs::path dir = scratch();
+  const Inputs in{{write_xyz(dir / "points.xyz", random_points(2000, 500000, 4000000, 300, 13))},
+                  {write_rings(dir / "rings.geojson", 500150, 4000150, {40, 90})}};
+  const auto polygons = [&dir](const std::string& name, const std::string& wkt) {
+    std::vector<test::VectorLayer> layers(1);
+    layers[0].name = name;
+    layers[0].features.push_back({wkt, 0});
+    return test::write_vector(dir / (name + ".geojson"), layers, "GeoJSON", "NAME");
+  };
+  pipeline::BuildOptions o;
+  o.clip = {polygons("clip",
+                     "POLYGON ((500020.5 4000031.25, 500270.75 4000012.5, "
+                     "500288.25 4000240.5, 500041.5 4000290.75, 500020.5 4000031.25))")};
+  o.erase = {polygons("erase",
+                      "POLYGON ((500090.5 4000110.25, 500160.75 4000095.5, "
+                      "500172.25 4000180.5, 500103.5 4000166.75, 500090.5 4000110.25))")};
+  expect_tiles_make_the_whole_dem(in, dir, 100, 30, 1, o);
+}
+
 // Trimmed areas are nodata in the tiles' DEMs as in the whole DEM.
 TEST(TileDems, TrimmedTilesMatchTheWholeTrimmedDem) {
   const fs::path dir = scratch();
@@ -446,14 +468,19 @@ TEST(TileDems, AResolutionThatDoesNotDivideTheTileOrAnExtentIsRefused) {
 // A tile job runs the pipeline's stages with the tile stage after the last that removes
 // triangles, and without the simplify and trim stages (the tile stage does both); the
 // pipeline's own table has no tile stage.
-TEST(Tiles, TheTileStageFollowsThePolygonStages) {
+// The tile stage proves the triangles final before clip and erase classify them; the outline
+// is written once they have removed theirs.
+TEST(Tiles, TheTileStageComesBeforeClipAndEraseAndTheOutlineAfter) {
   std::vector<std::string> pipeline_names, tile_names;
   for (const pipeline::Stage* s : pipeline::stages()) pipeline_names.emplace_back(s->name);
   for (const pipeline::Stage* s : tiles::tile_stages()) tile_names.emplace_back(s->name);
   EXPECT_EQ(std::count(pipeline_names.begin(), pipeline_names.end(), "tile"), 0);
   const auto erase = std::find(pipeline_names.begin(), pipeline_names.end(), "erase");
   ASSERT_NE(erase, pipeline_names.end());
-  pipeline_names.insert(erase + 1, "tile");
+  pipeline_names.insert(erase + 1, "tile_outline");
+  const auto clip = std::find(pipeline_names.begin(), pipeline_names.end(), "clip");
+  ASSERT_NE(clip, pipeline_names.end());
+  pipeline_names.insert(clip, "tile");
   std::erase(pipeline_names, "simplify");
   std::erase(pipeline_names, "trim");
   EXPECT_EQ(tile_names, pipeline_names);

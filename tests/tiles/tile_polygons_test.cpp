@@ -1,0 +1,146 @@
+// Clip and erase polygons in tiled jobs: the rings are cut to the whole data's hull (the plan's),
+// 2D rings draped only on triangles proven final, their crossings with contours made from the
+// whole segments, and the triangles classified by regions of final triangles; the merged tiles
+// are the whole job's TIN (triangle sets, exact coordinates), tiles wholly clipped away included.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "pipeline/build.hpp"
+#include "tile_runs.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace tincdt;
+using namespace tincdt::tile_test;
+
+// A polygon of N corners around (cx, cy), radius R with a wobble (no two sides parallel to the
+// tile borders), 2D, or 3D at the terrain's height plus LIFT.
+std::string polygon_wkt(double cx, double cy, double r, int n, bool three_d, double lift = 0) {
+  std::string wkt = three_d ? "POLYGON Z ((" : "POLYGON ((";
+  for (int k = 0; k <= n; ++k) {
+    const double a = 2 * M_PI * (k % n) / n + 0.3;
+    const double rk = r * (1 + 0.25 * std::sin(3.0 * (k % n) + 1));
+    const double x = cx + rk * std::cos(a), y = cy + rk * std::sin(a);
+    char v[120];
+    if (three_d)
+      std::snprintf(v, sizeof v, "%s%.17g %.17g %.17g", k ? ", " : "", x, y,
+                    terrain_height(x, y) + lift);
+    else
+      std::snprintf(v, sizeof v, "%s%.17g %.17g", k ? ", " : "", x, y);
+    wkt += v;
+  }
+  return wkt + "))";
+}
+
+std::string write_polygons(const fs::path& path, const std::vector<std::string>& wkts) {
+  std::vector<test::VectorLayer> layers(1);
+  layers[0].name = "polygons";
+  for (const std::string& wkt : wkts) layers[0].features.push_back({wkt, 0});
+  return test::write_vector(path, layers, "GeoJSON", "NAME");
+}
+
+constexpr double kX0 = 500000, kY0 = 4000000;
+
+// Points, contour rings and crossing lines over a 300 m square.
+Inputs terrain(const fs::path& dir, std::uint64_t seed) {
+  return {{write_xyz(dir / "points.xyz", random_points(2500, kX0, kY0, 300, seed))},
+          {write_rings(dir / "rings.geojson", kX0 + 150, kY0 + 150, {40, 80, 120}),
+           write_crossing_lines(dir / "lines.geojson", kX0, kY0, 300, 6, 21, seed + 1)}};
+}
+
+// A clip polygon across the data's hull (part of it outside the data) and erase polygons across
+// tile borders and contours, one inside another's hole-free area.
+pipeline::BuildOptions polygon_options(const fs::path& dir, bool three_d) {
+  pipeline::BuildOptions o;
+  o.clip = {write_polygons(dir / "clip.geojson",
+                           {polygon_wkt(kX0 + 130, kY0 + 140, 150, 9, three_d, 1)})};
+  o.erase = {write_polygons(dir / "erase.geojson",
+                            {polygon_wkt(kX0 + 150, kY0 + 100, 30, 7, three_d, -1),
+                             polygon_wkt(kX0 + 60, kY0 + 200, 22, 5, three_d, 2),
+                             polygon_wkt(kX0 + 210, kY0 + 205, 45, 6, three_d, 0)})};
+  return o;
+}
+
+// The tiles' faces, each tile's count in FACES; and every vertex a tile wrote has a height (a
+// draped vertex the tile could not settle is in none of its triangles).
+std::size_t tile_faces(const fs::path& dir, std::size_t n, std::vector<std::size_t>& faces) {
+  std::size_t total = 0;
+  faces.clear();
+  for (std::size_t i = 0; i < n; ++i) {
+    const io::PlyMesh m = io::read_ply((dir / ("tile_" + std::to_string(i) + ".ply")).string());
+    for (const Point3& p : m.vertices) EXPECT_TRUE(std::isfinite(p.z)) << "tile " << i;
+    faces.push_back(m.faces.size());
+    total += m.faces.size();
+  }
+  return total;
+}
+
+TEST(TilePolygons, DrapedClipAndErasePolygonsMatchTheWholeTin) {
+  const fs::path dir = scratch();
+  const Inputs in = terrain(dir, 41);
+  const pipeline::BuildOptions o = polygon_options(dir, false);
+  const std::string w = whole(in, dir, o);
+  ASSERT_GT(triangles(w).size(), 1000u);
+  for (const double size : {150.0, 100.0}) {
+    SCOPED_TRACE(size);
+    expect_same_tin(w, tiled(in, dir, size, 25, -1, o));
+    std::vector<std::size_t> faces;
+    const std::size_t n = tiles::read_plan((dir / "plan.json").string()).tiles.size();
+    EXPECT_EQ(tile_faces(dir, n, faces), triangles(w).size());
+  }
+}
+
+// A clip polygon in the middle: the tiles it misses keep no triangle, and merge takes them as
+// they are.
+TEST(TilePolygons, TilesWhollyClippedAwayAreEmpty) {
+  const fs::path dir = scratch();
+  const Inputs in = terrain(dir, 42);
+  pipeline::BuildOptions o;
+  o.clip = {
+      write_polygons(dir / "clip.geojson", {polygon_wkt(kX0 + 150, kY0 + 150, 60, 8, false)})};
+  const std::string w = whole(in, dir, o);
+  expect_same_tin(w, tiled(in, dir, 100, 25, -1, o));
+  std::vector<std::size_t> faces;
+  EXPECT_EQ(tile_faces(dir, 9, faces), triangles(w).size());
+  const auto empty = std::count(faces.begin(), faces.end(), 0u);
+  EXPECT_GE(empty, 1);  // a corner tile at least
+  EXPECT_LE(empty, 6);  // the middle one and its sides hold some
+}
+
+TEST(TilePolygons, ClipAndErasePolygonsWithTheirOwnHeightsMatchTheWholeTin) {
+  const fs::path dir = scratch();
+  const Inputs in = terrain(dir, 43);
+  const pipeline::BuildOptions o = polygon_options(dir, true);
+  const std::string w = whole(in, dir, o);
+  ASSERT_GT(triangles(w).size(), 1000u);
+  expect_same_tin(w, tiled(in, dir, 120, 25, -1, o));
+}
+
+// The rings are cut to the data's hull, which a plan without a rim does not hold.
+TEST(TilePolygons, APlanWithoutAHullIsRefusedNamingThePlan) {
+  const fs::path dir = scratch();
+  const Inputs in{{write_xyz(dir / "points.xyz", random_points(500, kX0, kY0, 300, 44))}, {}};
+  const std::string p = plan(in, dir, 150, 25, 0);
+  tiles::TileOptions t;
+  t.plan = p;
+  t.tile = 0;
+  pipeline::BuildOptions o = polygon_options(dir, false);
+  o.output = (dir / "tile_0.ply").string();
+  try {
+    tiles::build_tile(t, o);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), p);
+    EXPECT_NE(std::string(e.what()).find("made with --rim 0"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(o.output));
+}
+
+}  // namespace
