@@ -152,7 +152,9 @@ std::vector<double> part_heights(const mesh::Triangulation& tin,
           double h = sampler.z_at({p.x, p.y});
           if (scope.settled && !std::isnan(h) && !scope.settled(tin, sampler.last_triangle()))
             h = std::numeric_limits<double>::quiet_NaN();
-          if (std::isnan(h) && !scope.partial()) {
+          // Outside the whole data's hull there is no TIN; elsewhere a job over part of the data
+          // may lack it.
+          if (std::isnan(h) && (!scope.partial() || !inside_or_on(scope.hull, {p.x, p.y}))) {
             char at[80];
             std::snprintf(at, sizeof at, "(%.3f, %.3f)", p.x, p.y);
             const char* what = input->kind == SourceKind::soft_line ? "a soft line"

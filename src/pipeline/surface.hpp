@@ -83,7 +83,7 @@ struct SurfaceScope {
   std::vector<Point2> hull;
   // Whether the TIN's triangle T (of points and hard lines) is the whole job's: a height draped
   // from any other one is NaN, which the job must then not keep. Draped vertices beyond the
-  // TIN are NaN too instead of an error.
+  // TIN but inside the hull are NaN too instead of an error.
   std::function<bool(const mesh::Triangulation& tin, TriangleId t)> settled;
   bool partial() const { return !hull.empty(); }
 };

@@ -272,11 +272,6 @@ void check_tile_options(const TileOptions& t, const BuildOptions& o) {
     refuse("--max-vertices",
            "a vertex budget counts the whole TIN's vertices, which no tile sees (give --max-error, "
            "or simplify without --plan)");
-  if (!o.soft_lines.empty())
-    refuse("--soft-lines",
-           "a soft line's vertices take their heights from the TIN of the points and hard lines "
-           "wherever they lie, and a tile holds that TIN only near itself" +
-               whole_job);
   if (!o.replace.empty())
     refuse("--replace",
            "a vertex takes the polygon's height when any triangle around it lies inside, and a "
@@ -314,10 +309,12 @@ BuildOptions tile_options(const TileOptions& tiling, const BuildOptions& options
 
   setup.margin = rounding_margin(setup.buffered, plan.hull);
   setup.rim = tiles::Rim{plan.hull, plan.rim_width};
-  if (plan.hull.empty() && !(options.clip.empty() && options.erase.empty()))
+  if (plan.hull.empty() &&
+      !(options.clip.empty() && options.erase.empty() && options.soft_lines.empty()))
     throw InputError(plan_path, "",
-                     "--clip and --erase cut their rings to the data's hull, which this plan "
-                     "lacks (made with --rim 0): make the plan with a rim");
+                     "--clip and --erase cut their rings to the data's hull, and soft lines must "
+                     "lie inside it, which this plan lacks (made with --rim 0): make the plan "
+                     "with a rim");
   const bool reads_rim = reaches_rim(setup, plan.rim_width);
   if (reads_rim) {
     setup.rim_path = resolve_input(plan.rim, plan_path);

@@ -87,7 +87,7 @@ struct TileSetup {
 
 // The rules of tiled jobs that need no file: --tile, --buffer and --outline need --plan, --plan
 // needs --tile, and the options that cannot give the same triangles in every tile (--max-edge
-// with --max-error, --max-vertices, --fix-flats, soft lines and replace polygons, --restore
+// with --max-error, --max-vertices, --fix-flats, replace polygons, --restore
 // other than delaunay) are refused, as are inputs and their read options given beside a plan.
 // Throws UsageError.
 void check_tile_options(const TileOptions& tiling, const pipeline::BuildOptions& options);

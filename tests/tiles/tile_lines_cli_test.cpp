@@ -49,7 +49,6 @@ TEST(TileLinesCli, OptionsATileCannotProveAreRefusedEachByName) {
   const fs::path dir = test::scratch_dir("tile_lines_cli_refusals");
   const std::pair<std::string, std::string> cases[] = {
       {"--replace r.geojson", "--replace cannot be used with --plan: a vertex takes"},
-      {"--soft-lines s.geojson", "--soft-lines cannot be used with --plan: a soft line's"},
       {"--max-edge 5 --max-error 0.1", "--max-edge with --max-error cannot be used with --plan"},
       {"--fix-flats", "--fix-flats cannot be used with --plan: a flat area"},
       {"--restore aspect", "--restore aspect cannot be used with --plan: the triangles it leaves"},

@@ -6,8 +6,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -121,6 +123,69 @@ TEST(TilePolygons, ClipAndErasePolygonsWithTheirOwnHeightsMatchTheWholeTin) {
   const std::string w = whole(in, dir, o);
   ASSERT_GT(triangles(w).size(), 1000u);
   expect_same_tin(w, tiled(in, dir, 120, 25, -1, o));
+}
+
+// 2D polylines across [x0, x0 + side)^2 like write_crossing_lines(), without heights: soft lines
+// that cross each other, the contours and the tile borders.
+std::string write_soft_lines(const fs::path& path, int n, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> across(20, 280), jitter(-6, 6);
+  std::vector<test::VectorLayer> layers(1);
+  layers[0].name = "soft";
+  for (int i = 0; i < n; ++i) {
+    const double course = across(rng);
+    std::string wkt = "LINESTRING (";
+    for (int k = 0; k < 12; ++k) {
+      const double along = 10 + 280.0 * k / 11, off = course + jitter(rng);
+      char v[80];
+      std::snprintf(v, sizeof v, "%s%.17g %.17g", k ? ", " : "", kX0 + (i % 2 == 0 ? along : off),
+                    kY0 + (i % 2 == 0 ? off : along));
+      wkt += v;
+    }
+    layers[0].features.push_back({wkt + ")", 0});
+  }
+  return test::write_vector(path, layers, "GeoJSON", "NAME");
+}
+
+// Soft lines are draped as 2D rings are; where two cross, the vertex takes the mean of the
+// heights along both whole segments, whose far ends a tile must have settled too.
+TEST(TilePolygons, SoftLinesMatchTheWholeTin) {
+  const fs::path dir = scratch();
+  const Inputs in = terrain(dir, 45);
+  pipeline::BuildOptions o = polygon_options(dir, false);
+  o.soft_lines = {write_soft_lines(dir / "soft.geojson", 6, 46)};
+  const std::string w = whole(in, dir, o);
+  ASSERT_GT(triangles(w).size(), 1000u);
+  for (const double size : {150.0, 100.0}) {
+    SCOPED_TRACE(size);
+    expect_same_tin(w, tiled(in, dir, size, 25, -1, o));
+  }
+}
+
+// A soft line beyond the data's hull has nothing to be draped on, in a tile as in the whole job,
+// even where the tile's own TIN does not reach.
+TEST(TilePolygons, ASoftLineBeyondTheDataIsAnErrorInEveryTile) {
+  const fs::path dir = scratch();
+  const Inputs in{{write_xyz(dir / "points.xyz", random_points(800, kX0, kY0, 300, 47))}, {}};
+  std::vector<test::VectorLayer> layers(1);
+  layers[0].name = "soft";
+  layers[0].features.push_back({"LINESTRING (500150 4000150, 500150 4000400)", 0});
+  pipeline::BuildOptions o;
+  o.soft_lines = {test::write_vector(dir / "soft.geojson", layers, "GeoJSON", "NAME")};
+  const std::string p = plan(in, dir, 150, 25);
+  for (const std::int64_t tile : {0, 3}) {  // one the line reaches, one it does not
+    tiles::TileOptions t;
+    t.plan = p;
+    t.tile = tile;
+    o.output = (dir / "tile.ply").string();
+    try {
+      tiles::build_tile(t, o);
+      ADD_FAILURE() << "tile " << tile << ": no error";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.file(), o.soft_lines[0]);
+      EXPECT_NE(std::string(e.what()).find("lies outside the TIN"), std::string::npos) << e.what();
+    }
+  }
 }
 
 // The rings are cut to the data's hull, which a plan without a rim does not hold.
