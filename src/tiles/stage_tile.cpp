@@ -391,16 +391,9 @@ void check_hull_edge(const mesh::Triangulation& tin, const TileSetup& tile, cons
   }
 }
 
-// Whether a corner of triangle T has no height: a draped vertex of a clip or erase ring whose
-// height the tile could not prove (SurfaceScope::settled).
-bool has_unsettled_height(const mesh::Triangulation& tin, TriangleId t) {
-  const auto c = tin.triangle(t);
-  return std::isnan(tin.z(c[0])) || std::isnan(tin.z(c[1])) || std::isnan(tin.z(c[2]));
-}
-
-// A real triangle: removed when it does not meet NEAR; else checked final (and its heights
-// settled), and kept when the tile owns it (the others go to job.dem_extra_triangles, for the
-// DEM). The final ones are marked in job.proven_triangles.
+// A real triangle: removed when it does not meet NEAR; else checked final, and kept when the
+// tile owns it (the others go to job.dem_extra_triangles, for the DEM). The final ones are
+// marked in job.proven_triangles.
 void check_triangle(TileJob& job, const BBox& near, const tiles::Polygon& near_polygon,
                     TileTrim* trim, TriangleId t, FinalityTally& tally) {
   const TileSetup& tile = job.tile;
@@ -427,7 +420,7 @@ void check_triangle(TileJob& job, const BBox& near, const tiles::Polygon& near_p
   else
     ++tally.beyond;
   const bool owned = tile.grid.holds(tile.col, tile.row, tiles::owner_point(a, b, p));
-  if (!is_final(tin, tile, t, d) || has_unsettled_height(tin, t)) {
+  if (!is_final(tin, tile, t, d)) {
     count_failure(tin, tile, t, d, tally);
   } else {
     job.proven_triangles[t] = 1;
@@ -469,6 +462,71 @@ void check_triangle(TileJob& job, const BBox& near, const tiles::Polygon& near_p
                         .largest = tile.largest_buffer});
 }
 
+// --replace: a vertex takes a polygon's height when any triangle around it lies inside, so
+// every triangle around a corner of a triangle the tile writes or rasterizes must be final too.
+void prove_corner_fans(TileJob& job, FinalityTally& tally) {
+  const mesh::Triangulation& tin = job.mesh.tin;
+  std::vector<std::uint8_t>& proven = job.proven_triangles;
+  const auto prove_fans_of = [&](TriangleId t) {
+    for (std::uint32_t i = 0; i < 3; ++i) {
+      const auto start = static_cast<EdgeId>(3 * t + i);
+      EdgeId e = start;
+      do {
+        const TriangleId n = mesh::triangle_of(e);
+        if (!tin.is_ghost(n) && !proven[n]) {
+          const auto c = tin.triangle(n);
+          const tiles::Disk d =
+              tiles::circumdisk_bound(tin.point(c[0]), tin.point(c[1]), tin.point(c[2]));
+          if (is_final(tin, job.tile, n, d))
+            proven[n] = 1;
+          else
+            count_failure(tin, job.tile, n, d, tally);
+        }
+        e = tin.twin(mesh::prev_edge(e));
+      } while (e != start);
+    }
+  };
+  const auto slots = static_cast<TriangleId>(tin.triangle_slots());
+  for (TriangleId t = 0; t < slots; ++t)
+    if (!tin.is_ghost(t) && tin.is_kept(t)) prove_fans_of(t);
+  for (const TriangleId t : job.dem_extra_triangles) prove_fans_of(t);
+}
+
+// Every corner of a triangle the tile writes or rasterizes has a height: a draped vertex whose
+// triangle the tile could not prove final has none (SurfaceScope::settled), and the tile then
+// reads more.
+void check_heights_settled(TileJob& job) {
+  const mesh::Triangulation& tin = job.mesh.tin;
+  const auto unsettled = [&tin](TriangleId t) {
+    const auto c = tin.triangle(t);
+    return std::isnan(tin.z(c[0])) || std::isnan(tin.z(c[1])) || std::isnan(tin.z(c[2]));
+  };
+  std::uint64_t count = 0;
+  Point2 at{0, 0};
+  const auto look = [&](TriangleId t) {
+    if (!unsettled(t)) return;
+    if (count++ == 0)
+      at = tiles::owner_point(tin.point(tin.triangle(t)[0]), tin.point(tin.triangle(t)[1]),
+                              tin.point(tin.triangle(t)[2]));
+  };
+  tin.for_each_triangle([&](TriangleId t, const std::array<VertexId, 3>&) { look(t); });
+  for (const TriangleId t : job.dem_extra_triangles) look(t);
+  if (count == 0) return;
+  const TileSetup& tile = job.tile;
+  char where[80];
+  std::snprintf(where, sizeof where, "(%.3f, %.3f)", at.x, at.y);
+  throw BufferTooSmall(tile.plan_path, "tile " + std::to_string(tile.index),
+                       "buffer " + number(tile.buffer) +
+                           " is too small: " + count_text(count, "triangle") +
+                           " near the tile have a corner draped from a triangle that could "
+                           "still change (one near " +
+                           where + ")",
+                       {.used = tile.buffer,
+                        .needed = 0,
+                        .tile_size = tile.grid.size,
+                        .largest = tile.largest_buffer});
+}
+
 void run(TileJob& job) {
   const TileSetup& tile = job.tile;
   mesh::Triangulation& tin = job.tin();
@@ -486,6 +544,7 @@ void run(TileJob& job) {
     else
       check_triangle(job, near, near_polygon, trim ? &*trim : nullptr, t, tally);
   }
+  if (!job.options.replace.empty()) prove_corner_fans(job, tally);
 
   const std::string name = "tile " + std::to_string(tile.index);
   if (tally.failed > 0) throw_buffer_too_small(tile, name, tally);
@@ -496,6 +555,7 @@ void run(TileJob& job) {
   if (o.max_edge > 0 || !o.clip.empty() || !o.erase.empty())
     job.write.ply_trimmed = detail::mark_text({tile.tile_count, {tile.index}});
   if (o.max_error) {
+    check_heights_settled(job);    // the simplification measures them
     detail::simplify_tile(job);    // from the final triangles only
     job.proven_triangles.clear();  // the simplified TIN is the tile's alone, all of it final
   }
@@ -512,9 +572,11 @@ void run_tile(pipeline::Job& job) {
   run(static_cast<TileJob&>(job));
 }
 
-// After the polygon stages, which may remove more of the tile's triangles.
+// After the polygon stages, which may remove more of the tile's triangles and give heights to
+// the vertices of replace polygons.
 void write_tile_outline(pipeline::Job& pipeline_job) {
-  const TileJob& job = static_cast<TileJob&>(pipeline_job);
+  TileJob& job = static_cast<TileJob&>(pipeline_job);
+  check_heights_settled(job);
   if (job.outline.empty()) return;
   io::OutputFile& out = pipeline_job.add_output(job.outline, "outline");
   detail::write_outline(out, outline_of(job.mesh.tin), "", job.write.ply_trimmed);

@@ -272,12 +272,11 @@ void check_tile_options(const TileOptions& t, const BuildOptions& o) {
     refuse("--max-vertices",
            "a vertex budget counts the whole TIN's vertices, which no tile sees (give --max-error, "
            "or simplify without --plan)");
-  if (!o.replace.empty())
-    refuse("--replace",
-           "a vertex takes the polygon's height when any triangle around it lies inside, and a "
-           "tile proves final the triangles that meet it, not every triangle around their "
-           "corners" +
-               whole_job);
+  if (!o.replace.empty() && o.max_error)
+    refuse("--replace with --max-error",
+           "the whole job sets the heights of the simplified TIN's vertices, and a vertex on a "
+           "tile border sees only its own tile's side of a ring there (give one of them, or "
+           "build without --plan)");
   if (!o.terrain.path.empty())
     refuse("--terrain",
            "a web-terrain pyramid's coarse tiles span many plan tiles; merge the tiles, then "
@@ -309,12 +308,12 @@ BuildOptions tile_options(const TileOptions& tiling, const BuildOptions& options
 
   setup.margin = rounding_margin(setup.buffered, plan.hull);
   setup.rim = tiles::Rim{plan.hull, plan.rim_width};
-  if (plan.hull.empty() &&
-      !(options.clip.empty() && options.erase.empty() && options.soft_lines.empty()))
+  if (plan.hull.empty() && !(options.clip.empty() && options.erase.empty() &&
+                             options.soft_lines.empty() && options.replace.empty()))
     throw InputError(plan_path, "",
-                     "--clip and --erase cut their rings to the data's hull, and soft lines must "
-                     "lie inside it, which this plan lacks (made with --rim 0): make the plan "
-                     "with a rim");
+                     "--clip and --erase cut their rings to the data's hull, and soft lines and "
+                     "replace rings must lie inside it, which this plan lacks (made with --rim "
+                     "0): make the plan with a rim");
   const bool reads_rim = reaches_rim(setup, plan.rim_width);
   if (reads_rim) {
     setup.rim_path = resolve_input(plan.rim, plan_path);
@@ -365,7 +364,7 @@ std::vector<const pipeline::Stage*> tile_stages() {
     // A tile simplifies and trims in the tile stage, once the triangles near it are proven
     // final.
     if (stage->name == "simplify" || stage->name == "trim") continue;
-    if (stage->name == "clip") list.push_back(&tile_stage);
+    if (stage->name == "replace") list.push_back(&tile_stage);
     list.push_back(stage);
     if (stage->name == "erase") list.push_back(&tile_outline_stage);
   }

@@ -87,9 +87,9 @@ struct TileSetup {
 
 // The rules of tiled jobs that need no file: --tile, --buffer and --outline need --plan, --plan
 // needs --tile, and the options that cannot give the same triangles in every tile (--max-edge
-// with --max-error, --max-vertices, --fix-flats, replace polygons, --restore
-// other than delaunay) are refused, as are inputs and their read options given beside a plan.
-// Throws UsageError.
+// with --max-error, --max-vertices, --fix-flats, --replace with --max-error, --restore other
+// than delaunay) are refused, as are inputs and their read options given beside a plan. Throws
+// UsageError.
 void check_tile_options(const TileOptions& tiling, const pipeline::BuildOptions& options);
 
 // check_tile_options(), then pipeline::check_options() on OPTIONS, the plan (when given) standing
@@ -130,17 +130,17 @@ struct TileJob : pipeline::Job {
 // TileJob, as does tile_outline.
 extern const pipeline::Stage tile_stage;
 
-// tile_outline: the tile's outline (--outline), once the clip and erase stages have removed
-// what they remove.
+// tile_outline: checks that every height the tile keeps is settled, then writes the tile's
+// outline (--outline), once the replace, clip and erase stages have done their work.
 extern const pipeline::Stage tile_outline_stage;
 
 // Whether triangle T of the tile's TIN is final: a triangle of the whole TIN (stage_tile.cpp).
 bool proven_final(const mesh::Triangulation& tin, const TileSetup& tile, TriangleId t);
 
-// The stages of a tile job: the pipeline's, with the tile stage before the clip and erase stages
-// (which classify the triangles it proved final: Job::proven_triangles) and the outline after
-// them. Without the simplify and trim stages: the tile stage trims and simplifies the tile
-// (tile_simplify.hpp).
+// The stages of a tile job: the pipeline's, with the tile stage before the replace, clip and
+// erase stages (which classify the triangles it proved final: Job::proven_triangles) and the
+// outline after them. Without the simplify and trim stages: the tile stage trims and simplifies
+// the tile (tile_simplify.hpp).
 std::vector<const pipeline::Stage*> tile_stages();
 
 // Builds tile TILING.tile of plan TILING.plan as pipeline::build() builds a job: check_options(),

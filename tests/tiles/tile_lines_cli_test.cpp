@@ -48,7 +48,8 @@ TEST(TileLinesCli, CrossingContoursAndHardLinesPlanTileMergeAsTheWholeJob) {
 TEST(TileLinesCli, OptionsATileCannotProveAreRefusedEachByName) {
   const fs::path dir = test::scratch_dir("tile_lines_cli_refusals");
   const std::pair<std::string, std::string> cases[] = {
-      {"--replace r.geojson", "--replace cannot be used with --plan: a vertex takes"},
+      {"--replace r.geojson --max-error 0.1",
+       "--replace with --max-error cannot be used with --plan: the whole job sets"},
       {"--max-edge 5 --max-error 0.1", "--max-edge with --max-error cannot be used with --plan"},
       {"--fix-flats", "--fix-flats cannot be used with --plan: a flat area"},
       {"--restore aspect", "--restore aspect cannot be used with --plan: the triangles it leaves"},

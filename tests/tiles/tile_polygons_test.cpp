@@ -188,6 +188,39 @@ TEST(TilePolygons, ASoftLineBeyondTheDataIsAnErrorInEveryTile) {
   }
 }
 
+// Replace polygons (lakes, pads) over tile borders, one across a contour ring and one across a
+// clip ring: every vertex on or inside takes the polygon's height, later polygons winning, in
+// every tile as in the whole job, which needs every triangle around a kept corner proven.
+TEST(TilePolygons, ReplacePolygonsMatchTheWholeTin) {
+  const fs::path dir = scratch();
+  const Inputs in = terrain(dir, 48);
+  const auto flat = [](double cx, double cy, double r, int n, double z) {
+    std::string wkt = "POLYGON Z ((";
+    for (int k = 0; k <= n; ++k) {
+      const double a = 2 * M_PI * (k % n) / n + 0.2;
+      char v[120];
+      std::snprintf(v, sizeof v, "%s%.17g %.17g %.17g", k ? ", " : "", cx + r * std::cos(a),
+                    cy + r * std::sin(a), z);
+      wkt += v;
+    }
+    return wkt + "))";
+  };
+  pipeline::BuildOptions o = polygon_options(dir, false);
+  o.replace = {write_polygons(dir / "replace.geojson", {flat(kX0 + 100, kY0 + 150, 35, 9, 5290),
+                                                        flat(kX0 + 200, kY0 + 100, 28, 7, 5310),
+                                                        flat(kX0 + 120, kY0 + 170, 20, 6, 5280)})};
+  const std::string w = whole(in, dir, o);
+  ASSERT_GT(triangles(w).size(), 1000u);
+  std::size_t replaced = 0;
+  for (const Triangle& t : triangles(w))
+    for (const Corner& c : t) replaced += c[2] == 5290 || c[2] == 5310 || c[2] == 5280;
+  ASSERT_GT(replaced, 100u);
+  for (const double size : {150.0, 100.0}) {
+    SCOPED_TRACE(size);
+    expect_same_tin(w, tiled(in, dir, size, 25, -1, o));
+  }
+}
+
 // The rings are cut to the data's hull, which a plan without a rim does not hold.
 TEST(TilePolygons, APlanWithoutAHullIsRefusedNamingThePlan) {
   const fs::path dir = scratch();

@@ -468,9 +468,9 @@ TEST(TileDems, AResolutionThatDoesNotDivideTheTileOrAnExtentIsRefused) {
 // A tile job runs the pipeline's stages with the tile stage after the last that removes
 // triangles, and without the simplify and trim stages (the tile stage does both); the
 // pipeline's own table has no tile stage.
-// The tile stage proves the triangles final before clip and erase classify them; the outline
-// is written once they have removed theirs.
-TEST(Tiles, TheTileStageComesBeforeClipAndEraseAndTheOutlineAfter) {
+// The tile stage proves the triangles final before replace, clip and erase classify them; the
+// outline is written once they are done.
+TEST(Tiles, TheTileStageComesBeforeThePolygonStagesAndTheOutlineAfter) {
   std::vector<std::string> pipeline_names, tile_names;
   for (const pipeline::Stage* s : pipeline::stages()) pipeline_names.emplace_back(s->name);
   for (const pipeline::Stage* s : tiles::tile_stages()) tile_names.emplace_back(s->name);
@@ -478,9 +478,9 @@ TEST(Tiles, TheTileStageComesBeforeClipAndEraseAndTheOutlineAfter) {
   const auto erase = std::find(pipeline_names.begin(), pipeline_names.end(), "erase");
   ASSERT_NE(erase, pipeline_names.end());
   pipeline_names.insert(erase + 1, "tile_outline");
-  const auto clip = std::find(pipeline_names.begin(), pipeline_names.end(), "clip");
-  ASSERT_NE(clip, pipeline_names.end());
-  pipeline_names.insert(clip, "tile");
+  const auto replace = std::find(pipeline_names.begin(), pipeline_names.end(), "replace");
+  ASSERT_NE(replace, pipeline_names.end());
+  pipeline_names.insert(replace, "tile");
   std::erase(pipeline_names, "simplify");
   std::erase(pipeline_names, "trim");
   EXPECT_EQ(tile_names, pipeline_names);
