@@ -150,27 +150,31 @@ bool is_final_hull_edge(const TileSetup& tile, Point2 u, Point2 v) {
   });
 }
 
-// A triangle A, B, X on a hull edge A -> B of the whole TIN, obtuse at X: beyond the edge there
-// is no data at all, and on this side its circumdisk is the circular segment on chord AB, no
-// higher than H = d L^2 / (4 s (L - s)) over it (X at height d, at s along AB of length L: the
-// arc's height at s is at least d / H of its height at the middle, by the power of the foot of
-// X). A rectangle over AB of that height therefore holds all of the disk that data could reach.
-// This settles the slivers a crossing of a ring and the hull makes, a hair inside the hull,
-// whose circumcentre is too far off for circumdisk_bound().
-bool is_final_on_hull(const mesh::Triangulation& tin, const TileSetup& tile, TriangleId t) {
+// A triangle A, B, X obtuse at X has its circumcentre beyond its edge A -> B, and of its
+// circumdisk only the circular segment on chord AB lies on X's side, no higher than
+// H = d L^2 / (4 s (L - s)) over it (X at height d, at s along AB of length L: the arc's height
+// at s is at least d / H of its height at the middle, by the power of the foot of X). When AB
+// is constrained, nothing beyond it is visible from the triangle (the disk's chord on its line
+// is AB itself); when it is a final hull edge, there is no data beyond it. Either way a
+// rectangle over AB of that height holds all of the disk that data could reach. This settles
+// the slivers a ring makes with the points a hair off its line (centimetre coordinates have
+// many) or with the hull where it crosses it, whose circumcentres lie too far off for
+// circumdisk_bound() to be of use.
+bool is_final_by_cap(const mesh::Triangulation& tin, const TileSetup& tile, TriangleId t) {
   for (std::uint32_t i = 0; i < 3; ++i) {
     const auto e = static_cast<EdgeId>(3 * t + i);
-    if (!tin.is_ghost(mesh::triangle_of(tin.twin(e)))) continue;
+    const bool on_hull = tin.is_ghost(mesh::triangle_of(tin.twin(e)));
+    if (!on_hull && !tin.is_constrained(e)) continue;
     const Point2 a = tin.point(tin.origin(e)), b = tin.point(tin.dest(e)),
                  x = tin.point(tin.apex(e));
-    if ((a.x - x.x) * (b.x - x.x) + (a.y - x.y) * (b.y - x.y) >= 0) return false;  // not obtuse
-    if (!is_final_hull_edge(tile, b, a)) return false;
+    if ((a.x - x.x) * (b.x - x.x) + (a.y - x.y) * (b.y - x.y) >= 0) continue;  // not obtuse
+    if (on_hull && !is_final_hull_edge(tile, b, a)) return false;
     const double ux = b.x - a.x, uy = b.y - a.y, length = std::hypot(ux, uy);
     const double s = ((x.x - a.x) * ux + (x.y - a.y) * uy) / length;
     const double d = (ux * (x.y - a.y) - uy * (x.x - a.x)) / length;
     if (!(s > 0 && s < length && d >= 0)) return false;
     const double h = 2 * d * length * length / (4 * s * (length - s)) + 4 * tile.margin;
-    const Point2 lift{-uy / length * h, ux / length * h};  // towards the inside
+    const Point2 lift{-uy / length * h, ux / length * h};  // towards X
     const Point2 b_up{b.x + lift.x, b.y + lift.y}, a_up{a.x + lift.x, a.y + lift.y};
     return std::none_of(tile.missing.begin(), tile.missing.end(), [&](const tiles::Polygon& p) {
       return tiles::may_meet(a, b, b_up, p, tile.margin) ||
@@ -214,39 +218,68 @@ bool disk_is_clear(const mesh::Triangulation& tin, const TileSetup& tile, Triang
 // Whether what T sees of its circumdisk (bound D) holds no data the tile lacks, followed through
 // the TIN: a point of the disk that T sees is joined to T by a segment inside the disk that
 // crosses no constrained edge, so it lies in a triangle reached from T across unconstrained
-// edges, each meeting the disk. When every such triangle is clear of the missing regions (and
-// every hull edge met is final), nothing unread is in sight. This settles slivers whose disk is
-// far larger than the pocket of constrained edges around them (near-collinear points beside a
-// ring), which the walls of disk_is_clear() do not reach. At most kSightTriangles are followed.
-// (A segment from T through a vertex V instead of an edge would make V, strictly inside the disk,
-// visible from T: T would not be constrained Delaunay in the tile's TIN.)
+// edges, each meeting the disk, and the segment passes through every edge crossed on the way: it
+// lies in the cone from the first of them through the last. When every triangle so reached is
+// clear of the missing regions (and every hull edge met is final), nothing unread is in sight.
+// This settles the slivers whose disk is far larger than the pocket or channel of constrained
+// edges around them (points a hair off a ring's line), which the walls of disk_is_clear() do not
+// reach. At most kSightSteps steps are followed. (A segment from T through a vertex V instead of
+// an edge would make V, strictly inside the disk, visible from T: T would not be constrained
+// Delaunay in the tile's TIN.)
 bool is_final_by_sight(const mesh::Triangulation& tin, const TileSetup& tile, TriangleId t,
                        const tiles::Disk& d) {
-  constexpr std::size_t kSightTriangles = 64;
-  const auto clear = [&tile](const tiles::Polygon& triangle) {
-    return std::none_of(tile.missing.begin(), tile.missing.end(), [&](const tiles::Polygon& p) {
-      return tiles::may_meet(triangle[0], triangle[1], triangle[2], p, tile.margin);
+  constexpr std::size_t kSightSteps = 256;
+  const auto clear = [&tile](const Point2(&p)[3]) {
+    return std::none_of(tile.missing.begin(), tile.missing.end(), [&](const tiles::Polygon& m) {
+      return tiles::may_meet(p[0], p[1], p[2], m, tile.margin);
     });
   };
-  const auto corners = tin.triangle(t);
-  if (!clear({tin.point(corners[0]), tin.point(corners[1]), tin.point(corners[2])})) return false;
-  std::vector<TriangleId> seen{t};
-  for (std::size_t head = 0; head < seen.size(); ++head) {
-    for (std::uint32_t i = 0; i < 3; ++i) {
-      const auto e = static_cast<EdgeId>(3 * seen[head] + i);
-      if (tin.is_constrained(e)) continue;
-      const TriangleId n = mesh::triangle_of(tin.twin(e));
-      if (std::find(seen.begin(), seen.end(), n) != seen.end()) continue;
-      if (tin.is_ghost(n)) {
-        if (!is_final_hull_edge(tile, tin.point(tin.dest(e)), tin.point(tin.origin(e))))
-          return false;
-        continue;
-      }
-      const auto c = tin.triangle(n);
-      const tiles::Polygon triangle{tin.point(c[0]), tin.point(c[1]), tin.point(c[2])};
-      if (!tiles::may_meet(d, triangle, tile.margin)) continue;
-      if (!clear(triangle) || seen.size() == kSightTriangles) return false;
-      seen.push_back(n);
+  const auto corners = [&tin](TriangleId n, Point2(&p)[3]) {
+    const auto c = tin.triangle(n);
+    for (int k = 0; k < 3; ++k) p[k] = tin.point(c[k]);
+  };
+  Point2 p[3];
+  corners(t, p);
+  if (!clear(p)) return false;
+  // A step: across half-edge `through` (of the triangle before it), having left T through
+  // `first`. Points seen past portal q0 -> q1 (the triangle before it on its left) from portal
+  // p0 -> p1 (T on its left) lie left of p1 -> q0 and right of p0 -> q1.
+  struct Step {
+    EdgeId through, first;
+  };
+  std::vector<Step> steps;
+  for (std::uint32_t i = 0; i < 3; ++i) {
+    const auto e = static_cast<EdgeId>(3 * t + i);
+    if (!tin.is_constrained(e)) steps.push_back({e, e});
+  }
+  for (std::size_t head = 0; head < steps.size(); ++head) {
+    const Step step = steps[head];
+    const TriangleId n = mesh::triangle_of(tin.twin(step.through));
+    if (tin.is_ghost(n)) {
+      if (!is_final_hull_edge(tile, tin.point(tin.dest(step.through)),
+                              tin.point(tin.origin(step.through))))
+        return false;
+      continue;
+    }
+    corners(n, p);
+    if (!tiles::may_meet(d, tiles::Polygon{p[0], p[1], p[2]}, tile.margin)) continue;
+    const Point2 p0 = tin.point(tin.origin(step.first)), p1 = tin.point(tin.dest(step.first));
+    const Point2 q0 = tin.point(tin.origin(step.through)), q1 = tin.point(tin.dest(step.through));
+    const auto all = [&p](Point2 a, Point2 b, int side) {
+      return std::all_of(std::begin(p), std::end(p),
+                         [&](Point2 c) { return predicates::orient2d(a, b, c) == side; });
+    };
+    if (all(p1, q0, -1) || all(p0, q1, 1)) continue;  // out of sight
+    if (!clear(p)) return false;
+    const EdgeId entered = tin.twin(step.through);
+    for (const EdgeId f : {mesh::next_edge(entered), mesh::prev_edge(entered)}) {
+      if (tin.is_constrained(f)) continue;
+      const bool known = std::any_of(steps.begin(), steps.end(), [&](const Step& s) {
+        return s.through == f && s.first == step.first;
+      });
+      if (known) continue;
+      if (steps.size() == kSightSteps) return false;
+      steps.push_back({f, step.first});
     }
   }
   return true;
@@ -255,7 +288,7 @@ bool is_final_by_sight(const mesh::Triangulation& tin, const TileSetup& tile, Tr
 // Whether triangle T, whose circumdisk lies within D, is final (see the top of the file).
 bool is_final(const mesh::Triangulation& tin, const TileSetup& tile, TriangleId t,
               const tiles::Disk& d) {
-  return disk_is_clear(tin, tile, t, d) || is_final_on_hull(tin, tile, t) ||
+  return disk_is_clear(tin, tile, t, d) || is_final_by_cap(tin, tile, t) ||
          is_final_by_sight(tin, tile, t, d);
 }
 

@@ -11,10 +11,11 @@
 # SIDE) and tile_N.time (wall seconds, peak RSS KiB); the DEM tiles are joined by
 # WORK_DIR/out/dem.vrt (gdalbuildvrt). Each tile's PLY is deleted once its outline is written
 # (keep them with KEEP_TILES=1), except the four tiles of the sample block. JOBS (default 2) tile
-# jobs at once, THREADS (default 1) threads each. The input is reused when present; delete
-# WORK_DIR when done.
+# jobs at once, THREADS (default 1) threads each; TILE_OPTIONS (split on spaces) go to every tile
+# job, e.g. TILE_OPTIONS="--max-error 0.1 --clip /data/area.gpkg". The input is reused when
+# present; delete WORK_DIR when done.
 set -euo pipefail
-(($# >= 6)) || { sed -n '2,17p' "$0" >&2; exit 2; }
+(($# >= 6)) || { sed -n '2,16p' "$0" >&2; exit 2; }
 build=$(cd "$1" && pwd)
 work=$2 cols=$3 rows=$4 points=$5 side=$6 buffer=${7:-25}
 tincdt=$build/tincdt
@@ -49,12 +50,13 @@ tile_job() {  # tile_job N: build tile N, keep its outline and DEM, delete its P
   local t=$1
   /usr/bin/time -f '%e %M' -o "out/tile_$t.time" "$tincdt" --plan plan.json --tile "$t" \
     -o "out/tile_$t.ply" --outline "out/tile_$t.outline.ply" \
-    --dem "out/tile_$t.tif" --resolution "$resolution" --threads "$threads" --overwrite -q
+    --dem "out/tile_$t.tif" --resolution "$resolution" --threads "$threads" --overwrite -q \
+    ${TILE_OPTIONS:-}
   du -k "out/tile_$t.ply" | cut -f1 >"out/tile_$t.kib"
   if [[ ${KEEP_TILES:-0} != 1 && $keep != *" $t "* ]]; then rm -f "out/tile_$t.ply" "out/tile_$t.prj"; fi
 }
 export -f tile_job
-export tincdt threads keep resolution
+export tincdt threads keep resolution TILE_OPTIONS
 ( while sleep 60; do
     du -sk . | cut -f1 >>out/disk.log
     say "running: $(ls out/*.time 2>/dev/null | wc -l)/$n done; disk $(du -sh . | cut -f1); load $(uptime | sed 's/.*load average: //')"
@@ -96,7 +98,7 @@ echo
 echo "| figure | value |"
 echo "|---|---|"
 echo "| points | $((count * points)) in $count LAS files ($(du -sh las | cut -f1)) |"
-echo "| tiles | $n of $side m, buffer $buffer m, $jobs jobs at once, $threads thread(s) each |"
+echo "| tiles | $n of $side m, buffer $buffer m, $jobs jobs at once, $threads thread(s) each${TILE_OPTIONS:+, $TILE_OPTIONS} |"
 echo "| plan | $(cut -d' ' -f1 plan.time) s, peak RSS $(($(cut -d' ' -f2 plan.time) / 1024)) MiB |"
 echo "| wall time, plan + all tiles | $(echo "$built - $start" | bc | cut -d. -f1) s |"
 echo "| tile job wall (min / median / max) | $(echo "$walls" | head -1) / $(echo "$walls" | sed -n "$(( (n + 1) / 2 ))p") / $(echo "$walls" | tail -1) s |"
