@@ -85,6 +85,9 @@ struct Job {
   std::vector<constraints::Piece> pieces;
   std::vector<constraints::Crossing> crossings;
   std::vector<constraints::Segment> given_segments;
+  // simplify, with --max-edge: 1 per triangle slot of the simplified TIN in an area the full
+  // TIN's trimming removed, for the trim stage.
+  std::vector<std::uint8_t> trimmed_areas;
   // flats: 1 per vertex on a contour (also for the quality stage's flat count).
   std::vector<std::uint8_t> on_contour;
   // quality: the --stats measurement of the final TIN, running beside the output stages, which

@@ -2,6 +2,10 @@
 // greedy insertion finds within the tolerance of every one of its vertices, keeping every
 // constrained edge (simplify/simplify.hpp). The later stages (flats, replace, trim, clip, erase)
 // work on the simplified TIN; the vertex ids the earlier stages left in the Job are remapped.
+// With --max-edge the full TIN is trimmed first (terrain::trim_and_fence()).
+#include <array>
+#include <cmath>
+#include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
@@ -10,6 +14,8 @@
 #include "core/number_text.hpp"
 #include "pipeline/stage.hpp"
 #include "simplify/simplify.hpp"
+#include "terrain/interpolate.hpp"
+#include "terrain/trim.hpp"
 
 namespace tincdt::pipeline {
 namespace {
@@ -18,7 +24,24 @@ bool wanted(const BuildOptions& o) {
   return o.max_error || o.max_vertices > 0;
 }
 
+// The simplified triangles (1 per slot) whose centroid lies in a triangle of FULL that
+// trim_and_fence() removed.
+std::vector<std::uint8_t> in_trimmed_areas(const mesh::Triangulation& full,
+                                           const mesh::Triangulation& simplified) {
+  std::vector<std::uint8_t> marked(simplified.triangle_slots(), 0);
+  terrain::SurfaceSampler sampler(full);
+  simplified.for_each_triangle([&](TriangleId t, const std::array<VertexId, 3>& c) {
+    const Point2 a = simplified.point(c[0]), b = simplified.point(c[1]), d = simplified.point(c[2]);
+    marked[t] = std::isnan(sampler.z_at({(a.x + b.x + d.x) / 3, (a.y + b.y + d.y) / 3}));
+  });
+  return marked;
+}
+
 void run(Job& job) {
+  // --max-edge trims the gaps between the points, before the simplification makes every edge
+  // longer; the outline it leaves is kept, and the trim stage removes what lies beyond it.
+  if (job.options.max_edge > 0)
+    job.report.trimmed_triangles = terrain::trim_and_fence(job.tin(), job.options.max_edge);
   const mesh::Triangulation& full = job.tin();
   simplify::SimplifyOptions options;
   options.max_error = job.options.max_error.value_or(0);
@@ -40,6 +63,7 @@ void run(Job& job) {
     d.vertex = vertex_of[d.vertex];
   }
   release(job.mesh.vertex_of_point);
+  if (job.options.max_edge > 0) job.trimmed_areas = in_trimmed_areas(full, r.tin);
   job.mesh.tin = std::move(r.tin);
 
   BuildReport::Simplify& s = job.report.simplify;

@@ -1,5 +1,7 @@
 // trim: --max-edge removes boundary triangles with a longer edge, inward from the convex hull,
-// so that a concave outline is not bridged; before clip and erase open new boundaries.
+// so that a concave outline is not bridged; before clip and erase open new boundaries. A
+// simplified TIN was trimmed before the simplification (stage_simplify.cpp): the triangles in
+// the trimmed areas go here.
 #include <string>
 
 #include "core/number_text.hpp"
@@ -14,9 +16,18 @@ bool wanted(const BuildOptions& o) {
 }
 
 void run(Job& job) {
-  job.report.trimmed_triangles = terrain::trim_long_edges(job.tin(), job.options.max_edge);
-  job.debug("trim: " + count_text(job.report.trimmed_triangles) +
-            " triangles with an edge longer than --max-edge removed");
+  if (job.report.simplify.ran) {  // the full TIN was trimmed before it was simplified
+    const std::uint64_t removed = terrain::remove_marked_regions(job.tin(), job.trimmed_areas);
+    job.debug("trim: " + count_text(job.report.trimmed_triangles) +
+              " triangles of the full TIN with an edge longer than --max-edge trimmed before "
+              "the simplification; " +
+              count_text(removed) + " simplified triangles in their place removed");
+    job.report.trimmed_triangles = removed;
+  } else {
+    job.report.trimmed_triangles = terrain::trim_long_edges(job.tin(), job.options.max_edge);
+    job.debug("trim: " + count_text(job.report.trimmed_triangles) +
+              " triangles with an edge longer than --max-edge removed");
+  }
   check_triangles_left(job);
 }
 

@@ -62,4 +62,58 @@ std::uint64_t trim_long_edges(mesh::Triangulation& tin, double max_edge,
   return removed;
 }
 
+std::uint64_t trim_and_fence(mesh::Triangulation& tin, double max_edge) {
+  const std::uint64_t removed = trim_long_edges(tin, max_edge);
+  const auto slots = static_cast<TriangleId>(tin.triangle_slots());
+  for (TriangleId t = 0; t < slots; ++t) {
+    if (!tin.is_kept(t)) continue;
+    for (EdgeId e = 3 * t; e < 3 * t + 3; ++e) {
+      const TriangleId n = mesh::triangle_of(tin.twin(e));
+      if (tin.is_ghost(n) || tin.is_kept(n)) continue;
+      tin.set_constrained(e, true);
+      tin.set_constrained(tin.twin(e), true);
+    }
+  }
+  return removed;
+}
+
+std::uint64_t remove_marked_regions(mesh::Triangulation& tin,
+                                    const std::vector<std::uint8_t>& marked) {
+  const auto slots = static_cast<TriangleId>(tin.triangle_slots());
+  const auto area = [&tin](TriangleId t) {
+    const auto c = tin.triangle(t);
+    const Point2 a = tin.point(c[0]), b = tin.point(c[1]), d = tin.point(c[2]);
+    return (b.x - a.x) * (d.y - a.y) - (b.y - a.y) * (d.x - a.x);
+  };
+  std::vector<std::uint8_t> seen(slots, 0);
+  std::vector<TriangleId> stack, members;
+  std::uint64_t removed = 0;
+  for (TriangleId seed = 0; seed < slots; ++seed) {
+    if (tin.is_ghost(seed) || seen[seed]) continue;
+    members.clear();
+    stack.assign(1, seed);
+    seen[seed] = 1;
+    TriangleId largest = kNoId;
+    while (!stack.empty()) {
+      const TriangleId t = stack.back();
+      stack.pop_back();
+      members.push_back(t);
+      if (t < marked.size() && (largest == kNoId || area(t) > area(largest))) largest = t;
+      for (EdgeId e = 3 * t; e < 3 * t + 3; ++e) {
+        const TriangleId n = mesh::triangle_of(tin.twin(e));
+        if (tin.is_constrained(e) || tin.is_ghost(n) || seen[n]) continue;
+        seen[n] = 1;
+        stack.push_back(n);
+      }
+    }
+    if (largest == kNoId || !marked[largest]) continue;
+    for (const TriangleId t : members) {
+      if (!tin.is_kept(t)) continue;
+      tin.set_removed(t, true);
+      ++removed;
+    }
+  }
+  return removed;
+}
+
 }  // namespace tincdt::terrain

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 #include "mesh/triangulation.hpp"
 
@@ -34,5 +35,19 @@ bool has_long_edge(const mesh::Triangulation& tin, TriangleId t, double max_edge
 // Throws tincdt::Error unless max_edge > 0 (+infinity removes nothing).
 std::uint64_t trim_long_edges(mesh::Triangulation& tin, double max_edge,
                               const TrimOptions& options = {});
+
+// For a TIN about to be simplified: trims it as trim_long_edges() does (the data's gaps are
+// gaps between its points, not between the fewer vertices a simplified TIN keeps) and makes
+// every edge between a kept and a trimmed triangle constrained, so that the simplification
+// keeps the trimmed outline. Returns the number of triangles trimmed.
+std::uint64_t trim_and_fence(mesh::Triangulation& tin, double max_edge);
+
+// After the simplification of a TIN that trim_and_fence() trimmed: removes the regions of
+// triangles (joined across unconstrained edges, so never across the fenced outline) whose
+// largest triangle IN_TRIMMED(t) says lies in a trimmed area (slots beyond MARKED count as
+// unmarked). The largest triangle's centroid is the farthest from the region's edges, so its
+// rounding cannot put it across the outline. Returns the number of triangles removed.
+std::uint64_t remove_marked_regions(mesh::Triangulation& tin,
+                                    const std::vector<std::uint8_t>& marked);
 
 }  // namespace tincdt::terrain

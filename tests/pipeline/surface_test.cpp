@@ -452,6 +452,37 @@ TEST_F(Surface, MaxEdgeTrimsACShapedCloud) {
   EXPECT_EQ(m.v.size(), m.used_vertices());
 }
 
+// --max-edge trims the gaps between the points, also when the TIN is simplified: the simplified
+// TIN covers the same area as the full trimmed one, though its own triangles (on a plane: a few
+// vertices) are far longer than --max-edge.
+TEST_F(Surface, MaxEdgeWithMaxErrorTrimsThePointsNotTheSimplifiedTriangles) {
+  std::string xyz;
+  for (int i = 0; i <= 5; ++i) {
+    const double radius = 30 + 4.0 * i;
+    const int steps = static_cast<int>(radius * 1.5 * std::numbers::pi / 3.0);
+    for (int k = 0; k <= steps; ++k) {
+      const double a = (45 + 270.0 * k / steps) * std::numbers::pi / 180;
+      const double x = 50 + radius * std::cos(a), y = 50 + radius * std::sin(a);
+      add_xyz_line(xyz, x, y, plane(x, y));
+    }
+  }
+  pipeline::BuildOptions o = points_job("c.xyz", xyz, "trimmed.obj");
+  o.max_edge = 6;
+  const auto full = pipeline::build(o);
+  const double full_area = read_obj(o.output).area();
+  o.output = path("simplified.obj");
+  o.max_error = 0.01;
+  const auto simplified = pipeline::build(o);
+  const Mesh m = read_obj(o.output);
+  EXPECT_LT(simplified.vertices, full.vertices);
+  EXPECT_NEAR(m.area(), full_area, 1e-9 * full_area);
+  EXPECT_GT(simplified.trimmed_triangles, 0u);
+  for (const auto& t : m.f) {
+    const auto c = m.centroid(t);
+    EXPECT_GT(std::hypot(c[0] - 50, c[1] - 50), 29.5);  // not in the C's inner disc
+  }
+}
+
 // ---- flats ----------------------------------------------------------------------------------
 
 TEST_F(Surface, FixFlatsOnAContourHill) {
