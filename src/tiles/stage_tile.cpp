@@ -218,68 +218,41 @@ bool disk_is_clear(const mesh::Triangulation& tin, const TileSetup& tile, Triang
 // Whether what T sees of its circumdisk (bound D) holds no data the tile lacks, followed through
 // the TIN: a point of the disk that T sees is joined to T by a segment inside the disk that
 // crosses no constrained edge, so it lies in a triangle reached from T across unconstrained
-// edges, each meeting the disk, and the segment passes through every edge crossed on the way: it
-// lies in the cone from the first of them through the last. When every triangle so reached is
-// clear of the missing regions (and every hull edge met is final), nothing unread is in sight.
-// This settles the slivers whose disk is far larger than the pocket or channel of constrained
-// edges around them (points a hair off a ring's line), which the walls of disk_is_clear() do not
-// reach. At most kSightSteps steps are followed. (A segment from T through a vertex V instead of
-// an edge would make V, strictly inside the disk, visible from T: T would not be constrained
-// Delaunay in the tile's TIN.)
+// edges, each meeting the disk. When every triangle so reached is clear of the missing regions
+// (and every hull edge met is final), nothing unread is in sight. This settles the slivers whose
+// disk is far larger than the pocket or channel of constrained edges around them (points a hair
+// off a ring's line), which the walls of disk_is_clear() do not reach. At most kSightTriangles
+// are followed. (A segment from T through a vertex V instead of an edge would make V, strictly
+// inside the disk, visible from T: T would not be constrained Delaunay in the tile's TIN.)
 bool is_final_by_sight(const mesh::Triangulation& tin, const TileSetup& tile, TriangleId t,
                        const tiles::Disk& d) {
-  constexpr std::size_t kSightSteps = 256;
-  const auto clear = [&tile](const Point2(&p)[3]) {
+  constexpr std::size_t kSightTriangles = 512;
+  const auto corners = [&tin](TriangleId n) {
+    const auto c = tin.triangle(n);
+    return tiles::Polygon{tin.point(c[0]), tin.point(c[1]), tin.point(c[2])};
+  };
+  const auto clear = [&tile](const tiles::Polygon& p) {
     return std::none_of(tile.missing.begin(), tile.missing.end(), [&](const tiles::Polygon& m) {
       return tiles::may_meet(p[0], p[1], p[2], m, tile.margin);
     });
   };
-  const auto corners = [&tin](TriangleId n, Point2(&p)[3]) {
-    const auto c = tin.triangle(n);
-    for (int k = 0; k < 3; ++k) p[k] = tin.point(c[k]);
-  };
-  Point2 p[3];
-  corners(t, p);
-  if (!clear(p)) return false;
-  // A step: across half-edge `through` (of the triangle before it), having left T through
-  // `first`. Points seen past portal q0 -> q1 (the triangle before it on its left) from portal
-  // p0 -> p1 (T on its left) lie left of p1 -> q0 and right of p0 -> q1.
-  struct Step {
-    EdgeId through, first;
-  };
-  std::vector<Step> steps;
-  for (std::uint32_t i = 0; i < 3; ++i) {
-    const auto e = static_cast<EdgeId>(3 * t + i);
-    if (!tin.is_constrained(e)) steps.push_back({e, e});
-  }
-  for (std::size_t head = 0; head < steps.size(); ++head) {
-    const Step step = steps[head];
-    const TriangleId n = mesh::triangle_of(tin.twin(step.through));
-    if (tin.is_ghost(n)) {
-      if (!is_final_hull_edge(tile, tin.point(tin.dest(step.through)),
-                              tin.point(tin.origin(step.through))))
-        return false;
-      continue;
-    }
-    corners(n, p);
-    if (!tiles::may_meet(d, tiles::Polygon{p[0], p[1], p[2]}, tile.margin)) continue;
-    const Point2 p0 = tin.point(tin.origin(step.first)), p1 = tin.point(tin.dest(step.first));
-    const Point2 q0 = tin.point(tin.origin(step.through)), q1 = tin.point(tin.dest(step.through));
-    const auto all = [&p](Point2 a, Point2 b, int side) {
-      return std::all_of(std::begin(p), std::end(p),
-                         [&](Point2 c) { return predicates::orient2d(a, b, c) == side; });
-    };
-    if (all(p1, q0, -1) || all(p0, q1, 1)) continue;  // out of sight
-    if (!clear(p)) return false;
-    const EdgeId entered = tin.twin(step.through);
-    for (const EdgeId f : {mesh::next_edge(entered), mesh::prev_edge(entered)}) {
-      if (tin.is_constrained(f)) continue;
-      const bool known = std::any_of(steps.begin(), steps.end(), [&](const Step& s) {
-        return s.through == f && s.first == step.first;
-      });
-      if (known) continue;
-      if (steps.size() == kSightSteps) return false;
-      steps.push_back({f, step.first});
+  if (!clear(corners(t))) return false;
+  std::vector<TriangleId> seen{t};
+  for (std::size_t head = 0; head < seen.size(); ++head) {
+    for (std::uint32_t i = 0; i < 3; ++i) {
+      const auto e = static_cast<EdgeId>(3 * seen[head] + i);
+      if (tin.is_constrained(e)) continue;
+      const TriangleId n = mesh::triangle_of(tin.twin(e));
+      if (std::find(seen.begin(), seen.end(), n) != seen.end()) continue;
+      if (tin.is_ghost(n)) {
+        if (!is_final_hull_edge(tile, tin.point(tin.dest(e)), tin.point(tin.origin(e))))
+          return false;
+        continue;
+      }
+      const tiles::Polygon p = corners(n);
+      if (!tiles::may_meet(d, p, tile.margin)) continue;
+      if (!clear(p) || seen.size() == kSightTriangles) return false;
+      seen.push_back(n);
     }
   }
   return true;
@@ -471,8 +444,25 @@ void check_triangle(TileJob& job, const BBox& near, const tiles::Polygon& near_p
   }
 }
 
-[[noreturn]] void throw_buffer_too_small(const TileSetup& tile, const std::string& name,
+// The longest segment of the soft lines and polygon rings (0 without any).
+double longest_feature_segment(const TileJob& job) {
+  double longest = 0;
+  for (const pipeline::detail::SurfaceInput* input :
+       {&job.soft, &job.clip, &job.erase, &job.replace})
+    for (const io::ShapeFeature& f : input->data.features)
+      for (const io::ShapePart& part : f.parts)
+        for (std::size_t i = 0; i < part.points.size(); ++i) {
+          const Point3& a = part.points[i];
+          const Point3& b = part.points[(i + 1) % part.points.size()];
+          if (i + 1 < part.points.size() || part.closed)
+            longest = std::max(longest, std::hypot(b.x - a.x, b.y - a.y));
+        }
+  return longest;
+}
+
+[[noreturn]] void throw_buffer_too_small(const TileJob& job, const std::string& name,
                                          const FinalityTally& tally) {
+  const TileSetup& tile = job.tile;
   char where[80];
   std::snprintf(where, sizeof where, "(%.3f, %.3f)", tally.at.x, tally.at.y);
   std::string detail = "buffer " + number(tile.buffer) +
@@ -488,6 +478,13 @@ void check_triangle(TileJob& job, const BBox& near, const tiles::Polygon& near_p
         "; the data's outline near the tile is not settled within the buffer: try a "
         "buffer of a tile size or more";
   }
+  // A long segment through dense points has thin triangles along it whose circles reach far
+  // along it: no buffer shorter than the segment settles them.
+  if (const double longest = longest_feature_segment(job); longest > tile.grid.size)
+    detail += "; the soft lines and polygon rings have segments up to " + number(longest) +
+              " long, and the thin triangles along one settle only when the tile reads along "
+              "all of it: split them (e.g. ogr2ogr -segmentize " +
+              number(tile.grid.size / 20) + ")";
   throw BufferTooSmall(tile.plan_path, name, detail,
                        {.used = tile.buffer,
                         .needed = tally.failed_reach > 0 ? suggested_buffer(tally.failed_reach) : 0,
@@ -580,7 +577,7 @@ void run(TileJob& job) {
   if (!job.options.replace.empty()) prove_corner_fans(job, tally);
 
   const std::string name = "tile " + std::to_string(tile.index);
-  if (tally.failed > 0) throw_buffer_too_small(tile, name, tally);
+  if (tally.failed > 0) throw_buffer_too_small(job, name, tally);
   job.report.trimmed_triangles = tally.trimmed;
   // Its border may then be the edge of a trimmed, clipped or erased area, which tincdt merge
   // must not take for a crack (even when this tile removed nothing, its neighbour may have).

@@ -259,8 +259,9 @@ void check_tile_options(const TileOptions& t, const BuildOptions& o) {
   const std::string whole_job = " (build without --plan for it)";
   if (o.max_edge > 0 && o.max_error)
     refuse("--max-edge with --max-error",
-           "the whole job trims the simplified TIN, whose long triangles reach across tiles "
-           "that each simplify their own (give one of them, or build without --plan)");
+           "the whole job trims the full TIN and keeps the trimmed outline through the "
+           "simplification, which a tile's simplification does not (give one of them, or "
+           "build without --plan)");
   if (o.fix_flats)
     refuse("--fix-flats",
            "a flat area and the vertices that fix it span as far as the contours around it, "

@@ -221,6 +221,54 @@ TEST(TilePolygons, ReplacePolygonsMatchTheWholeTin) {
   }
 }
 
+// A ring segment far longer than a tile, through centimetre points: the thin triangles along it
+// reach along all of it, and the error says to split the segments. Split, the tiles settle.
+TEST(TilePolygons, LongRingSegmentsThroughDensePointsAskToBeSplit) {
+  const fs::path dir = scratch();
+  const Inputs in{{write_xyz(dir / "points.xyz", centimetre_points(30000, kX0, kY0, 300, 49))}, {}};
+  // A triangle across the area, its sides split into pieces of at most STEP.
+  const auto triangle = [](double step) {
+    const Point2 corners[3] = {{kX0 + 5, kY0 + 7}, {kX0 + 296, kY0 + 120}, {kX0 + 40, kY0 + 291}};
+    std::vector<Point2> ring;
+    for (int k = 0; k < 3; ++k) {
+      const Point2 a = corners[k], b = corners[(k + 1) % 3];
+      const int pieces = static_cast<int>(std::ceil(std::hypot(b.x - a.x, b.y - a.y) / step));
+      for (int i = 0; i < pieces; ++i)
+        ring.push_back({a.x + (b.x - a.x) * i / pieces, a.y + (b.y - a.y) * i / pieces});
+    }
+    ring.push_back(ring.front());
+    std::string wkt = "POLYGON ((";
+    for (std::size_t i = 0; i < ring.size(); ++i) {
+      char v[80];
+      std::snprintf(v, sizeof v, "%s%.17g %.17g", i ? ", " : "", ring[i].x, ring[i].y);
+      wkt += v;
+    }
+    return wkt + "))";
+  };
+  const std::string p = plan(in, dir, 100, 20);
+  tiles::TileOptions t;
+  t.plan = p;
+  pipeline::BuildOptions o;
+  o.output = (dir / "tile.ply").string();
+  o.write.overwrite = true;
+  o.clip = {write_polygons(dir / "long.geojson", {triangle(1000)})};
+  std::size_t asked = 0;
+  const std::size_t n = tiles::read_plan(p).tiles.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    t.tile = static_cast<std::int64_t>(i);
+    try {
+      tiles::build_tile(t, o);
+    } catch (const tiles::BufferTooSmall& e) {
+      EXPECT_NE(std::string(e.what()).find("ogr2ogr -segmentize"), std::string::npos) << e.what();
+      ++asked;
+    }
+  }
+  EXPECT_GT(asked, 0u);
+  o.clip = {write_polygons(dir / "split.geojson", {triangle(10)})};
+  const std::string w = whole(in, dir, o);
+  expect_same_tin(w, tiled(in, dir, 100, 20, -1, o));
+}
+
 // The rings are cut to the data's hull, which a plan without a rim does not hold.
 TEST(TilePolygons, APlanWithoutAHullIsRefusedNamingThePlan) {
   const fs::path dir = scratch();
