@@ -45,6 +45,13 @@ std::string number(double v) {
   return buf;
 }
 
+// "(x, y)" for a message.
+std::string place_text(Point2 p) {
+  char text[80];
+  std::snprintf(text, sizeof text, "(%.3f, %.3f)", p.x, p.y);
+  return text;
+}
+
 // A buffer comfortably above NEEDED: rounded up to two significant digits, plus a tenth.
 double suggested_buffer(double needed) {
   const double v = needed * 1.1;
@@ -463,11 +470,9 @@ double longest_feature_segment(const TileJob& job) {
 [[noreturn]] void throw_buffer_too_small(const TileJob& job, const std::string& name,
                                          const FinalityTally& tally) {
   const TileSetup& tile = job.tile;
-  char where[80];
-  std::snprintf(where, sizeof where, "(%.3f, %.3f)", tally.at.x, tally.at.y);
   std::string detail = "buffer " + number(tile.buffer) +
                        " is too small: " + count_text(tally.failed, "triangle") +
-                       " near the tile could still change (one near " + where + ")";
+                       " near the tile could still change (one near " + place_text(tally.at) + ")";
   // Past a hull edge of the points read, a larger buffer usually finds more points; the
   // estimate from the circles is then a lower bound.
   if (tally.failed_reach > 0) {
@@ -479,12 +484,17 @@ double longest_feature_segment(const TileJob& job) {
         "buffer of a tile size or more";
   }
   // A long segment through dense points has thin triangles along it whose circles reach far
-  // along it: no buffer shorter than the segment settles them.
+  // along it: no buffer shorter than the segment settles them. Split, the pieces settle, unless
+  // they lie on one straight line and points lie a hair off it all along (docs/tiling.md).
   if (const double longest = longest_feature_segment(job); longest > tile.grid.size)
     detail += "; the soft lines and polygon rings have segments up to " + number(longest) +
               " long, and the thin triangles along one settle only when the tile reads along "
               "all of it: split them (e.g. ogr2ogr -segmentize " +
               number(tile.grid.size / 20) + ")";
+  else if (tally.failed_reach > 1e6 * tile.grid.size)
+    detail +=
+        "; a sliver of points a hair off a straight line or ring sees along it as far "
+        "as it runs straight: build this area without --plan";
   throw BufferTooSmall(tile.plan_path, name, detail,
                        {.used = tile.buffer,
                         .needed = tally.failed_reach > 0 ? suggested_buffer(tally.failed_reach) : 0,
@@ -535,22 +545,19 @@ void check_heights_settled(TileJob& job) {
   Point2 at{0, 0};
   const auto look = [&](TriangleId t) {
     if (!unsettled(t)) return;
-    if (count++ == 0)
-      at = tiles::owner_point(tin.point(tin.triangle(t)[0]), tin.point(tin.triangle(t)[1]),
-                              tin.point(tin.triangle(t)[2]));
+    const auto c = tin.triangle(t);
+    if (count++ == 0) at = tiles::owner_point(tin.point(c[0]), tin.point(c[1]), tin.point(c[2]));
   };
   tin.for_each_triangle([&](TriangleId t, const std::array<VertexId, 3>&) { look(t); });
   for (const TriangleId t : job.dem_extra_triangles) look(t);
   if (count == 0) return;
   const TileSetup& tile = job.tile;
-  char where[80];
-  std::snprintf(where, sizeof where, "(%.3f, %.3f)", at.x, at.y);
   throw BufferTooSmall(tile.plan_path, "tile " + std::to_string(tile.index),
                        "buffer " + number(tile.buffer) +
                            " is too small: " + count_text(count, "triangle") +
                            " near the tile have a corner draped from a triangle that could "
                            "still change (one near " +
-                           where + ")",
+                           place_text(at) + ")",
                        {.used = tile.buffer,
                         .needed = 0,
                         .tile_size = tile.grid.size,
