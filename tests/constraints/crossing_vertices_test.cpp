@@ -41,15 +41,23 @@ std::map<Pair, std::array<double, 3>> crossings(const std::vector<Ends>& segment
   return by_pair;
 }
 
-TEST(CrossingVertices, DoNotDependOnTheOrderNorOnTheOtherSegments) {
-  std::mt19937_64 rng(31);
+// 40 random segments over a kilometre square, and their ids in order.
+std::vector<Ends> random_segments(std::uint64_t seed, std::vector<std::uint32_t>& all) {
+  std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> at(0, 1000), height(100, 200);
   std::vector<Ends> segments;
   for (int i = 0; i < 40; ++i)
     segments.push_back({{500000 + at(rng), 4000000 + at(rng), height(rng)},
                         {500000 + at(rng), 4000000 + at(rng), height(rng)}});
-  std::vector<std::uint32_t> all(segments.size());
+  all.resize(segments.size());
   for (std::uint32_t i = 0; i < all.size(); ++i) all[i] = i;
+  return segments;
+}
+
+TEST(CrossingVertices, DoNotDependOnTheOrderNorOnTheOtherSegments) {
+  std::vector<std::uint32_t> all;
+  const std::vector<Ends> segments = random_segments(31, all);
+  std::mt19937_64 rng(31);
   const auto whole = crossings(segments, all);
   ASSERT_GT(whole.size(), 100u);
   for (int trial = 0; trial < 6; ++trial) {
@@ -73,14 +81,8 @@ TEST(CrossingVertices, DoNotDependOnTheOrderNorOnTheOtherSegments) {
 // pieces are given again with their whole segments, so that where a new segment crosses one the
 // vertex is the one a single call makes, not one computed from a piece cut by other crossings.
 TEST(CrossingVertices, OfALaterCallAreMadeFromTheWholeSegmentsOfAnEarlierOne) {
-  std::mt19937_64 rng(32);
-  std::uniform_real_distribution<double> at(0, 1000), height(100, 200);
-  std::vector<Ends> segments;
-  for (int i = 0; i < 40; ++i)
-    segments.push_back({{500000 + at(rng), 4000000 + at(rng), height(rng)},
-                        {500000 + at(rng), 4000000 + at(rng), height(rng)}});
-  std::vector<std::uint32_t> all(segments.size());
-  for (std::uint32_t i = 0; i < all.size(); ++i) all[i] = i;
+  std::vector<std::uint32_t> all;
+  const std::vector<Ends> segments = random_segments(32, all);
   const auto one_call = crossings(segments, all);
 
   std::vector<Point3> points;

@@ -415,8 +415,8 @@ TEST_F(Surface, ClipLeavingNothingIsAnError) {
 
 // ---- boundary trimming ----------------------------------------------------------------------
 
-TEST_F(Surface, MaxEdgeTrimsACShapedCloud) {
-  // Points on a C: an annulus sector around (50, 50), radii 30..50, from 45 to 315 degrees.
+// Points on a C: an annulus sector around (50, 50), radii 30..50, from 45 to 315 degrees.
+std::string c_shaped_cloud() {
   std::string xyz;
   for (int i = 0; i <= 5; ++i) {
     const double radius = 30 + 4.0 * i;
@@ -427,6 +427,11 @@ TEST_F(Surface, MaxEdgeTrimsACShapedCloud) {
       add_xyz_line(xyz, x, y, plane(x, y));
     }
   }
+  return xyz;
+}
+
+TEST_F(Surface, MaxEdgeTrimsACShapedCloud) {
+  const std::string xyz = c_shaped_cloud();
   pipeline::BuildOptions o = points_job("c.xyz", xyz, "hull.obj");
   const auto hull = pipeline::build(o);
   EXPECT_EQ(hull.trimmed_triangles, 0u);
@@ -456,16 +461,7 @@ TEST_F(Surface, MaxEdgeTrimsACShapedCloud) {
 // TIN covers the same area as the full trimmed one, though its own triangles (on a plane: a few
 // vertices) are far longer than --max-edge.
 TEST_F(Surface, MaxEdgeWithMaxErrorTrimsThePointsNotTheSimplifiedTriangles) {
-  std::string xyz;
-  for (int i = 0; i <= 5; ++i) {
-    const double radius = 30 + 4.0 * i;
-    const int steps = static_cast<int>(radius * 1.5 * std::numbers::pi / 3.0);
-    for (int k = 0; k <= steps; ++k) {
-      const double a = (45 + 270.0 * k / steps) * std::numbers::pi / 180;
-      const double x = 50 + radius * std::cos(a), y = 50 + radius * std::sin(a);
-      add_xyz_line(xyz, x, y, plane(x, y));
-    }
-  }
+  const std::string xyz = c_shaped_cloud();
   pipeline::BuildOptions o = points_job("c.xyz", xyz, "trimmed.obj");
   o.max_edge = 6;
   const auto full = pipeline::build(o);
