@@ -20,6 +20,12 @@ struct Point2 {
   friend bool operator==(const Point2&, const Point2&) = default;
 };
 
+// The order by x, then y: where every job must pick the same point or corner whatever the
+// order in memory (hull starts, canonical triangles, the split of the Delaunay halves).
+inline bool xy_less(Point2 a, Point2 b) {
+  return a.x < b.x || (a.x == b.x && a.y < b.y);
+}
+
 struct Point3 {
   double x;
   double y;

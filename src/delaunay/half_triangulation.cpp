@@ -18,7 +18,7 @@ void build_segment(Triangulation& tin, VertexId first, VertexId last, TriangleId
   std::vector<VertexId> p(last - first);
   std::iota(p.begin(), p.end(), first);
   std::sort(p.begin(), p.end(),
-            [&](VertexId u, VertexId v) { return lex_less(tin.point(u), tin.point(v)); });
+            [&](VertexId u, VertexId v) { return xy_less(tin.point(u), tin.point(v)); });
   const auto m = static_cast<TriangleId>(p.size() - 1);
   const auto a = [&](TriangleId i) { return slot + i; };      // (p[i+1], p[i], inf)
   const auto b = [&](TriangleId i) { return slot + m + i; };  // (p[i], p[i+1], inf)

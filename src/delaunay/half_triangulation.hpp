@@ -14,11 +14,6 @@
 
 namespace tincdt::delaunay::detail {
 
-// The order that separates the halves: x, then y.
-inline bool lex_less(Point2 a, Point2 b) {
-  return a.x < b.x || (a.x == b.x && a.y < b.y);
-}
-
 inline GeometryError internal_error(const std::string& what) {
   return GeometryError("internal: parallel Delaunay merge: " + what);
 }

@@ -15,7 +15,6 @@ namespace tincdt::delaunay {
 namespace {
 using namespace mesh;  // the half-edge vocabulary: next_edge, triangle_of, kInfinite, ...
 using detail::internal_error;
-using detail::lex_less;
 
 // A hull edge is named by the finite half-edge g of its ghost (apex infinite): g runs v -> u for
 // the hull edge u -> v, which has the hull's inside on its left (counter-clockwise order).
@@ -49,7 +48,7 @@ HullEnds find_hull_ends(const Triangulation& tin, const Hull& hull, EdgeId left_
   HullEnds ends;
   ends.left_out = left_ghost;
   for (EdgeId g = left_ghost;;) {
-    if (lex_less(hull.at(hull.from(ends.left_out)), hull.at(hull.from(g)))) ends.left_out = g;
+    if (xy_less(hull.at(hull.from(ends.left_out)), hull.at(hull.from(g)))) ends.left_out = g;
     ++ends.left_size;
     g = hull.next(g);
     if (g == left_ghost) break;
@@ -57,14 +56,14 @@ HullEnds find_hull_ends(const Triangulation& tin, const Hull& hull, EdgeId left_
   }
   ends.right_in = right_ghost;
   for (EdgeId g = right_ghost;;) {
-    if (lex_less(hull.at(hull.to(g)), hull.at(hull.to(ends.right_in)))) ends.right_in = g;
+    if (xy_less(hull.at(hull.to(g)), hull.at(hull.to(ends.right_in)))) ends.right_in = g;
     ++ends.right_size;
     g = hull.next(g);
     if (g == right_ghost) break;
     if (ends.right_size > 2 * tin.vertex_count()) throw internal_error("right hull does not close");
   }
   // The halves are separable: the largest left vertex is below the smallest right one.
-  assert(lex_less(hull.at(hull.from(ends.left_out)), hull.at(hull.to(ends.right_in))));
+  assert(xy_less(hull.at(hull.from(ends.left_out)), hull.at(hull.to(ends.right_in))));
   return ends;
 }
 

@@ -43,7 +43,7 @@ std::vector<Point2> draw_sample(const std::vector<Point3>& input, bool concurren
 std::optional<LeftOfPivot> choose_pivot(const std::vector<Point3>& input, bool concurrent) {
   std::vector<Point2> sample = draw_sample(input, concurrent);
   if (sample.empty()) return std::nullopt;
-  std::sort(sample.begin(), sample.end(), lex_less);
+  std::sort(sample.begin(), sample.end(), xy_less);
   const std::size_t samples = sample.size();
   Point2 pivot = sample[samples / 2];
   const auto x_less = [](Point2 a, Point2 b) { return a.x < b.x; };

@@ -10,10 +10,6 @@ namespace {
 
 using predicates::orient2d;
 
-bool xy_less(Point2 a, Point2 b) {
-  return a.x < b.x || (a.x == b.x && a.y < b.y);
-}
-
 }  // namespace
 
 std::vector<std::uint32_t> hull_corners(std::span<const Point2> xy) {

@@ -10,10 +10,6 @@
 
 namespace tincdt::simplify::detail {
 
-inline bool xy_less(Point2 a, Point2 b) {
-  return a.x < b.x || (a.x == b.x && a.y < b.y);
-}
-
 // The gradient of the plane through three points, relative to the first, so that large
 // coordinates (UTM) do not cancel: z = za + gx (x - a.x) + gy (y - a.y).
 struct Gradient {

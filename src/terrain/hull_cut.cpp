@@ -71,9 +71,7 @@ std::vector<Point2> strict_hull(const mesh::Triangulation& tin) {
     if (orient2d(hull[(i + n - 1) % n], hull[i], hull[(i + 1) % n]) != 0) strict.push_back(hull[i]);
   // From the least point: the cuts (and interior_point) then depend on the hull alone, not on
   // where its first ghost happens to lie in memory.
-  const auto least = std::min_element(strict.begin(), strict.end(), [](Point2 a, Point2 b) {
-    return a.x < b.x || (a.x == b.x && a.y < b.y);
-  });
+  const auto least = std::min_element(strict.begin(), strict.end(), xy_less);
   std::rotate(strict.begin(), least, strict.end());
   return strict;
 }

@@ -17,13 +17,9 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-bool before(Point2 a, Point2 b) {
-  return a.x < b.x || (a.x == b.x && a.y < b.y);
-}
-
 // Along edge u-v at p (on it), from its lesser end: the same double from either triangle.
 double edge_z(const Triangulation& tin, VertexId u, VertexId v, Point2 p) {
-  if (before(tin.point(v), tin.point(u))) std::swap(u, v);
+  if (xy_less(tin.point(v), tin.point(u))) std::swap(u, v);
   const Point2 a = tin.point(u), b = tin.point(v);
   const double dx = b.x - a.x, dy = b.y - a.y;
   const double t = ((p.x - a.x) * dx + (p.y - a.y) * dy) / (dx * dx + dy * dy);
@@ -39,9 +35,9 @@ double plane_z(const Triangulation& tin, TriangleId t, Point2 p) {
   for (int i = 0; i < 3; ++i)
     if (orient2d(tin.point(c[i]), tin.point(c[(i + 1) % 3]), p) == 0)
       return edge_z(tin, c[i], c[(i + 1) % 3], p);
-  const int least = before(tin.point(c[1]), tin.point(c[0]))
-                        ? (before(tin.point(c[2]), tin.point(c[1])) ? 2 : 1)
-                        : (before(tin.point(c[2]), tin.point(c[0])) ? 2 : 0);
+  const int least = xy_less(tin.point(c[1]), tin.point(c[0]))
+                        ? (xy_less(tin.point(c[2]), tin.point(c[1])) ? 2 : 1)
+                        : (xy_less(tin.point(c[2]), tin.point(c[0])) ? 2 : 0);
   std::rotate(c.begin(), c.begin() + least, c.end());
   const Point2 a = tin.point(c[0]), b = tin.point(c[1]), d = tin.point(c[2]);
   const double ux = b.x - a.x, uy = b.y - a.y, vx = d.x - a.x, vy = d.y - a.y;

@@ -30,10 +30,6 @@ std::string at(Point2 p) {
   return buf;
 }
 
-bool xy_less(const Point2& a, const Point2& b) {
-  return a.x < b.x || (a.x == b.x && a.y < b.y);
-}
-
 Point2 xy(const Point3& p) {
   return {p.x, p.y};
 }

@@ -11,10 +11,6 @@ namespace {
 
 constexpr double kEps = 0x1p-52;  // one ulp of 1.0: a generous bound per rounding
 
-bool before(Point2 a, Point2 b) {
-  return a.x < b.x || (a.x == b.x && a.y < b.y);
-}
-
 }  // namespace
 
 std::int64_t TileGrid::cell_of(double v) const {
@@ -26,9 +22,9 @@ std::int64_t TileGrid::cell_of(double v) const {
 }
 
 Point2 owner_point(Point2 a, Point2 b, Point2 c) {
-  if (before(b, a)) std::swap(a, b);
-  if (before(c, b)) std::swap(b, c);
-  if (before(b, a)) std::swap(a, b);
+  if (xy_less(b, a)) std::swap(a, b);
+  if (xy_less(c, b)) std::swap(b, c);
+  if (xy_less(b, a)) std::swap(a, b);
   return {(a.x + b.x + c.x) / 3.0, (a.y + b.y + c.y) / 3.0};
 }
 
@@ -215,7 +211,7 @@ Polygon Rim::inner() const {
 }
 
 std::vector<Point2> convex_hull(std::vector<Point2> points) {
-  std::sort(points.begin(), points.end(), before);
+  std::sort(points.begin(), points.end(), xy_less);
   points.erase(std::unique(points.begin(), points.end()), points.end());
   if (points.size() < 3) return points;
   // Andrew's monotone chain: lower hull left to right, then upper hull right to left.

@@ -26,10 +26,6 @@ namespace {
 using mesh::Triangulation;
 using predicates::orient2d;
 
-bool xy_less(Point2 a, Point2 b) {
-  return a.x < b.x || (a.x == b.x && a.y < b.y);
-}
-
 double across(const Side& s, Point2 p) {
   return s.vertical ? p.x : p.y;
 }
