@@ -99,16 +99,13 @@ TEST(Interpolate, GivesTheSameDoubleInAnyTinThatHoldsTheTriangle) {
     for (const auto& [dx, dy] : {std::pair{-900.0, -700.0}, {1300.0, -500.0}, {700.0, 1100.0}})
       more.push_back({kX0 + dx, kY0 + dy, height(rng)});
     const mesh::Triangulation a = test::build_tin(points).tin, b = test::build_tin(more).tin;
-    std::size_t compared = 0;
     for (int i = 0; i < 4000; ++i) {
       Point2 p{kX0 + 10 + u(rng) * 0.9, kY0 + 10 + u(rng) * 0.9};
       if (lattice && i % 2 == 0) p.x = kX0 + 5 * std::floor((p.x - kX0) / 5);  // on a grid line
       const double za = interpolate_z(a, p), zb = interpolate_z(b, p);
       ASSERT_FALSE(std::isnan(za));
       EXPECT_EQ(za, zb) << "at (" << p.x << ", " << p.y << ")";
-      ++compared;
     }
-    EXPECT_EQ(compared, 4000u);
   }
 }
 
