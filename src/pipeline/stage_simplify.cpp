@@ -3,8 +3,7 @@
 // constrained edge (simplify/simplify.hpp). The later stages (flats, replace, trim, clip, erase)
 // work on the simplified TIN; the vertex ids the earlier stages left in the Job are remapped.
 // With --max-edge the full TIN is trimmed first (terrain::trim_and_fence()).
-#include <array>
-#include <cmath>
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <utility>
@@ -14,7 +13,6 @@
 #include "core/number_text.hpp"
 #include "pipeline/stage.hpp"
 #include "simplify/simplify.hpp"
-#include "terrain/interpolate.hpp"
 #include "terrain/trim.hpp"
 
 namespace tincdt::pipeline {
@@ -24,24 +22,15 @@ bool wanted(const BuildOptions& o) {
   return o.max_error || o.max_vertices > 0;
 }
 
-// The simplified triangles (1 per slot) whose centroid lies in a triangle of FULL that
-// trim_and_fence() removed.
-std::vector<std::uint8_t> in_trimmed_areas(const mesh::Triangulation& full,
-                                           const mesh::Triangulation& simplified) {
-  std::vector<std::uint8_t> marked(simplified.triangle_slots(), 0);
-  terrain::SurfaceSampler sampler(full);
-  simplified.for_each_triangle([&](TriangleId t, const std::array<VertexId, 3>& c) {
-    const Point2 a = simplified.point(c[0]), b = simplified.point(c[1]), d = simplified.point(c[2]);
-    marked[t] = std::isnan(sampler.z_at({(a.x + b.x + d.x) / 3, (a.y + b.y + d.y) / 3}));
-  });
-  return marked;
-}
-
 void run(Job& job) {
   // --max-edge trims the gaps between the points, before the simplification makes every edge
   // longer; the outline it leaves is kept, and the trim stage removes what lies beyond it.
-  if (job.options.max_edge > 0)
-    job.report.trimmed_triangles = terrain::trim_and_fence(job.tin(), job.options.max_edge);
+  std::vector<std::uint8_t> trimmed;
+  if (job.options.max_edge > 0) {
+    trimmed = terrain::trim_and_fence(job.tin(), job.options.max_edge);
+    job.report.trimmed_triangles =
+        static_cast<std::uint64_t>(std::count(trimmed.begin(), trimmed.end(), 1));
+  }
   const mesh::Triangulation& full = job.tin();
   simplify::SimplifyOptions options;
   options.max_error = job.options.max_error.value_or(0);
@@ -63,7 +52,8 @@ void run(Job& job) {
     d.vertex = vertex_of[d.vertex];
   }
   release(job.mesh.vertex_of_point);
-  if (job.options.max_edge > 0) job.trimmed_areas = in_trimmed_areas(full, r.tin);
+  if (job.options.max_edge > 0)
+    job.trimmed_areas = terrain::mark_trimmed_areas(full, trimmed, r.tin);
   job.mesh.tin = std::move(r.tin);
 
   BuildReport::Simplify& s = job.report.simplify;

@@ -50,15 +50,14 @@ double plane_z(const Triangulation& tin, TriangleId t, Point2 p) {
 
 }  // namespace
 
-double SurfaceSampler::z_at(Point2 p) {
-  found_ = kNoId;
-  if (!std::isfinite(p.x) || !std::isfinite(p.y)) return kNaN;
+TriangleId SurfaceSampler::locate(Point2 p) {
+  if (!std::isfinite(p.x) || !std::isfinite(p.y)) return kNoId;
   const auto slots = static_cast<TriangleId>(tin_.triangle_slots());
   TriangleId t = start_ < slots ? start_ : kNoId;
   if (t == kNoId || tin_.is_ghost(t)) {
     for (t = 0; t < slots && tin_.is_ghost(t); ++t) {
     }
-    if (t == slots) return kNaN;
+    if (t == slots) return kNoId;
   }
   // Visibility walk: step across an edge that has p strictly on its far side. The first edge to
   // test is picked at random: with a fixed order this walk can cycle forever on a triangulation
@@ -77,10 +76,17 @@ double SurfaceSampler::z_at(Point2 p) {
     from = tin_.twin(crossed);
     const TriangleId next = mesh::triangle_of(from);
     // p is strictly outside a hull edge: the hull is convex, so p is outside the TIN.
-    if (tin_.is_ghost(next)) return kNaN;
+    if (tin_.is_ghost(next)) return kNoId;
     start_ = t = next;
   }
   start_ = t;
+  return t;
+}
+
+double SurfaceSampler::z_at(Point2 p) {
+  found_ = kNoId;
+  TriangleId t = locate(p);
+  if (t == kNoId) return kNaN;
   if (tin_.is_removed(t)) {
     // On an edge shared with a kept triangle, p is on the kept surface's boundary: use that.
     TriangleId kept = kNoId;

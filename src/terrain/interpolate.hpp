@@ -23,6 +23,8 @@ class SurfaceSampler {
   explicit SurfaceSampler(const mesh::Triangulation& tin, TriangleId start = kNoId)
       : tin_(tin), start_(start) {}
   double z_at(Point2 p);
+  // The real triangle whose closed area holds P, removed or not (kNoId outside the hull).
+  TriangleId locate(Point2 p);
   // The triangle that held the last point (kNoId if it was outside the hull).
   TriangleId last_triangle() const { return found_; }
 

@@ -1,11 +1,14 @@
 #include "terrain/trim.hpp"
 
+#include <array>
+#include <cassert>
 #include <cmath>
 #include <string>
 #include <vector>
 
 #include "core/error.hpp"
 #include "core/number_text.hpp"
+#include "terrain/interpolate.hpp"
 
 namespace tincdt::terrain {
 
@@ -62,19 +65,40 @@ std::uint64_t trim_long_edges(mesh::Triangulation& tin, double max_edge,
   return removed;
 }
 
-std::uint64_t trim_and_fence(mesh::Triangulation& tin, double max_edge) {
-  const std::uint64_t removed = trim_long_edges(tin, max_edge);
+std::vector<std::uint8_t> trim_and_fence(mesh::Triangulation& tin, double max_edge) {
+  trim_long_edges(tin, max_edge);
   const auto slots = static_cast<TriangleId>(tin.triangle_slots());
+  std::vector<std::uint8_t> trimmed(slots, 0);
+  for (TriangleId t = 0; t < slots; ++t) trimmed[t] = !tin.is_ghost(t) && tin.is_removed(t);
+  fence_trimmed(tin, trimmed);
+  return trimmed;
+}
+
+void fence_trimmed(mesh::Triangulation& tin, const std::vector<std::uint8_t>& trimmed) {
+  const auto slots = static_cast<TriangleId>(tin.triangle_slots());
+  assert(trimmed.size() == slots);
   for (TriangleId t = 0; t < slots; ++t) {
-    if (!tin.is_kept(t)) continue;
+    if (!trimmed[t]) continue;
     for (EdgeId e = 3 * t; e < 3 * t + 3; ++e) {
       const TriangleId n = mesh::triangle_of(tin.twin(e));
-      if (tin.is_ghost(n) || tin.is_kept(n)) continue;
+      if (tin.is_ghost(n) || trimmed[n]) continue;
       tin.set_constrained(e, true);
       tin.set_constrained(tin.twin(e), true);
     }
   }
-  return removed;
+}
+
+std::vector<std::uint8_t> mark_trimmed_areas(const mesh::Triangulation& full,
+                                             const std::vector<std::uint8_t>& trimmed,
+                                             const mesh::Triangulation& simplified) {
+  std::vector<std::uint8_t> marked(simplified.triangle_slots(), 0);
+  SurfaceSampler sampler(full);
+  simplified.for_each_triangle([&](TriangleId t, const std::array<VertexId, 3>& c) {
+    const Point2 a = simplified.point(c[0]), b = simplified.point(c[1]), d = simplified.point(c[2]);
+    const TriangleId in = sampler.locate({(a.x + b.x + d.x) / 3, (a.y + b.y + d.y) / 3});
+    marked[t] = in != kNoId && in < trimmed.size() && trimmed[in];
+  });
+  return marked;
 }
 
 std::uint64_t remove_marked_regions(mesh::Triangulation& tin,

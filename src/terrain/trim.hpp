@@ -37,16 +37,26 @@ std::uint64_t trim_long_edges(mesh::Triangulation& tin, double max_edge,
                               const TrimOptions& options = {});
 
 // For a TIN about to be simplified: trims it as trim_long_edges() does (the data's gaps are
-// gaps between its points, not between the fewer vertices a simplified TIN keeps) and makes
-// every edge between a kept and a trimmed triangle constrained, so that the simplification
-// keeps the trimmed outline. Returns the number of triangles trimmed.
-std::uint64_t trim_and_fence(mesh::Triangulation& tin, double max_edge);
+// gaps between its points, not between the fewer vertices a simplified TIN keeps) and fences the
+// trimmed triangles (fence_trimmed()). Returns the trimmed triangles, 1 per slot.
+std::vector<std::uint8_t> trim_and_fence(mesh::Triangulation& tin, double max_edge);
 
-// After the simplification of a TIN that trim_and_fence() trimmed: removes the regions of
+// Makes every edge between a triangle TRIMMED marks (1 per slot) and a real triangle it does not
+// mark constrained, so that a simplification keeps the trimmed outline.
+void fence_trimmed(mesh::Triangulation& tin, const std::vector<std::uint8_t>& trimmed);
+
+// The triangles of SIMPLIFIED (1 per slot), a simplification of FULL whose trimmed triangles
+// TRIMMED marks (1 per slot of FULL), whose centroid lies in a trimmed triangle: what
+// remove_marked_regions() reads.
+std::vector<std::uint8_t> mark_trimmed_areas(const mesh::Triangulation& full,
+                                             const std::vector<std::uint8_t>& trimmed,
+                                             const mesh::Triangulation& simplified);
+
+// After the simplification of a TIN whose trimmed triangles were fenced: removes the regions of
 // triangles (joined across unconstrained edges, so never across the fenced outline) whose
-// largest triangle IN_TRIMMED(t) says lies in a trimmed area (slots beyond MARKED count as
-// unmarked). The largest triangle's centroid is the farthest from the region's edges, so its
-// rounding cannot put it across the outline. Returns the number of triangles removed.
+// largest triangle MARKED says lies in a trimmed area (slots beyond MARKED count as unmarked).
+// The largest triangle's centroid is the farthest from the region's edges, so its rounding
+// cannot put it across the outline. Returns the number of triangles removed.
 std::uint64_t remove_marked_regions(mesh::Triangulation& tin,
                                     const std::vector<std::uint8_t>& marked);
 

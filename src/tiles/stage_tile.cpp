@@ -316,15 +316,23 @@ void count_failure(const mesh::Triangulation& tin, const TileSetup& tile, Triang
 class TileTrim {
  public:
   TileTrim(const mesh::Triangulation& tin, const TileSetup& tile, double max_edge)
-      : tin_(tin), tile_(tile), max_edge_(max_edge), component_(tin.triangle_slots(), kNone) {}
+      : tin_(tin),
+        tile_(tile),
+        max_edge_(max_edge),
+        component_(tin.triangle_slots(), kNone),
+        trimmed_(tin.triangle_slots(), 0) {}
 
   // Whether the whole job trims final real triangle T; false, with the failure counted in
   // TALLY, when the tile cannot tell.
   bool trimmed(TriangleId t, FinalityTally& tally) {
     if (!terrain::has_long_edge(tin_, t, max_edge_)) return false;
     if (component_[t] == kNone) follow(t, tally);
-    return fate_[component_[t]] == Fate::trimmed;
+    trimmed_[t] = fate_[component_[t]] == Fate::trimmed;
+    return trimmed_[t];
   }
+
+  // The final triangles trimmed() found trimmed, 1 per slot.
+  const std::vector<std::uint8_t>& found_trimmed() const { return trimmed_; }
 
  private:
   enum class Fate : std::uint8_t { kept, trimmed, unknown };
@@ -385,6 +393,7 @@ class TileTrim {
   double max_edge_;
   std::vector<std::uint32_t> component_;  // per triangle slot
   std::vector<Fate> fate_;                // per component
+  std::vector<std::uint8_t> trimmed_;     // per triangle slot
 };
 
 // Ghost (u, v, inf): the outer side of hull edge v -> u is the open half-plane left of u -> v.
@@ -532,10 +541,10 @@ void prove_corner_fans(TileJob& job, FinalityTally& tally) {
   for (const TriangleId t : job.dem_extra_triangles) prove_fans_of(t);
 }
 
-// Every corner of a triangle the tile writes or rasterizes has a height: a draped vertex whose
-// triangle the tile could not prove final has none (SurfaceScope::settled), and the tile then
-// reads more.
-void check_heights_settled(TileJob& job) {
+// Every corner of a triangle the tile writes or rasterizes (or, with ALSO, 1 per slot, measures
+// in its simplification) has a height: a draped vertex whose triangle the tile could not prove
+// final has none (SurfaceScope::settled), and the tile then reads more.
+void check_heights_settled(TileJob& job, const std::vector<std::uint8_t>* also = nullptr) {
   const mesh::Triangulation& tin = job.mesh.tin;
   const auto unsettled = [&tin](TriangleId t) {
     const auto c = tin.triangle(t);
@@ -550,6 +559,9 @@ void check_heights_settled(TileJob& job) {
   };
   tin.for_each_triangle([&](TriangleId t, const std::array<VertexId, 3>&) { look(t); });
   for (const TriangleId t : job.dem_extra_triangles) look(t);
+  if (also)
+    for (std::size_t t = 0; t < also->size(); ++t)
+      if ((*also)[t]) look(static_cast<TriangleId>(t));
   if (count == 0) return;
   const TileSetup& tile = job.tile;
   throw BufferTooSmall(tile.plan_path, "tile " + std::to_string(tile.index),
@@ -592,9 +604,16 @@ void run(TileJob& job) {
   if (o.max_edge > 0 || !o.clip.empty() || !o.erase.empty())
     job.write.ply_trimmed = detail::mark_text({tile.tile_count, {tile.index}});
   if (o.max_error) {
-    check_heights_settled(job);    // the simplification measures them
-    detail::simplify_tile(job);    // from the final triangles only
+    check_heights_settled(job, trim ? &trim->found_trimmed() : nullptr);  // to be measured
+    // As in the whole job, the trimmed outline is kept through the simplification and what lies
+    // beyond it removed after (stage_simplify.cpp): the fence's edges in the tile are between
+    // final triangles, so both tiles of a border fence it alike.
+    if (trim) terrain::fence_trimmed(tin, trim->found_trimmed());
+    const std::optional<mesh::Triangulation> full = detail::simplify_tile(job);
     job.proven_triangles.clear();  // the simplified TIN is the tile's alone, all of it final
+    if (trim && full)
+      job.report.trimmed_triangles = terrain::remove_marked_regions(
+          job.tin(), terrain::mark_trimmed_areas(*full, trim->found_trimmed(), job.tin()));
   }
   job.info(name + ": " + count_text(tally.owned, "triangle") + " owned, " +
            count_text(tally.checked) +

@@ -257,11 +257,6 @@ void check_tile_options(const TileOptions& t, const BuildOptions& o) {
   // Each of these is a function of more of the whole TIN than a tile can prove final today; the
   // way out is the build without --plan (docs/tiling.md says what each would need).
   const std::string whole_job = " (build without --plan for it)";
-  if (o.max_edge > 0 && o.max_error)
-    refuse("--max-edge with --max-error",
-           "the whole job trims the full TIN and keeps the trimmed outline through the "
-           "simplification, which a tile's simplification does not (give one of them, or "
-           "build without --plan)");
   if (o.fix_flats)
     refuse("--fix-flats",
            "a flat area and the vertices that fix it span as far as the contours around it, "

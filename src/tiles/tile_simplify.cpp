@@ -420,7 +420,7 @@ void remove_outside(Triangulation& tin,
 
 }  // namespace
 
-void simplify_tile(TileJob& job) {
+std::optional<Triangulation> simplify_tile(TileJob& job) {
   const TileSetup& tile = job.tile;
   const Triangulation& full = job.mesh.tin;
   const double tolerance = job.options.max_error.value_or(0);
@@ -451,7 +451,7 @@ void simplify_tile(TileJob& job) {
   }
   if (points.xy.size() < 3 || simplify::hull_corners(points.xy).size() < 3) {
     job.debug("tile " + std::to_string(tile.index) + ": no area of the TIN to simplify");
-    return;  // the tile owns no triangle (the TIN only touches it)
+    return std::nullopt;  // the tile owns no triangle (the TIN only touches it)
   }
   std::vector<constraints::Piece> pieces;
   add_constraints(job, sides, border, point_of_full, points, pieces);
@@ -467,6 +467,7 @@ void simplify_tile(TileJob& job) {
   remove_outside(r.tin, border.chain, vertex_of_point);
   renumber(job, point_of_full, vertex_of_point, std::move(pieces));
   release(job.mesh.vertex_of_point);
+  std::optional<Triangulation> replaced = std::move(job.mesh.tin);
   job.mesh.tin = std::move(r.tin);
   job.dem_extra_triangles.clear();  // the tile's TIN covers the tile: its DEM needs no other
 
@@ -480,6 +481,7 @@ void simplify_tile(TileJob& job) {
            count_text(r.report.vertices, "vertex", "vertices") + " (" +
            count_text(points.kept.size()) + " on the border, " +
            count_text(r.report.points, "point") + ")");
+  return replaced;
 }
 
 }  // namespace tincdt::tiles::detail

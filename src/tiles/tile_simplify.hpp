@@ -71,9 +71,10 @@ Section tin_section(const mesh::Triangulation& tin, const Side& side,
                     std::span<const std::uint8_t> on_constraint);
 
 // Replaces the job's TIN by the tile's simplified triangles (see the top of the file), the
-// pieces, crossings and duplicates renumbered, the report's simplification filled in. Runs in
-// the tile stage, after every triangle that meets the tile is proven final.
-void simplify_tile(TileJob& job);
+// pieces, crossings and duplicates renumbered, the report's simplification filled in, and
+// returns the TIN it replaced (nothing when the tile has no area to simplify, and its TIN stays).
+// Runs in the tile stage, after every triangle that meets the tile is proven final.
+std::optional<mesh::Triangulation> simplify_tile(TileJob& job);
 
 }  // namespace detail
 }  // namespace tincdt::tiles

@@ -50,7 +50,6 @@ TEST(TileLinesCli, OptionsATileCannotProveAreRefusedEachByName) {
   const std::pair<std::string, std::string> cases[] = {
       {"--replace r.geojson --max-error 0.1",
        "--replace with --max-error cannot be used with --plan: the whole job sets"},
-      {"--max-edge 5 --max-error 0.1", "--max-edge with --max-error cannot be used with --plan"},
       {"--fix-flats", "--fix-flats cannot be used with --plan: a flat area"},
       {"--restore aspect", "--restore aspect cannot be used with --plan: the triangles it leaves"},
       {"--restore none", "(build without --plan for it)"},

@@ -165,6 +165,22 @@ struct Inputs {
   std::vector<std::string> contours;
 };
 
+// For --max-edge: uniform points with a round void inside (kept: its long triangles do not reach
+// the hull), a bay cut in from the east side and a gap along the north (trimmed from the hull,
+// across tile borders); contour rings across all three.
+inline Inputs gapped_points(const fs::path& dir) {
+  std::vector<Point3> points;
+  for (const Point3& p : random_points(6000, 500000, 4000000, 300, 11)) {
+    const double x = p.x - 500000, y = p.y - 4000000;
+    const bool void_inside = std::hypot(x - 120, y - 130) < 30;
+    const bool bay = x > 170 && std::fabs(y - 150) < 25;
+    const bool gap = y > 260 && std::fabs(x - 90) < 40;
+    if (!void_inside && !bay && !gap) points.push_back(p);
+  }
+  return {{write_xyz(dir / "points.xyz", points)},
+          {write_rings(dir / "rings.geojson", 500150, 4000150, {35, 75, 115})}};
+}
+
 inline const pipeline::BuildOptions& no_options() {
   static const pipeline::BuildOptions none;
   return none;

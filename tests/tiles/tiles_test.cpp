@@ -61,22 +61,6 @@ Raster read_raster(const std::string& path) {
   return r;
 }
 
-// For --max-edge: uniform points with a round void inside (kept: its long triangles do not reach
-// the hull), a bay cut in from the east side and a gap along the north (trimmed from the hull,
-// across tile borders); contour rings across all three.
-Inputs gapped_points(const fs::path& dir) {
-  std::vector<Point3> points;
-  for (const Point3& p : random_points(6000, 500000, 4000000, 300, 11)) {
-    const double x = p.x - 500000, y = p.y - 4000000;
-    const bool void_inside = std::hypot(x - 120, y - 130) < 30;
-    const bool bay = x > 170 && std::fabs(y - 150) < 25;
-    const bool gap = y > 260 && std::fabs(x - 90) < 40;
-    if (!void_inside && !bay && !gap) points.push_back(p);
-  }
-  return {{write_xyz(dir / "points.xyz", points)},
-          {write_rings(dir / "rings.geojson", 500150, 4000150, {35, 75, 115})}};
-}
-
 // The whole job's DEM over the plan's full tile grid against every tile's DEM, cell for cell at
 // the same georeferenced places: each tile's DEM is its box, on the whole grid's cell lattice,
 // with the whole job's values; the tiles cover the whole grid once, except tiles the plan leaves
@@ -307,14 +291,6 @@ TEST(Tiles, OptionsThatCannotBeTiledAreRefused) {
   t.tile = 0;
   pipeline::BuildOptions o;
   o.output = (dir / "t.ply").string();
-  o.max_edge = 10;
-  o.max_error = 0.5;
-  EXPECT_NE(error_of<UsageError>([&] {
-              tiles::build_tile(t, o);
-            }).find("--max-edge with --max-error cannot be used with --plan"),
-            std::string::npos);
-  o.max_edge = 0;
-  o.max_error.reset();
   o.max_vertices = 100;
   EXPECT_NE(error_of<UsageError>([&] { tiles::build_tile(t, o); }).find("--max-vertices"),
             std::string::npos);
