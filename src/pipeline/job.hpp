@@ -118,10 +118,13 @@ struct Job {
   // surface: the whole data's hull and which draped heights are settled, for a job over part
   // of the data.
   detail::SurfaceScope surface_scope;
-  // clip, erase: the triangles (1 per slot) whose classification counts, each region of
+  // replace, clip, erase: the triangles (1 per slot) whose classification counts, each region of
   // triangles classified by a point of its own (empty: every triangle); a stage before them
   // sets them. A job over part of the data may then keep no triangle.
   std::vector<std::uint8_t> proven_triangles;
+  // replace: the polygon of each vertex known from beyond the TIN (kNoId: none; empty: none
+  // known), PolygonOptions::vertex_polygons; a stage before it sets them.
+  std::vector<std::uint32_t> known_replace_polygons;
   bool may_keep_none = false;
   // dem: the grid of the DEM, instead of one over the kept triangles and the DEM options.
   std::optional<products::Grid> dem_grid;

@@ -72,6 +72,7 @@ void run(Job& job) {
   if (input.data.features.empty()) return;
   terrain::PolygonOptions options;
   if (!job.proven_triangles.empty()) options.within = &job.proven_triangles;
+  if (!job.known_replace_polygons.empty()) options.vertex_polygons = &job.known_replace_polygons;
   std::uint64_t& count = job.report.*S.count;
   count = S.removes ? remove_with_extras<S>(job, options)
                     : S.apply(job.tin(), detail::polygons_of(input.data), options);

@@ -243,6 +243,10 @@ std::uint64_t set_z_where(Triangulation& tin, const std::vector<Polygon>& polygo
   } else {
     for (VertexId v = 0; v < nv; ++v) owner[v] = index.polygon_at_or_on(tin.point(v));
   }
+  if (const std::vector<std::uint32_t>* known = options.vertex_polygons)
+    for (VertexId v = 0; v < nv && v < known->size(); ++v)
+      if ((*known)[v] != kNoId && (owner[v] == kNoId || (*known)[v] > owner[v]))
+        owner[v] = (*known)[v];
   std::uint64_t set = 0;
   for (VertexId v = 0; v < nv; ++v) {
     if (owner[v] == kNoId) continue;

@@ -69,6 +69,11 @@ struct PolygonOptions {
   // proven to be the whole job's, which a region of its other triangles could misjudge (they
   // may straddle a ring it did not read). The others count as outside every polygon.
   const std::vector<std::uint8_t>* within = nullptr;
+  // Replace: the polygon (index, kNoId for none) of each vertex as known from outside this TIN
+  // (1 per vertex; null: none known). A job over part of the data passes it for the vertices
+  // on its border, around which it holds only its own side's triangles; each vertex takes the
+  // later of this and its own triangles' polygon.
+  const std::vector<std::uint32_t>* vertex_polygons = nullptr;
 };
 
 // Clip: removes every kept triangle outside all the polygons. Returns triangles removed.

@@ -610,7 +610,13 @@ void run(TileJob& job) {
     // final triangles, so both tiles of a border fence it alike.
     if (trim) terrain::fence_trimmed(tin, trim->found_trimmed());
     const std::optional<mesh::Triangulation> full = detail::simplify_tile(job);
-    job.proven_triangles.clear();  // the simplified TIN is the tile's alone, all of it final
+    // The simplified TIN's triangles beyond the tile's border may straddle rings it did not
+    // read: the polygon stages classify the tile's own.
+    if (full) {
+      const mesh::Triangulation& simplified = job.tin();
+      job.proven_triangles.assign(simplified.triangle_slots(), 0);
+      simplified.for_each_triangle([&](TriangleId t, const auto&) { job.proven_triangles[t] = 1; });
+    }
     if (trim && full)
       job.report.trimmed_triangles = terrain::remove_marked_regions(
           job.tin(), terrain::mark_trimmed_areas(*full, trim->found_trimmed(), job.tin()));

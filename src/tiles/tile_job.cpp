@@ -268,11 +268,6 @@ void check_tile_options(const TileOptions& t, const BuildOptions& o) {
     refuse("--max-vertices",
            "a vertex budget counts the whole TIN's vertices, which no tile sees (give --max-error, "
            "or simplify without --plan)");
-  if (!o.replace.empty() && o.max_error)
-    refuse("--replace with --max-error",
-           "the whole job sets the heights of the simplified TIN's vertices, and a vertex on a "
-           "tile border sees only its own tile's side of a ring there (give one of them, or "
-           "build without --plan)");
   if (!o.terrain.path.empty())
     refuse("--terrain",
            "a web-terrain pyramid's coarse tiles span many plan tiles; merge the tiles, then "

@@ -14,10 +14,12 @@
 #include "core/error.hpp"
 #include "core/memory.hpp"
 #include "core/number_text.hpp"
+#include "pipeline/surface.hpp"
 #include "predicates/predicates.hpp"
 #include "simplify/profile.hpp"
 #include "simplify/simplify.hpp"
 #include "simplify/simplify_input.hpp"
+#include "terrain/polygons.hpp"
 #include "tiles/tile_job.hpp"
 
 namespace tincdt::tiles::detail {
@@ -125,6 +127,13 @@ bool in_closed(const BBox& b, Point2 p) {
 struct Border {
   double error = 0;                                            // the largest of a section point
   std::vector<std::pair<std::uint32_t, std::uint32_t>> chain;  // the tile on the left
+  // Each border point (a tile point) and what it lies on in the TIN (SectionPoint).
+  struct Place {
+    std::uint32_t point;
+    VertexId vertex;
+    EdgeId edge;
+  };
+  std::vector<Place> places;
   std::vector<std::pair<Point2, Point2>> whole_edges;
   std::optional<Point2> stuck;  // Section::stuck, of any side
 };
@@ -153,17 +162,18 @@ Border add_border(const Triangulation& tin, const BBox& box, const TileSides& si
         border.error = std::max(border.error,
                                 std::fabs(height[i] - (height[a] + slope * (place[i] - place[a]))));
     }
-    std::vector<Point3> path;
-    if (section.first) path.push_back(section.first->vertex);
+    std::vector<std::pair<Point3, SectionPoint>> path;  // the point, what it lies on
+    if (section.first) path.push_back({section.first->vertex, {.vertex = section.first->id}});
     for (const std::size_t i : kept) {
       const Point2 p = point_on(side, place[i]);
-      path.push_back({p.x, p.y, height[i]});
+      path.push_back({{p.x, p.y, height[i]}, section.points[i]});
     }
-    if (section.last) path.push_back(section.last->vertex);
+    if (section.last) path.push_back({section.last->vertex, {.vertex = section.last->id}});
     if (sides.backwards[k]) std::reverse(path.begin(), path.end());
     std::uint32_t previous = kNoId;
-    for (const Point3& p : path) {
+    for (const auto& [p, on] : path) {
       const std::uint32_t id = points.add_kept({p.x, p.y}, p.z);
+      border.places.push_back({id, on.vertex, on.edge});
       if (previous != kNoId && previous != id) {
         points.segments.push_back({previous, id, 0});
         border.chain.push_back({previous, id});
@@ -243,8 +253,6 @@ namespace {
 struct Found {
   SectionPoint point;
   int rank;  // at one place, the first kept: an end, then a vertex, then a crossing
-  VertexId vertex = kNoId;
-  EdgeId edge = kNoId;
 };
 
 // Where the section ends at END (a crossing of a hull edge) and NEXT is the point beside it,
@@ -252,15 +260,16 @@ struct Found {
 // other edges.
 std::optional<TurnedEnd> turned_end(const Triangulation& tin, const Side& side, const Found& end,
                                     const Found& next) {
-  if (end.rank != 2 || !tin.is_ghost(mesh::triangle_of(tin.twin(end.edge)))) return std::nullopt;
-  const TriangleId t = mesh::triangle_of(end.edge);
-  const VertexId u = tin.origin(end.edge), w = tin.dest(end.edge);
+  if (end.rank != 2 || !tin.is_ghost(mesh::triangle_of(tin.twin(end.point.edge))))
+    return std::nullopt;
+  const TriangleId t = mesh::triangle_of(end.point.edge);
+  const VertexId u = tin.origin(end.point.edge), w = tin.dest(end.point.edge);
   VertexId to = kNoId;
-  if (next.rank == 2 &&
-      (mesh::triangle_of(next.edge) == t || mesh::triangle_of(tin.twin(next.edge)) == t)) {
-    const VertexId a = tin.origin(next.edge), b = tin.dest(next.edge);
+  if (next.rank == 2 && (mesh::triangle_of(next.point.edge) == t ||
+                         mesh::triangle_of(tin.twin(next.point.edge)) == t)) {
+    const VertexId a = tin.origin(next.point.edge), b = tin.dest(next.point.edge);
     to = a == u || b == u ? u : w;  // the end the two crossed edges share
-  } else if (next.rank == 1 && tin.apex(end.edge) == next.vertex) {
+  } else if (next.rank == 1 && tin.apex(end.point.edge) == next.point.vertex) {
     to = xy_less(tin.point(u), tin.point(w)) ? u : w;
   }
   if (to == kNoId) return std::nullopt;
@@ -268,7 +277,7 @@ std::optional<TurnedEnd> turned_end(const Triangulation& tin, const Side& side, 
   if (along(side, p) < side.lo || along(side, p) > side.hi ||
       std::fabs(across(side, p) - side.at) > side.depth)
     return std::nullopt;
-  return TurnedEnd{{p.x, p.y, tin.z(to)}, tin.point(u), tin.point(w)};
+  return TurnedEnd{{p.x, p.y, tin.z(to)}, to, tin.point(u), tin.point(w)};
 }
 
 }  // namespace
@@ -282,7 +291,7 @@ Section tin_section(const Triangulation& tin, const Side& side,
     const Point2 p = tin.point(v);
     if (across(side, p) == side.at && side.lo <= along(side, p) && along(side, p) <= side.hi)
       found.push_back(
-          {{along(side, p), tin.z(v), v < on_constraint.size() && on_constraint[v]}, 1, v});
+          {{along(side, p), tin.z(v), v < on_constraint.size() && on_constraint[v], v}, 1});
   }
   for (std::size_t t = 0; t < tin.triangle_slots(); ++t) {
     if (tin.is_ghost(static_cast<TriangleId>(t))) continue;
@@ -292,11 +301,14 @@ Section tin_section(const Triangulation& tin, const Side& side,
       const VertexId u = tin.origin(e), w = tin.dest(e);
       const auto c = crossing(side, tin.point(u), tin.z(u), tin.point(w), tin.z(w));
       if (c && side.lo <= c->first && c->first <= side.hi)
-        found.push_back({{c->first, c->second, tin.is_constrained(e)}, 2, kNoId, e});
+        found.push_back({{c->first, c->second, tin.is_constrained(e), kNoId, e}, 2});
     }
   }
+  // Two edges may cross the line at one place (rounded), with heights an ulp apart: the lower
+  // height is kept, whatever the order the tile's TIN holds them in.
   std::sort(found.begin(), found.end(), [](const Found& a, const Found& b) {
-    return a.point.along < b.point.along || (a.point.along == b.point.along && a.rank < b.rank);
+    if (a.point.along != b.point.along) return a.point.along < b.point.along;
+    return a.rank != b.rank ? a.rank < b.rank : a.point.z < b.point.z;
   });
   std::vector<Found> merged;
   for (const Found& f : found) {
@@ -311,7 +323,7 @@ Section tin_section(const Triangulation& tin, const Side& side,
     section.first = turned_end(tin, side, merged.front(), merged[1]);
     section.last = turned_end(tin, side, merged.back(), merged[merged.size() - 2]);
     const auto leaves_hull = [&](const Found& f) {
-      return f.rank == 2 && tin.is_ghost(mesh::triangle_of(tin.twin(f.edge)));
+      return f.rank == 2 && tin.is_ghost(mesh::triangle_of(tin.twin(f.point.edge)));
     };
     if (!section.first && leaves_hull(merged.front()))
       section.stuck = point_on(side, merged.front().point.along);
@@ -379,6 +391,55 @@ void renumber(TileJob& job, std::span<const std::uint32_t> point_of_full,
     job.duplicate_at.push_back({at.x, at.y, full.z(d.vertex)});
     d.vertex = vertex_of(d.vertex);
   }
+}
+
+std::uint32_t later(std::uint32_t a, std::uint32_t b) {
+  return a == kNoId ? b : (b == kNoId ? a : std::max(a, b));
+}
+
+// --replace: the polygon the replace stage gives each border vertex of the simplified TIN
+// (VERTEX_OF_POINT: of each tile point; kNoId: none), as the polygons of the job's TIN around
+// its place (the later one): the simplified TIN holds only the tile's side of it. The job's
+// triangles there are final (they meet the side), classified as the stage does.
+std::vector<std::uint32_t> border_polygons(const TileJob& job, const Border& border,
+                                           const TilePoints& points,
+                                           std::span<const VertexId> vertex_of_point,
+                                           std::size_t vertex_count) {
+  const Triangulation& tin = job.mesh.tin;
+  const std::vector<terrain::Polygon> polygons = pipeline::detail::polygons_of(job.replace.data);
+  terrain::PolygonOptions options;
+  options.within = &job.proven_triangles;
+  const std::vector<std::uint32_t> of_triangle =
+      terrain::classify_triangles(tin, terrain::PolygonIndex(polygons), options);
+  std::vector<std::uint32_t> of_vertex(tin.vertex_count(), kNoId);
+  for (TriangleId t = 0; t < of_triangle.size(); ++t)
+    if (of_triangle[t] != kNoId)
+      for (const VertexId v : tin.triangle(t)) of_vertex[v] = later(of_vertex[v], of_triangle[t]);
+  // A side's end: every triangle whose closed area holds it (a few per tile: a scan).
+  const auto at_place = [&](Point2 c) {
+    std::uint32_t polygon = kNoId;
+    for (TriangleId t = 0; t < of_triangle.size(); ++t) {
+      if (of_triangle[t] == kNoId) continue;
+      const auto v = tin.triangle(t);
+      if (orient2d(tin.point(v[0]), tin.point(v[1]), c) >= 0 &&
+          orient2d(tin.point(v[1]), tin.point(v[2]), c) >= 0 &&
+          orient2d(tin.point(v[2]), tin.point(v[0]), c) >= 0)
+        polygon = later(polygon, of_triangle[t]);
+    }
+    return polygon;
+  };
+  std::vector<std::uint32_t> known(vertex_count, kNoId);
+  for (const Border::Place& p : border.places) {
+    const VertexId v = vertex_of_point[p.point];
+    if (v == kNoId) continue;
+    const std::uint32_t polygon = p.vertex != kNoId ? of_vertex[p.vertex]
+                                  : p.edge != kNoId
+                                      ? later(of_triangle[mesh::triangle_of(p.edge)],
+                                              of_triangle[mesh::triangle_of(tin.twin(p.edge))])
+                                      : at_place(points.xy[p.point]);
+    known[v] = later(known[v], polygon);
+  }
+  return known;
 }
 
 // Removes the triangles of TIN outside the tile: those not reached from the inner side of the
@@ -465,6 +526,9 @@ std::optional<Triangulation> simplify_tile(TileJob& job) {
   for (VertexId v = 0; v < r.tin.vertex_count(); ++v)
     if (r.point_of_vertex[v] != kNoId) vertex_of_point[r.point_of_vertex[v]] = v;
   remove_outside(r.tin, border.chain, vertex_of_point);
+  if (!job.replace.data.features.empty())
+    job.known_replace_polygons =
+        border_polygons(job, border, points, vertex_of_point, r.tin.vertex_count());
   renumber(job, point_of_full, vertex_of_point, std::move(pieces));
   release(job.mesh.vertex_of_point);
   std::optional<Triangulation> replaced = std::move(job.mesh.tin);

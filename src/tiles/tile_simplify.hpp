@@ -34,12 +34,15 @@ struct Side {
   double at = 0, lo = 0, hi = 0, depth = 0;
 };
 
-// A point of a side's section: its place along the side, its height, and whether it must stay
-// (a vertex of a constrained edge, or where one crosses).
+// A point of a side's section: its place along the side, its height, whether it must stay (a
+// vertex of a constrained edge, or where one crosses), and what it lies on in the TIN: a vertex,
+// or an edge it crosses (neither: a side's end).
 struct SectionPoint {
   double along = 0;
   double z = 0;
   bool forced = false;
+  VertexId vertex = kNoId;
+  EdgeId edge = kNoId;
 };
 
 // Where a side leaves the TIN through a hull edge, the border does not end at the crossing (a
@@ -50,6 +53,7 @@ struct SectionPoint {
 // border along an edge into a third tile would cross that tile's border.)
 struct TurnedEnd {
   Point3 vertex;          // the hull edge's end the border turns to
+  VertexId id = kNoId;    // that vertex in the TIN
   Point2 hull_a, hull_b;  // the hull edge
 };
 

@@ -48,8 +48,6 @@ TEST(TileLinesCli, CrossingContoursAndHardLinesPlanTileMergeAsTheWholeJob) {
 TEST(TileLinesCli, OptionsATileCannotProveAreRefusedEachByName) {
   const fs::path dir = test::scratch_dir("tile_lines_cli_refusals");
   const std::pair<std::string, std::string> cases[] = {
-      {"--replace r.geojson --max-error 0.1",
-       "--replace with --max-error cannot be used with --plan: the whole job sets"},
       {"--fix-flats", "--fix-flats cannot be used with --plan: a flat area"},
       {"--restore aspect", "--restore aspect cannot be used with --plan: the triangles it leaves"},
       {"--restore none", "(build without --plan for it)"},

@@ -192,34 +192,102 @@ TEST(TilePolygons, ASoftLineBeyondTheDataIsAnErrorInEveryTile) {
   }
 }
 
+// A flat convex polygon at Z, its corners counter-clockwise.
+struct FlatPolygon {
+  std::vector<Point2> corners;
+  double z;
+
+  std::string wkt() const {
+    std::string text = "POLYGON Z ((";
+    for (std::size_t k = 0; k <= corners.size(); ++k) {
+      const Point2 c = corners[k % corners.size()];
+      char v[120];
+      std::snprintf(v, sizeof v, "%s%.17g %.17g %.17g", k ? ", " : "", c.x, c.y, z);
+      text += v;
+    }
+    return text + "))";
+  }
+  // On or inside, within a micrometre: inside every side.
+  bool holds(const Point3& p) const {
+    for (std::size_t k = 0; k < corners.size(); ++k) {
+      const Point2 a = corners[k], b = corners[(k + 1) % corners.size()];
+      const double cross = (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x);
+      if (cross / std::hypot(b.x - a.x, b.y - a.y) < -1e-6) return false;
+    }
+    return true;
+  }
+};
+
+// N corners on the circle of radius R around (CX, CY).
+FlatPolygon regular(double cx, double cy, double r, int n, double z) {
+  FlatPolygon p{{}, z};
+  for (int k = 0; k < n; ++k) {
+    const double a = 2 * M_PI * k / n + 0.2;
+    p.corners.push_back({cx + r * std::cos(a), cy + r * std::sin(a)});
+  }
+  return p;
+}
+
 // Replace polygons (lakes, pads) over tile borders, one across a contour ring and one across a
-// clip ring: every vertex on or inside takes the polygon's height, later polygons winning, in
-// every tile as in the whole job, which needs every triangle around a kept corner proven.
+// clip ring, the third inside the first, and a rectangle with a side on a tile border (x = 100
+// in tiles of 100 and of 150), whose vertices there the tile beyond sees outside it.
+const FlatPolygon kReplaced[] = {
+    regular(kX0 + 100, kY0 + 150, 35, 9, 5290),
+    regular(kX0 + 200, kY0 + 100, 28, 7, 5310),
+    regular(kX0 + 120, kY0 + 170, 20, 6, 5280),
+    {{{kX0 + 100, kY0 + 20}, {kX0 + 125, kY0 + 20}, {kX0 + 125, kY0 + 45}, {kX0 + 100, kY0 + 45}},
+     5300}};
+
+pipeline::BuildOptions replace_options(const fs::path& dir) {
+  pipeline::BuildOptions o = polygon_options(dir, false);
+  std::vector<std::string> wkts;
+  for (const FlatPolygon& p : kReplaced) wkts.push_back(p.wkt());
+  o.replace = {write_polygons(dir / "replace.geojson", wkts)};
+  return o;
+}
+
+// Every vertex on or inside takes the polygon's height, later polygons winning, in every tile as
+// in the whole job, which needs every triangle around a kept corner proven.
 TEST(TilePolygons, ReplacePolygonsMatchTheWholeTin) {
   const fs::path dir = scratch();
   const Inputs in = terrain(dir, 48);
-  const auto flat = [](double cx, double cy, double r, int n, double z) {
-    std::string wkt = "POLYGON Z ((";
-    for (int k = 0; k <= n; ++k) {
-      const double a = 2 * M_PI * (k % n) / n + 0.2;
-      char v[120];
-      std::snprintf(v, sizeof v, "%s%.17g %.17g %.17g", k ? ", " : "", cx + r * std::cos(a),
-                    cy + r * std::sin(a), z);
-      wkt += v;
-    }
-    return wkt + "))";
-  };
-  pipeline::BuildOptions o = polygon_options(dir, false);
-  o.replace = {write_polygons(dir / "replace.geojson", {flat(kX0 + 100, kY0 + 150, 35, 9, 5290),
-                                                        flat(kX0 + 200, kY0 + 100, 28, 7, 5310),
-                                                        flat(kX0 + 120, kY0 + 170, 20, 6, 5280)})};
+  const pipeline::BuildOptions o = replace_options(dir);
   const std::string w = whole(in, dir, o);
   ASSERT_GT(triangles(w).size(), 1000u);
   std::size_t replaced = 0;
   for (const Triangle& t : triangles(w))
-    for (const Corner& c : t) replaced += c[2] == 5290 || c[2] == 5310 || c[2] == 5280;
+    for (const Corner& c : t)
+      replaced += c[2] == 5290 || c[2] == 5310 || c[2] == 5280 || c[2] == 5300;
   ASSERT_GT(replaced, 100u);
   expect_tiles_make(w, in, dir, o);
+}
+
+// With --max-error: each tile's border vertex takes its height from the polygons around it on
+// both sides of the border, so the tiles agree on it (the merge checks every seam's heights),
+// and every vertex of the merged TIN on or inside a polygon has the last one's height.
+TEST(TilePolygons, ReplacePolygonsInSimplifiedTiles) {
+  const fs::path dir = scratch();
+  const Inputs in = terrain(dir, 48);
+  pipeline::BuildOptions o = replace_options(dir);
+  o.max_error = 0.05;
+  for (const double size : {150.0, 100.0, 70.0}) {
+    SCOPED_TRACE(size);
+    const io::PlyMesh merged = io::read_ply(tiled(in, dir, size, 25, -1, o));
+    std::size_t replaced = 0;
+    for (const Point3& p : merged.vertices) {
+      const FlatPolygon* last = nullptr;
+      for (const FlatPolygon& polygon : kReplaced)
+        if (polygon.holds(p)) last = &polygon;
+      if (last) {
+        EXPECT_EQ(p.z, last->z) << "at " << p.x - kX0 << " " << p.y - kY0;
+        ++replaced;
+      } else {
+        EXPECT_TRUE(p.z != 5290 && p.z != 5310 && p.z != 5280 && p.z != 5300)
+            << "at " << p.x - kX0 << " " << p.y - kY0;
+      }
+    }
+    EXPECT_GT(replaced, 50u);
+  }
 }
 
 // A ring segment far longer than a tile, through centimetre points: the thin triangles along it
