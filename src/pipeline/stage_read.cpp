@@ -94,6 +94,8 @@ void read_point_files(Job& job, detail::InputCrs& crs) {
     if (inputs.size() > 1) {  // with one input, the Delaunay stage's error says it all
       if (s.points_read == 0)
         job.warn(path + ": no points in the file");
+      else if (s.points_kept == 0 && job.options.filter.box)  // a tile's: planned by bounds
+        job.debug(path + ": none of its points lies in the box read");
       else if (s.points_kept == 0)
         job.warn(path + ": the filters kept none of its points");
     }

@@ -167,6 +167,34 @@ TEST_F(TilesCli, TrimmedTilesMergeAndAMissingOneIsNamed) {
       tincdt::test::ply_element_count(tincdt::test::ply_header(dir_ / "merged.ply"), "face"));
 }
 
+// A file planned for a tile by its bounds may have no point in the tile's box: expected, so no
+// warning (one of two clusters at the east edge, south and north, seen from the middle tiles).
+TEST_F(TilesCli, AFileWithNoPointInTheTileBoxIsNoWarning) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> at(0, 10);
+  std::string clusters;
+  for (int i = 0; i < 50; ++i)
+    for (const double y : {5000000.0, 5000140.0}) {
+      char line[96];
+      std::snprintf(line, sizeof line, "%.17g %.17g 100\n", 300190 + at(rng), y + at(rng));
+      clusters += line;
+    }
+  tincdt::test::spit(dir_ / "clusters.xyz", clusters);
+  Outcome r = tincdt_run(dir_, {"plan", "cloud.xyz", "clusters.xyz", "--tile-size", "50",
+                                "--buffer", "10", "-o", "plan.json", "-q"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  int tiles = 0;
+  for (; tiles < 100; ++tiles) {
+    const std::string n = std::to_string(tiles);
+    r = tincdt_run(dir_, {"--plan", "plan.json", "--tile", n, "--a-srs", "EPSG:32631", "-o",
+                          "tile.ply", "--overwrite"});
+    if (r.exit_code == 1 && r.err.find("no tile " + n) != std::string::npos) break;
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(r.err.find("warning"), std::string::npos) << "tile " << n << ":\n" << r.err;
+  }
+  EXPECT_EQ(tiles, 12);  // 4 x 3
+}
+
 TEST_F(TilesCli, BadPlansGiveOneLineAndExitOne) {
   ASSERT_EQ(tincdt_run(dir_, {"plan", "cloud.xyz", "--tile-size", "100", "--buffer", "2", "-o",
                               "plan.json", "-q"})
