@@ -7,6 +7,7 @@
 #include "core/error.hpp"
 #include "core/number_text.hpp"
 #include "predicates/predicates.hpp"
+#include "terrain/regions.hpp"
 
 namespace tincdt::terrain {
 
@@ -138,11 +139,6 @@ bool strictly_inside(const Triangulation& tin, const std::array<VertexId, 3>& c,
   return orient2d(a, b, p) > 0 && orient2d(b, d, p) > 0 && orient2d(d, a, p) > 0;
 }
 
-double area2(const Triangulation& tin, const std::array<VertexId, 3>& c) {
-  const Point2 a = tin.point(c[0]), b = tin.point(c[1]), d = tin.point(c[2]);
-  return (b.x - a.x) * (d.y - a.y) - (b.y - a.y) * (d.x - a.x);
-}
-
 }  // namespace
 
 // With the rings in the TIN as constrained edges, no triangle's interior meets a ring, so all
@@ -168,43 +164,18 @@ std::vector<std::uint32_t> classify_triangles(const Triangulation& tin, const Po
     return result;
   }
 
-  std::vector<std::uint32_t> region(slots, kNoId);
-  std::vector<TriangleId> stack, members;
-  for (TriangleId seed = 0; seed < slots; ++seed) {
-    if (tin.is_ghost(seed) || region[seed] != kNoId || skipped(seed)) continue;
-    // Flood the region of `seed` across unconstrained edges (removed triangles included: they
-    // are still in the topology, and classifying them costs nothing).
-    members.clear();
-    stack.assign(1, seed);
-    region[seed] = seed;
-    TriangleId best = seed;
-    double best_area = -1;
-    while (!stack.empty()) {
-      const TriangleId t = stack.back();
-      stack.pop_back();
-      members.push_back(t);
-      const double a = area2(tin, tin.triangle(t));
-      if (a > best_area) {
-        best_area = a;
-        best = t;
-      }
-      for (EdgeId e = 3 * t; e < 3 * t + 3; ++e) {
-        if (tin.is_constrained(e)) continue;
-        const TriangleId n = mesh::triangle_of(tin.twin(e));
-        if (tin.is_ghost(n) || region[n] != kNoId || skipped(n)) continue;
-        region[n] = seed;
-        stack.push_back(n);
-      }
-    }
-    const auto corners = tin.triangle(best);
-    const Point2 c = centroid(tin, corners);
-    if (strictly_inside(tin, corners, c)) {
-      const std::uint32_t polygon = index.polygon_at(c);
-      for (TriangleId t : members) result[t] = polygon;
-    } else {
-      for (TriangleId t : members) by_centroid(t);
-    }
-  }
+  for_each_region(
+      tin, [&](TriangleId t) { return !skipped(t); },
+      [&](std::span<const TriangleId> members) {
+        const auto corners = tin.triangle(largest_triangle(tin, members));
+        const Point2 c = centroid(tin, corners);
+        if (strictly_inside(tin, corners, c)) {
+          const std::uint32_t polygon = index.polygon_at(c);
+          for (TriangleId t : members) result[t] = polygon;
+        } else {
+          for (TriangleId t : members) by_centroid(t);
+        }
+      });
   return result;
 }
 

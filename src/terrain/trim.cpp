@@ -9,6 +9,7 @@
 #include "core/error.hpp"
 #include "core/number_text.hpp"
 #include "terrain/interpolate.hpp"
+#include "terrain/regions.hpp"
 
 namespace tincdt::terrain {
 
@@ -103,40 +104,18 @@ std::vector<std::uint8_t> mark_trimmed_areas(const mesh::Triangulation& full,
 
 std::uint64_t remove_marked_regions(mesh::Triangulation& tin,
                                     const std::vector<std::uint8_t>& marked) {
-  const auto slots = static_cast<TriangleId>(tin.triangle_slots());
-  const auto area = [&tin](TriangleId t) {
-    const auto c = tin.triangle(t);
-    const Point2 a = tin.point(c[0]), b = tin.point(c[1]), d = tin.point(c[2]);
-    return (b.x - a.x) * (d.y - a.y) - (b.y - a.y) * (d.x - a.x);
-  };
-  std::vector<std::uint8_t> seen(slots, 0);
-  std::vector<TriangleId> stack, members;
   std::uint64_t removed = 0;
-  for (TriangleId seed = 0; seed < slots; ++seed) {
-    if (tin.is_ghost(seed) || seen[seed]) continue;
-    members.clear();
-    stack.assign(1, seed);
-    seen[seed] = 1;
-    TriangleId largest = kNoId;
-    while (!stack.empty()) {
-      const TriangleId t = stack.back();
-      stack.pop_back();
-      members.push_back(t);
-      if (t < marked.size() && (largest == kNoId || area(t) > area(largest))) largest = t;
-      for (EdgeId e = 3 * t; e < 3 * t + 3; ++e) {
-        const TriangleId n = mesh::triangle_of(tin.twin(e));
-        if (tin.is_constrained(e) || tin.is_ghost(n) || seen[n]) continue;
-        seen[n] = 1;
-        stack.push_back(n);
-      }
-    }
-    if (largest == kNoId || !marked[largest]) continue;
+  const auto all = [](TriangleId) { return true; };
+  for_each_region(tin, all, [&](std::span<const TriangleId> members) {
+    const TriangleId largest =
+        largest_triangle(tin, members, static_cast<TriangleId>(marked.size()));
+    if (largest == kNoId || !marked[largest]) return;
     for (const TriangleId t : members) {
       if (!tin.is_kept(t)) continue;
       tin.set_removed(t, true);
       ++removed;
     }
-  }
+  });
   return removed;
 }
 
