@@ -110,10 +110,14 @@ struct Job {
   // read: called after point file INPUT is read (EXTENT: its points'), after every point file
   // (may append points), and after every contour and hard-line source, before their vertices
   // join `points` (may drop segments and vertices of `lines`). Each may throw InputError.
+  // keep_surface_feature: whether to keep a soft line, clip, erase or replace polygon (in the
+  // job's CRS) read from a source; unset keeps all.
   struct ReadHooks {
     std::function<void(const Job& job, std::size_t input, const BBox& extent)> point_file_read;
     std::function<void(Job& job)> point_files_read;
     std::function<void(Job& job)> line_sources_read;
+    std::function<bool(detail::SourceKind kind, const io::ShapeFeature& feature)>
+        keep_surface_feature;
   } read_hooks;
   // surface: the whole data's hull and which draped heights are settled, for a job over part
   // of the data.

@@ -24,7 +24,7 @@ struct BuildReport {
     std::uint64_t bytes_read = 0;  // of the point file (a COPC file read by box: the part read)
     // Vector sources.
     std::uint64_t features_read = 0;
-    std::uint64_t features_used = 0;     // with at least one usable line or ring
+    std::uint64_t features_used = 0;  // with a usable line or ring (in a tile job: near the tile)
     std::uint64_t features_dropped = 0;  // no geometry, points only, degenerate
     std::uint64_t vertices = 0;
     std::uint64_t segments = 0;

@@ -180,6 +180,17 @@ void read_surface_kind(Job& job, detail::InputCrs& crs, detail::SurfaceInput& in
         crs.read_extent(path, part.points);
     crs.add(path, s.crs_wkt);
     detail::InputTransform(job, crs, path).apply_to_shapes(input.data, before, s.layer);
+    if (const auto& keep = job.read_hooks.keep_surface_feature) {
+      std::vector<io::ShapeFeature>& features = input.data.features;
+      const auto first = features.begin() + static_cast<std::ptrdiff_t>(features_before);
+      const std::size_t given = static_cast<std::size_t>(features.end() - first);
+      features.erase(
+          std::remove_if(first, features.end(),
+                         [&](const io::ShapeFeature& f) { return !keep(input.kind, f); }),
+          features.end());
+      job.debug(path + ": " + count_text(features.size() - features_before) + " of " +
+                count_text(given, "feature") + " kept for the part of the data read");
+    }
     const std::uint32_t file = job.sources.add_file(input.data.files.back());
     for (std::size_t f = features_before; f < input.data.features.size(); ++f) {
       const io::ShapeFeature& feature = input.data.features[f];

@@ -338,6 +338,10 @@ TileJob::TileJob(const BuildOptions& job_options, const pipeline::CheckedOptions
   };
   read_hooks.point_files_read = [this](Job&) { detail::add_tile_rim(*this); };
   read_hooks.line_sources_read = [this](Job&) { detail::keep_tile_lines(*this); };
+  read_hooks.keep_surface_feature = [this](pipeline::detail::SourceKind kind,
+                                           const io::ShapeFeature& feature) {
+    return detail::keeps_surface_feature(*this, kind, feature);
+  };
   // Clip and erase rings are cut to the whole data's hull and draped only on final triangles;
   // a tile may lie wholly outside the clip polygons.
   surface_scope.hull = setup.rim.hull;
@@ -451,6 +455,17 @@ void add_tile_rim(TileJob& job) {
   }
   job.debug("tile " + std::to_string(tile.index) + ": " + count_text(added) +
             " rim points outside the buffered box");
+}
+
+bool keeps_surface_feature(const TileJob& job, pipeline::detail::SourceKind kind,
+                           const io::ShapeFeature& feature) {
+  if (kind == pipeline::detail::SourceKind::clip) return true;
+  BBox box;
+  for (const io::ShapePart& part : feature.parts)
+    for (const Point3& p : part.points) box.add(p.x, p.y);
+  for (const tiles::Polygon& missing : job.tile.missing)
+    if (tiles::box_inside(box, missing)) return false;
+  return true;
 }
 
 void keep_tile_lines(TileJob& job) {

@@ -86,10 +86,9 @@ struct TileSetup {
 };
 
 // The rules of tiled jobs that need no file: --tile, --buffer and --outline need --plan, --plan
-// needs --tile, and the options that cannot give the same triangles in every tile (--max-edge
-// with --max-error, --max-vertices, --fix-flats, --replace with --max-error, --restore other
-// than delaunay) are refused, as are inputs and their read options given beside a plan. Throws
-// UsageError.
+// needs --tile, and the options that cannot give the same triangles in every tile
+// (--max-vertices, --fix-flats, --restore other than delaunay) are refused, as are inputs and
+// their read options given beside a plan. Throws UsageError.
 void check_tile_options(const TileOptions& tiling, const pipeline::BuildOptions& options);
 
 // check_tile_options(), then pipeline::check_options() on OPTIONS, the plan (when given) standing
@@ -163,6 +162,12 @@ void add_tile_rim(TileJob& job);
 // whole the segments whose bounding box meets the buffered box or that end in the rim the tile
 // reads (lines may cross: the constraint stage makes a crossing from the two whole segments).
 void keep_tile_lines(TileJob& job);
+
+// Whether the tile keeps a surface feature: every clip polygon (a tile none of them meets keeps
+// nothing), and every other feature unless it lies inside one of the regions where the tile
+// holds no data and proves nothing final (TileSetup::missing) anyway.
+bool keeps_surface_feature(const TileJob& job, pipeline::detail::SourceKind kind,
+                           const io::ShapeFeature& feature);
 
 }  // namespace detail
 }  // namespace tincdt::tiles

@@ -96,6 +96,16 @@ bool reaches_left_of(Point2 u, Point2 v, const BBox& r) {
   return false;
 }
 
+bool box_inside(const BBox& r, const Polygon& p) {
+  if (p.size() < 3 || empty(r)) return false;
+  const Point2 corners[4] = {
+      {r.min_x, r.min_y}, {r.max_x, r.min_y}, {r.max_x, r.max_y}, {r.min_x, r.max_y}};
+  for (std::size_t i = 0; i < p.size(); ++i)
+    for (const Point2& c : corners)
+      if (predicates::orient2d(p[i], p[(i + 1) % p.size()], c) <= 0) return false;
+  return true;
+}
+
 Polygon box_polygon(const BBox& b) {
   if (empty(b)) return {};
   return {{b.min_x, b.min_y}, {b.max_x, b.min_y}, {b.max_x, b.max_y}, {b.min_x, b.max_y}};

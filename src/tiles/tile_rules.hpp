@@ -84,6 +84,8 @@ bool reaches_left_of(Point2 u, Point2 v, const BBox& r);
 using Polygon = std::vector<Point2>;  // convex, counter-clockwise; empty = nothing
 
 Polygon box_polygon(const BBox& b);
+// Whether the closed box R lies in the interior of convex polygon P (exact).
+bool box_inside(const BBox& r, const Polygon& p);
 // The part of P on the left of the line a -> b, the line moved right by GROW (so the result
 // holds the true part despite rounding).
 Polygon clip_left(const Polygon& p, Point2 a, Point2 b, double grow);

@@ -106,6 +106,42 @@ TEST(TilePolygons, DrapedClipAndErasePolygonsMatchTheWholeTin) {
   expect_tiles_make(w, in, dir, o);
 }
 
+// Each tile inserts only the erase polygons near it (footprints on a 5 x 5 grid, the rim narrow
+// enough to hold none), and the merged tiles are the whole job's TIN.
+TEST(TilePolygons, ATileInsertsOnlyTheErasePolygonsNearIt) {
+  const fs::path dir = scratch();
+  const Inputs in = terrain(dir, 41);
+  std::vector<std::string> footprints;
+  for (int i = 0; i < 5; ++i)
+    for (int j = 0; j < 5; ++j) {
+      const double x = kX0 + 30 + 60 * i, y = kY0 + 30 + 60 * j;
+      char wkt[240];
+      std::snprintf(wkt, sizeof wkt,
+                    "POLYGON ((%.3f %.3f, %.3f %.3f, %.3f %.3f, %.3f %.3f, %.3f %.3f))", x - 4,
+                    y - 3, x + 4, y - 4, x + 3, y + 4, x - 4, y + 3, x - 4, y - 3);
+      footprints.push_back(wkt);
+    }
+  pipeline::BuildOptions o;
+  o.erase = {write_polygons(dir / "footprints.geojson", footprints)};
+  const std::string w = whole(in, dir, o);
+  expect_same_tin(w, tiled(in, dir, 100, 25, 10, o));
+
+  tiles::TileOptions t;
+  t.plan = (dir / "plan.json").string();
+  o.output = (dir / "tile.ply").string();
+  o.write.overwrite = true;
+  std::uint64_t used = 0;
+  for (std::int64_t i = 0; i < 9; ++i) {
+    t.tile = i;
+    for (const pipeline::BuildReport::Input& input : tiles::build_tile(t, o).inputs)
+      if (input.kind == "erase") {
+        EXPECT_EQ(input.features_read, 25u);
+        used += input.features_used;
+      }
+  }
+  EXPECT_EQ(used, 49u);  // 4 in a corner tile's buffered box, 6 at a side, 9 in the middle
+}
+
 // A clip polygon in the middle: the tiles it misses keep no triangle, and merge takes them as
 // they are.
 TEST(TilePolygons, TilesWhollyClippedAwayAreEmpty) {

@@ -163,6 +163,32 @@ TEST(PolygonTests, NeverMissWhatTheyShare) {
   EXPECT_GT(meets, 1000);  // the cases are not all apart
 }
 
+// A box is inside a polygon when every point of it is: sampled points of a box said inside are
+// inside (strictly), and a box with a sampled point outside is never said inside.
+TEST(PolygonTests, BoxInsideHoldsEveryPointOfTheBox) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> at(0, 1);
+  int inside = 0;
+  for (int k = 0; k < 3000; ++k) {
+    const Polygon poly = random_convex(rng, 1000, 2000, 10);
+    const double x = 1000 + 12 * at(rng) - 1, y = 2000 + 12 * at(rng) - 1;
+    const BBox box{x, y, x + 4 * at(rng), y + 4 * at(rng)};
+    bool all_in = true;
+    for (int s = 0; s < 200 && all_in; ++s) {
+      const double fx = s < 4 ? s % 2 : at(rng), fy = s < 4 ? s / 2 : at(rng);  // corners first
+      all_in = in_polygon(
+          {box.min_x + fx * (box.max_x - box.min_x), box.min_y + fy * (box.max_y - box.min_y)},
+          poly);
+    }
+    // A convex polygon holds a box when it holds its four corners (random: none on an edge).
+    const bool said = box_inside(box, poly);
+    EXPECT_EQ(said, all_in) << k;
+    inside += said;
+  }
+  EXPECT_GT(inside, 100);
+  EXPECT_FALSE(box_inside(BBox{}, random_convex(rng, 1000, 2000, 10)));  // empty box
+}
+
 TEST(ConvexHull, AgainstEveryPointBeingInside) {
   std::mt19937_64 rng(9);
   std::uniform_int_distribution<int> at(0, 40);  // lattice: many collinear points
