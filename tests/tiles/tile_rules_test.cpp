@@ -117,6 +117,16 @@ Polygon random_convex(std::mt19937_64& rng, double x0, double y0, double size) {
   return convex_hull(pts);
 }
 
+// Calls F(k, polygon, at) for 3000 random convex polygons in [1000, 1010) x [2000, 2010), AT a
+// generator of numbers in [0, 1) from SEED.
+template <class F>
+void for_random_polygons(std::uint64_t seed, F f) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> uniform(0, 1);
+  const auto at = [&] { return uniform(rng); };
+  for (int k = 0; k < 3000; ++k) f(k, random_convex(rng, 1000, 2000, 10), at);
+}
+
 bool in_polygon(Point2 p, const Polygon& poly) {
   for (std::size_t i = 0; i < poly.size(); ++i)
     if (predicates::orient2d(poly[i], poly[(i + 1) % poly.size()], p) < 0) return false;
@@ -124,20 +134,17 @@ bool in_polygon(Point2 p, const Polygon& poly) {
 }
 
 TEST(PolygonTests, NeverMissWhatTheyShare) {
-  std::mt19937_64 rng(3);
-  std::uniform_real_distribution<double> at(0, 1);
   int meets = 0;
-  for (int k = 0; k < 3000; ++k) {
-    const Polygon poly = random_convex(rng, 1000, 2000, 10);
-    const Disk d{{1000 + 14 * at(rng) - 2, 2000 + 14 * at(rng) - 2}, 3 * at(rng)};
-    const std::array<Point2, 3> tri = {Point2{1000 + 12 * at(rng), 2000 + 12 * at(rng)},
-                                       Point2{1000 + 12 * at(rng), 2000 + 12 * at(rng)},
-                                       Point2{1000 + 12 * at(rng), 2000 + 12 * at(rng)}};
+  for_random_polygons(3, [&](int k, const Polygon& poly, const auto& at) {
+    const Disk d{{1000 + 14 * at() - 2, 2000 + 14 * at() - 2}, 3 * at()};
+    const std::array<Point2, 3> tri = {Point2{1000 + 12 * at(), 2000 + 12 * at()},
+                                       Point2{1000 + 12 * at(), 2000 + 12 * at()},
+                                       Point2{1000 + 12 * at(), 2000 + 12 * at()}};
     const bool ccw = predicates::orient2d(tri[0], tri[1], tri[2]) > 0;
-    const Point2 u{1000 + 12 * at(rng), 2000 + 12 * at(rng)}, v{1000 + 12 * at(rng), 2000};
+    const Point2 u{1000 + 12 * at(), 2000 + 12 * at()}, v{1000 + 12 * at(), 2000};
     bool disk_shared = false, tri_shared = false, left_shared = false;
     for (int s = 0; s < 400; ++s) {
-      const Point2 p{1000 + 12 * at(rng) - 1, 2000 + 12 * at(rng) - 1};
+      const Point2 p{1000 + 12 * at() - 1, 2000 + 12 * at() - 1};
       if (!in_polygon(p, poly)) continue;
       disk_shared |= std::hypot(p.x - d.centre.x, p.y - d.centre.y) <= d.radius;
       if (ccw)
@@ -153,29 +160,26 @@ TEST(PolygonTests, NeverMissWhatTheyShare) {
     // Clipping keeps every shared point.
     const Polygon left = clip_left(poly, u, v, 0);
     for (int s = 0; s < 50; ++s) {
-      const Point2 p{1000 + 10 * at(rng), 2000 + 10 * at(rng)};
+      const Point2 p{1000 + 10 * at(), 2000 + 10 * at()};
       if (in_polygon(p, poly) && predicates::orient2d(u, v, p) > 0) {
         // Inside the clipped polygon up to rounding: no edge leaves it far outside.
         EXPECT_TRUE(may_meet(Disk{p, 1e-9}, left, 0)) << k;
       }
     }
-  }
+  });
   EXPECT_GT(meets, 1000);  // the cases are not all apart
 }
 
 // A box is inside a polygon when every point of it is: sampled points of a box said inside are
 // inside (strictly), and a box with a sampled point outside is never said inside.
 TEST(PolygonTests, BoxInsideHoldsEveryPointOfTheBox) {
-  std::mt19937_64 rng(5);
-  std::uniform_real_distribution<double> at(0, 1);
   int inside = 0;
-  for (int k = 0; k < 3000; ++k) {
-    const Polygon poly = random_convex(rng, 1000, 2000, 10);
-    const double x = 1000 + 12 * at(rng) - 1, y = 2000 + 12 * at(rng) - 1;
-    const BBox box{x, y, x + 4 * at(rng), y + 4 * at(rng)};
+  for_random_polygons(5, [&](int k, const Polygon& poly, const auto& at) {
+    const double x = 1000 + 12 * at() - 1, y = 2000 + 12 * at() - 1;
+    const BBox box{x, y, x + 4 * at(), y + 4 * at()};
     bool all_in = true;
     for (int s = 0; s < 200 && all_in; ++s) {
-      const double fx = s < 4 ? s % 2 : at(rng), fy = s < 4 ? s / 2 : at(rng);  // corners first
+      const double fx = s < 4 ? s % 2 : at(), fy = s < 4 ? s / 2 : at();  // corners first
       all_in = in_polygon(
           {box.min_x + fx * (box.max_x - box.min_x), box.min_y + fy * (box.max_y - box.min_y)},
           poly);
@@ -184,9 +188,9 @@ TEST(PolygonTests, BoxInsideHoldsEveryPointOfTheBox) {
     const bool said = box_inside(box, poly);
     EXPECT_EQ(said, all_in) << k;
     inside += said;
-  }
+    EXPECT_FALSE(box_inside(BBox{}, poly));  // an empty box
+  });
   EXPECT_GT(inside, 100);
-  EXPECT_FALSE(box_inside(BBox{}, random_convex(rng, 1000, 2000, 10)));  // empty box
 }
 
 TEST(ConvexHull, AgainstEveryPointBeingInside) {
