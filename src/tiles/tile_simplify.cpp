@@ -305,10 +305,11 @@ Section tin_section(const Triangulation& tin, const Side& side,
     }
   }
   // Two edges may cross the line at one place (rounded), with heights an ulp apart: the lower
-  // height is kept, whatever the order the tile's TIN holds them in.
-  std::sort(found.begin(), found.end(), [](const Found& a, const Found& b) {
+  // height is kept, whatever the order the tile's TIN holds them in (a NaN last).
+  const auto lower = [](double a, double b) { return std::isnan(b) ? !std::isnan(a) : a < b; };
+  std::sort(found.begin(), found.end(), [&lower](const Found& a, const Found& b) {
     if (a.point.along != b.point.along) return a.point.along < b.point.along;
-    return a.rank != b.rank ? a.rank < b.rank : a.point.z < b.point.z;
+    return a.rank != b.rank ? a.rank < b.rank : lower(a.point.z, b.point.z);
   });
   std::vector<Found> merged;
   for (const Found& f : found) {
